@@ -1,0 +1,79 @@
+//! The crate's error type: every rejection names the field and the allowed range.
+
+use thiserror::Error;
+
+/// Everything that can go wrong when building a scene or running a solver.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum Error {
+    /// A parameter outside its allowed range, with the field's path (`springs[3].stiffness`).
+    #[error("invalid {field}: {value} (allowed: {allowed})")]
+    InvalidParameter {
+        field: String,
+        value: String,
+        allowed: String,
+    },
+    /// A time step that failed (for instance a factorisation made indefinite by compressed
+    /// springs), with when it happened.
+    #[error("{solver}: step {step} (t = {time} s) failed: {source}")]
+    StepFailed {
+        solver: String,
+        step: u64,
+        time: f64,
+        source: Box<Error>,
+    },
+    /// A run whose state became non-finite or whose energy exploded.
+    #[error("{solver} diverged at step {step} (t = {time} s): {reason}")]
+    Diverged {
+        solver: String,
+        step: u64,
+        time: f64,
+        reason: String,
+    },
+    /// A Newton iteration that did not reach its tolerance.
+    #[error("{what} did not converge: {detail}")]
+    NotConverged { what: String, detail: String },
+    /// Reading or parsing a file (scene file, published data).
+    #[error("{0}")]
+    Input(String),
+}
+
+impl Error {
+    /// Shorthand for [`Error::InvalidParameter`].
+    pub fn invalid(field: impl Into<String>, value: impl std::fmt::Display, allowed: &str) -> Self {
+        Error::InvalidParameter {
+            field: field.into(),
+            value: value.to_string(),
+            allowed: allowed.to_string(),
+        }
+    }
+}
+
+/// The crate's result type.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Checks that `value` is finite and strictly positive.
+pub fn require_positive(field: impl Into<String>, value: f64) -> Result<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "a finite number > 0"))
+    }
+}
+
+/// Checks that `value` is finite and non-negative.
+pub fn require_non_negative(field: impl Into<String>, value: f64) -> Result<f64> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "a finite number >= 0"))
+    }
+}
+
+/// Checks that `value` is finite.
+pub fn require_finite(field: impl Into<String>, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "a finite number"))
+    }
+}

@@ -1,0 +1,191 @@
+//! The common interface of every time stepper and the run loop that measures it (§4.2).
+//!
+//! A solver only advances a [`State`] by one step; [`simulate`] drives any solver the same way,
+//! detects the kinetic-energy peaks, applies the stopping rule, guards against divergence and
+//! records what the report and the command line need.
+
+use crate::error::{require_non_negative, Error, Result};
+use crate::metrics::{half_period_exact, half_period_thesis, Peak, PeakDetector, StoppingRule};
+use crate::system::{MassSpringSystem, State};
+
+/// A time-stepping method for a mass-spring system.
+pub trait TimeStepper {
+    /// A short human-readable name with the method's parameters.
+    fn name(&self) -> String;
+    /// Time step, s.
+    fn dt(&self) -> f64;
+    /// The system being simulated.
+    fn system(&self) -> &MassSpringSystem;
+    /// Advances `state` by one time step.
+    fn step(&mut self, state: &mut State) -> Result<()>;
+}
+
+/// A kinetic energy this many times the run's energy scale counts as divergence.
+pub const DIVERGENCE_FACTOR: f64 = 1e6;
+
+/// What [`simulate`] records besides the peaks.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Recording {
+    /// Keep every kinetic-energy sample.
+    pub kinetic_energy: bool,
+    /// Keep the positions every this many steps (and the first and last).
+    pub positions_every: Option<u64>,
+}
+
+/// Options of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RunOptions {
+    pub stop: StoppingRule,
+    /// Variant, 0 in the faithful runs: after each step $v \leftarrow v\,e^{-c\,dt}$, s⁻¹.
+    pub velocity_damping: f64,
+    pub recording: Recording,
+}
+
+/// The outcome of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
+    pub solver: String,
+    pub dt: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Every kinetic-energy peak, the stopping one included.
+    pub peaks: Vec<Peak>,
+    /// True when the run reached `max_time` before the stopping rule fired.
+    pub hit_time_limit: bool,
+    pub final_state: State,
+    /// Kinetic energy per step from t = 0, if recorded.
+    pub kinetic_energy: Vec<f64>,
+    /// (time, positions) samples, if recorded.
+    pub positions: Vec<(f64, State)>,
+}
+
+impl Run {
+    /// "nº máx. E_k": the number of peaks.
+    pub fn peak_count(&self) -> usize {
+        self.peaks.len()
+    }
+
+    /// T/2 under the thesis convention.
+    pub fn half_period_thesis(&self) -> Option<f64> {
+        half_period_thesis(&self.peaks)
+    }
+
+    /// T/2 under the exact convention.
+    pub fn half_period_exact(&self) -> Option<f64> {
+        half_period_exact(&self.peaks)
+    }
+
+    /// Simulated time at the end, s.
+    pub fn end_time(&self) -> f64 {
+        self.steps as f64 * self.dt
+    }
+}
+
+/// The energy that a diverging run exceeds by [`DIVERGENCE_FACTOR`]: the largest of the initial
+/// kinetic energy, the initial potential energy's magnitude and the work gravity does over the
+/// system's extent, so that a system starting at rest still has a scale.
+fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
+    let (lo, hi) = state.x.iter().fold(
+        (state.x[0], state.x[0]),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    );
+    let total_mass: f64 = system.nodes().iter().map(|n| n.mass).sum();
+    let gravity_work = total_mass * system.gravity().norm() * (hi - lo).norm();
+    [
+        state.kinetic_energy(system),
+        system.potential_energy(&state.x).abs(),
+        gravity_work,
+        f64::MIN_POSITIVE,
+    ]
+    .into_iter()
+    .fold(0.0, f64::max)
+}
+
+/// Runs `solver` from `state` until the stopping rule fires or time runs out (§4.2).
+///
+/// A non-finite state or a kinetic energy above [`DIVERGENCE_FACTOR`] times the energy scale
+/// stops the run with [`Error::Diverged`], naming the step and time; a failing step stops it
+/// with [`Error::StepFailed`].
+pub fn simulate(solver: &mut dyn TimeStepper, mut state: State, options: &RunOptions) -> Result<Run> {
+    options.stop.validate()?;
+    require_non_negative("velocity_damping", options.velocity_damping)?;
+    let dt = solver.dt();
+    let name = solver.name();
+    let damping_factor = (-options.velocity_damping * dt).exp();
+    let max_steps = (options.stop.max_time / dt).round() as u64;
+    let scale = energy_scale(solver.system(), &state);
+    let mut detector = PeakDetector::new(dt);
+    let mut peaks = Vec::new();
+    let mut kinetic_energy = Vec::new();
+    let mut positions = Vec::new();
+    let ke0 = state.kinetic_energy(solver.system());
+    detector.push(ke0);
+    if options.recording.kinetic_energy {
+        kinetic_energy.push(ke0);
+    }
+    if options.recording.positions_every.is_some() {
+        positions.push((0.0, state.clone()));
+    }
+    let mut steps = 0;
+    let mut stopped = false;
+    while steps < max_steps {
+        let time = (steps + 1) as f64 * dt;
+        solver.step(&mut state).map_err(|e| Error::StepFailed {
+            solver: name.clone(),
+            step: steps + 1,
+            time,
+            source: Box::new(e),
+        })?;
+        steps += 1;
+        if options.velocity_damping > 0.0 {
+            for v in &mut state.v {
+                *v *= damping_factor;
+            }
+        }
+        let ke = state.kinetic_energy(solver.system());
+        if !state.is_finite() || !ke.is_finite() || ke > DIVERGENCE_FACTOR * scale {
+            let reason = if state.is_finite() && ke.is_finite() {
+                format!("kinetic energy {ke:e} J exceeds {DIVERGENCE_FACTOR:e} x the energy scale {scale:e} J")
+            } else {
+                "the state is no longer finite".to_string()
+            };
+            return Err(Error::Diverged {
+                solver: name,
+                step: steps,
+                time,
+                reason,
+            });
+        }
+        if options.recording.kinetic_energy {
+            kinetic_energy.push(ke);
+        }
+        if let Some(every) = options.recording.positions_every {
+            if steps % every.max(1) == 0 {
+                positions.push((time, state.clone()));
+            }
+        }
+        if let Some(peak) = detector.push(ke) {
+            peaks.push(peak);
+            let exempt = options.stop.exempt_first_peak && peaks.len() == 1;
+            if peak.energy < options.stop.threshold && !exempt {
+                stopped = true;
+                break;
+            }
+        }
+    }
+    if options.recording.positions_every.is_some()
+        && positions.last().is_some_and(|(t, _)| *t < steps as f64 * dt)
+    {
+        positions.push((steps as f64 * dt, state.clone()));
+    }
+    Ok(Run {
+        solver: name,
+        dt,
+        steps,
+        peaks,
+        hit_time_limit: !stopped,
+        final_state: state,
+        kinetic_energy,
+        positions,
+    })
+}
