@@ -116,6 +116,8 @@ pub struct BackwardEuler {
     fixed: Vec<usize>,
     jacobians: Vec<Matrix3<f64>>,
     forces: Vec<Vec3>,
+    x_k: Vec<Vec3>,
+    v_k: Vec<Vec3>,
     rhs: Vec<f64>,
     zeros: Vec<f64>,
 }
@@ -138,6 +140,8 @@ impl BackwardEuler {
             fixed: fixed_unknowns(fixed_nodes, 3),
             jacobians: vec![Matrix3::zeros(); system.springs().len()],
             forces: vec![Vec3::zeros(); n],
+            x_k: vec![Vec3::zeros(); n],
+            v_k: vec![Vec3::zeros(); n],
             rhs: vec![0.0; 3 * n],
             zeros: vec![0.0; 3 * n],
         })
@@ -153,13 +157,16 @@ impl BackwardEuler {
     /// Eqs. (10), (12): with $F(x) \approx F(x_k) + K_k (x - x_k)$ (Eq 10) at $x = x_n + dt\,v$,
     /// $(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)$. For $x_k = x_n$ this
     /// is Eq (12) as printed.
-    fn newton_iteration(&mut self, state: &State, v: &mut [Vec3]) -> Result<()> {
+    fn newton_iteration(&mut self, state: &State) -> Result<()> {
         let dt = self.dt;
-        let x_k: Vec<Vec3> = state.x.iter().zip(v.iter()).map(|(x, v)| position_update(x, v, dt)).collect();
+        for ((x_k, x_n), v_k) in self.x_k.iter_mut().zip(&state.x).zip(&self.v_k) {
+            *x_k = position_update(x_n, v_k, dt);
+        }
+        let x_k = &self.x_k;
         for (jac, s) in self.jacobians.iter_mut().zip(self.system.springs()) {
             *jac = spring::force_jacobian(&x_k[s.a], &x_k[s.b], s.rest_length, s.stiffness);
         }
-        self.system.forces(&x_k, &mut self.forces);
+        self.system.forces(x_k, &mut self.forces);
         for (i, node) in self.system.nodes().iter().enumerate() {
             let b = node.mass * state.v[i] + dt * self.forces[i];
             self.rhs[3 * i..3 * i + 3].copy_from_slice(b.as_slice());
@@ -179,8 +186,8 @@ impl BackwardEuler {
         }
         // Fixed nodes have v = 0: the x̄ of Eqs 45-47 is zero.
         self.solve.as_ref().expect("factored").solve(&mut self.rhs, &self.zeros, 1);
-        for (i, vi) in v.iter_mut().enumerate() {
-            *vi = Vec3::new(self.rhs[3 * i], self.rhs[3 * i + 1], self.rhs[3 * i + 2]);
+        for (i, v_k) in self.v_k.iter_mut().enumerate() {
+            *v_k = Vec3::new(self.rhs[3 * i], self.rhs[3 * i + 1], self.rhs[3 * i + 2]);
         }
         Ok(())
     }
@@ -200,13 +207,14 @@ impl TimeStepper for BackwardEuler {
     }
 
     fn step(&mut self, state: &mut State) -> Result<()> {
-        let mut v = vec![Vec3::zeros(); state.v.len()];
+        // v_0 = 0, so x_0 = x_n and the first iteration is Eq (12) as printed.
+        self.v_k.fill(Vec3::zeros());
         for _ in 0..self.newton_iterations {
-            self.newton_iteration(state, &mut v)?;
+            self.newton_iteration(state)?;
         }
-        for ((x, vi), v_next) in state.x.iter_mut().zip(state.v.iter_mut()).zip(v) {
-            *x = position_update(x, &v_next, self.dt);
-            *vi = v_next;
+        for ((x, v), v_next) in state.x.iter_mut().zip(state.v.iter_mut()).zip(&self.v_k) {
+            *x = position_update(x, v_next, self.dt);
+            *v = *v_next;
         }
         Ok(())
     }

@@ -14,6 +14,7 @@ use crate::linear::{Factorization, SymmetricMatrix};
 #[derive(Debug, Clone)]
 pub struct ConstrainedSystem {
     fixed: Vec<usize>,
+    is_fixed: Vec<bool>,
     /// The block $A_2$ of Eq (43): $(i, j, A_{ij})$ for free rows $i$ and fixed columns $j$,
     /// saved before Eq (44) zeroes it, so that Eq (46) can form $A u$.
     coupling: Vec<(usize, usize, f64)>,
@@ -24,9 +25,15 @@ impl ConstrainedSystem {
     /// Eq. (44): $\begin{pmatrix}A_1 & 0\\ 0 & I\end{pmatrix}$ replaces the fixed rows and
     /// columns of `a` (in place), then the result is factored once.
     pub fn new(a: &mut SymmetricMatrix, fixed: &[usize]) -> Result<Self> {
-        let coupling = impose_on_matrix(a, fixed);
+        let mut is_fixed = vec![false; a.dim()];
+        for &j in fixed {
+            is_fixed[j] = true;
+        }
+        let mut coupling = Vec::new();
+        impose_on_matrix(a, fixed, &is_fixed, &mut coupling);
         Ok(Self {
             fixed: fixed.to_vec(),
+            is_fixed,
             coupling,
             factorization: Factorization::new(a)?,
         })
@@ -35,7 +42,7 @@ impl ConstrainedSystem {
     /// Eq. (44) again for new values of a matrix with the same pattern and fixed set, and a
     /// numeric refactorisation that reuses the pattern's analysis.
     pub fn refactor(&mut self, a: &mut SymmetricMatrix) -> Result<()> {
-        self.coupling = impose_on_matrix(a, &self.fixed);
+        impose_on_matrix(a, &self.fixed, &self.is_fixed, &mut self.coupling);
         self.factorization.refactor(a)
     }
 
@@ -63,24 +70,25 @@ impl ConstrainedSystem {
     }
 }
 
-fn impose_on_matrix(a: &mut SymmetricMatrix, fixed: &[usize]) -> Vec<(usize, usize, f64)> {
-    let mut is_fixed = vec![false; a.dim()];
+/// Saves the block $A_2$ (free rows, fixed columns; by symmetry read from the fixed rows) into
+/// `coupling`, then replaces the fixed rows and columns by the identity.
+fn impose_on_matrix(
+    a: &mut SymmetricMatrix,
+    fixed: &[usize],
+    is_fixed: &[bool],
+    coupling: &mut Vec<(usize, usize, f64)>,
+) {
+    coupling.clear();
     for &j in fixed {
-        is_fixed[j] = true;
-    }
-    let coupling = fixed
-        .iter()
-        .flat_map(|&j| {
+        coupling.extend(
             a.row(j)
                 .filter(|&(i, _)| !is_fixed[i])
-                .map(move |(i, a_ji)| (i, j, a_ji))
-                .collect::<Vec<_>>()
-        })
-        .collect();
+                .map(|(i, a_ji)| (i, j, a_ji)),
+        );
+    }
     for &j in fixed {
         a.set_identity_row_and_column(j);
     }
-    coupling
 }
 
 /// The unknowns of the fixed nodes, for systems with `block` unknowns per node.
