@@ -333,3 +333,26 @@ pub fn converged_step(
     }
     Err(Error::invalid("max_iterations", 0, "an integer >= 1"))
 }
+
+/// The static equilibrium $F(x) = 0$ of a system, by a proximal-point iteration: converged
+/// steps of `dt_s` seconds from rest, repeated until the positions stop moving (`tolerance`, m).
+///
+/// Each step minimises $\frac{1}{2dt^2}|x - x_k|^2_M + E(x)$, whose fixed points are exactly the
+/// minimisers of $E$; the inertial term regularises the start (a straight rope has no
+/// transverse stiffness). Used to check the analytic catenary.
+pub fn static_equilibrium(system: &MassSpringSystem, dt_s: f64, tolerance: f64) -> Result<Vec<Vec3>> {
+    let mut state = system.initial_state();
+    state.v.fill(Vec3::zeros());
+    for _ in 0..10_000 {
+        let next = converged_step(system, &state, dt_s, ConvergedStepOptions::default())?;
+        let moved = next.x.iter().zip(&state.x).map(|(a, b)| (a - b).amax()).fold(0.0, f64::max);
+        state.x = next.x;
+        if moved <= tolerance {
+            return Ok(state.x);
+        }
+    }
+    Err(Error::NotConverged {
+        what: "static equilibrium".into(),
+        detail: format!("positions still move more than {tolerance:e} m after 10000 steps"),
+    })
+}

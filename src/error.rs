@@ -77,3 +77,15 @@ pub fn require_finite(field: impl Into<String>, value: f64) -> Result<f64> {
         Err(Error::invalid(field, value, "a finite number"))
     }
 }
+
+impl From<crate::catenary::CatenaryError> for Error {
+    fn from(e: crate::catenary::CatenaryError) -> Self {
+        match e {
+            crate::catenary::CatenaryError::NoConvergence { .. } => Error::NotConverged {
+                what: "catenary".into(),
+                detail: e.to_string(),
+            },
+            _ => Error::Input(e.to_string()),
+        }
+    }
+}
