@@ -82,8 +82,9 @@ impl Run {
 }
 
 /// The energy that a diverging run exceeds by [`DIVERGENCE_FACTOR`]: the largest of the initial
-/// kinetic energy, the initial potential energy's magnitude and the work gravity does over the
-/// system's extent, so that a system starting at rest still has a scale.
+/// kinetic energy, the initial potential energy's magnitude, the work gravity does over the
+/// system's extent and the springs' energy at twice their rest length ($\sum rac12 k l_0^2$),
+/// so that a system starting at rest, with or without gravity, still has a scale.
 fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
     let (lo, hi) = state.x.iter().fold(
         (state.x[0], state.x[0]),
@@ -91,10 +92,16 @@ fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
     );
     let total_mass: f64 = system.nodes().iter().map(|n| n.mass).sum();
     let gravity_work = total_mass * system.gravity().norm() * (hi - lo).norm();
+    let spring_scale: f64 = system
+        .springs()
+        .iter()
+        .map(|s| 0.5 * s.stiffness * s.rest_length * s.rest_length)
+        .sum();
     [
         state.kinetic_energy(system),
         system.potential_energy(&state.x).abs(),
         gravity_work,
+        spring_scale,
         f64::MIN_POSITIVE,
     ]
     .into_iter()
