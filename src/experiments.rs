@@ -8,10 +8,11 @@
 
 use crate::backward_euler::BackwardEuler;
 use crate::error::{Error, Result};
-use crate::metrics::{rest_error_l2, rest_error_max, rest_error_sum, StoppingRule};
+use crate::metrics::{rest_error_l1, rest_error_l2, rest_error_max, rest_error_sum, StoppingRule};
 use crate::scene::RopeParams;
 use crate::solver::{simulate, Run, RunOptions, TimeStepper};
 use crate::system::{MassSpringSystem, Vec3};
+use crate::xpbd::Xpbd;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
@@ -78,6 +79,7 @@ impl SolverKind {
     ) -> Result<Box<dyn TimeStepper + Send>> {
         Ok(match self {
             SolverKind::BackwardEuler => Box::new(BackwardEuler::new(system, dt, iterations)?),
+            SolverKind::Xpbd => Box::new(Xpbd::new(system, dt, iterations)?),
             // TEMPORARY while the solver modules are being written (lead removes before commit).
             other => return Err(Error::Input(format!("{} is not wired yet", other.id()))),
         })
@@ -168,8 +170,10 @@ pub struct Measured {
     pub half_period_exact: Option<f64>,
     /// Relative T/2 error (thesis convention) against our reference of the same stiffness.
     pub period_rel_error: Option<f64>,
-    /// Rest-state errors against our reference (sum of distances, L2, max); None for Table 1.
+    /// Rest-state errors against our reference (sum of distances, sum of coordinate differences,
+    /// L2, max); None for Table 1.
     pub error_sum: Option<f64>,
+    pub error_l1: Option<f64>,
     pub error_l2: Option<f64>,
     pub error_max: Option<f64>,
     pub steps: u64,
@@ -204,7 +208,10 @@ impl ResultSet {
     pub fn reference(&self, stiffness: f64) -> &Measured {
         self.rows
             .iter()
-            .find(|r| r.published.solver == SolverKind::BackwardEuler && r.published.stiffness == stiffness)
+            .find(|r| {
+                r.published.solver == SolverKind::BackwardEuler
+                    && r.published.stiffness == stiffness
+            })
             .expect("the result set holds both references")
     }
 }
@@ -266,7 +273,8 @@ pub fn run_all(
         .iter()
         .zip(&runs)
         .map(|(row, run)| {
-            let reference = reference(row.stiffness).filter(|_| row.solver != SolverKind::BackwardEuler);
+            let reference =
+                reference(row.stiffness).filter(|_| row.solver != SolverKind::BackwardEuler);
             let x = &run.final_state.x;
             let period_rel_error = reference
                 .and_then(|r| r.half_period_thesis())
@@ -279,6 +287,7 @@ pub fn run_all(
                 half_period_exact: run.half_period_exact(),
                 period_rel_error,
                 error_sum: reference.map(|r| rest_error_sum(x, &r.final_state.x)),
+                error_l1: reference.map(|r| rest_error_l1(x, &r.final_state.x)),
                 error_l2: reference.map(|r| rest_error_l2(x, &r.final_state.x)),
                 error_max: reference.map(|r| rest_error_max(x, &r.final_state.x)),
                 steps: run.steps,
