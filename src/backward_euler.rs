@@ -83,7 +83,7 @@ impl ImplicitMatrix {
         }
     }
 
-    /// Eq. (12), left-hand side: $A = M - dt^2\,\frac{dF}{dx}$, from the springs' force
+    /// Eq. (12): the left-hand side $A = M - dt^2\,\frac{dF}{dx}$, from the springs' force
     /// Jacobians (Eq 4) given per spring.
     fn assemble(&mut self, system: &MassSpringSystem, dt: f64, jacobians: &[Matrix3<f64>]) {
         let values = self.matrix.values_mut();
@@ -152,9 +152,9 @@ impl BackwardEuler {
         Self::new(system, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS)
     }
 
-    /// One Newton-Raphson iteration: from the iterate $v_k$ (in `v`) to $v_{k+1}$.
+    /// Eqs. (10), (12): one Newton-Raphson iteration, from the iterate $v_k$ to $v_{k+1}$.
     ///
-    /// Eqs. (10), (12): with $F(x) \approx F(x_k) + K_k (x - x_k)$ (Eq 10) at $x = x_n + dt\,v$,
+    /// With $F(x) \approx F(x_k) + K_k (x - x_k)$ (Eq 10) at $x = x_n + dt\,v$,
     /// $(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)$. For $x_k = x_n$ this
     /// is Eq (12) as printed.
     fn newton_iteration(&mut self, state: &State) -> Result<()> {
@@ -206,6 +206,7 @@ impl TimeStepper for BackwardEuler {
         &self.system
     }
 
+    // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         // v_0 = 0, so x_0 = x_n and the first iteration is Eq (12) as printed.
         self.v_k.fill(Vec3::zeros());
@@ -218,6 +219,7 @@ impl TimeStepper for BackwardEuler {
         }
         Ok(())
     }
+    // endregion: step
 }
 
 /// Settings of [`converged_step`].

@@ -129,7 +129,7 @@ mod tests {
         let mut x = b.to_vec();
         system.solve(&mut x, &x_bar, 1);
         // Reduced 2x2 system in the free unknowns 1, 2.
-        let r1 = 2.0 - (-1.0) * 0.5;
+        let r1 = 2.0 + 0.5; // b1 - A_01 * x_bar0, A_01 = -1
         let r2 = 3.0 - (-3.0) * -1.5;
         let det = 5.0 * 6.0 - 4.0;
         let x1 = (6.0 * r1 + 2.0 * r2) / det;

@@ -10,15 +10,25 @@
 //! Every function that implements a numbered equation of the thesis starts its documentation
 //! with the tag `Eq. (N)`; the report's traceability table is built from these tags.
 
+pub mod admm;
 pub mod backward_euler;
 pub mod boundary;
+pub mod catenary;
 pub mod error;
+pub mod experiments;
+pub mod fast_mass_spring;
 pub mod linear;
 pub mod metrics;
+pub mod particles;
+pub mod pbd;
+pub mod projective;
+pub mod report;
 pub mod scene;
+pub mod scene_file;
 pub mod solver;
 pub mod spring;
 pub mod system;
+pub mod xpbd;
 
 pub use error::{Error, Result};
 pub use solver::{simulate, Run, RunOptions, TimeStepper};

@@ -213,7 +213,7 @@ impl BandedCholesky {
                     s -= self.band[i * w + p + k - i] * self.band[j * w + p + k - j];
                 }
                 if j == i {
-                    if !(s > 0.0) || !s.is_finite() {
+                    if s.is_nan() || s <= 0.0 || s.is_infinite() {
                         return Err(not_positive_definite(i, s));
                     }
                     self.band[i * w + p] = s.sqrt();
@@ -230,17 +230,18 @@ impl BandedCholesky {
         let (n, p) = (self.n, self.p);
         let w = p + 1;
         for col in b.chunks_exact_mut(n).take(ncols) {
+            // L y = b: row i of L holds columns i-p..i, stored at band[i*w + p - (i - k)].
             for i in 0..n {
-                let mut s = col[i];
-                for k in i.saturating_sub(p)..i {
-                    s -= self.band[i * w + p + k - i] * col[k];
-                }
-                col[i] = s / self.band[i * w + p];
+                let k0 = i.saturating_sub(p);
+                let row = &self.band[i * w + p + k0 - i..i * w + p];
+                let s: f64 = row.iter().zip(&col[k0..i]).map(|(l, y)| l * y).sum();
+                col[i] = (col[i] - s) / self.band[i * w + p];
             }
+            // Lᵀ x = y: column i of Lᵀ is row i of L, read down the rows below i.
             for i in (0..n).rev() {
                 let mut s = col[i];
-                for k in i + 1..(i + p + 1).min(n) {
-                    s -= self.band[k * w + p + i - k] * col[k];
+                for (k, x_k) in col.iter().enumerate().take((i + p + 1).min(n)).skip(i + 1) {
+                    s -= self.band[k * w + p + i - k] * x_k;
                 }
                 col[i] = s / self.band[i * w + p];
             }

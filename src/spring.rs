@@ -9,7 +9,8 @@
 use crate::system::Vec3;
 use nalgebra::Matrix3;
 
-/// Eq. (1): $C = |x_1 - x_2| - l_0$, the spring's deformation.
+/// Eqs. (1), (48): $C = |x_1 - x_2| - l_0$, the spring's deformation, and the distance
+/// constraint that XPBD drives to zero.
 pub fn constraint(x1: &Vec3, x2: &Vec3, l0: f64) -> f64 {
     (x1 - x2).norm() - l0
 }

@@ -1,0 +1,112 @@
+//! `make report`: runs every experiment the thesis's tables and figures need (once, in
+//! parallel) and writes `report/` atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv` and
+//! the git-ignored `run-info.md`. Progress goes to stderr when it is a terminal.
+
+use clap::Parser;
+use mass_spring_solvers::experiments::{
+    published_rows, run_all, Configuration, PublishedRow, SolverKind,
+};
+use mass_spring_solvers::report::output::{write_report, OutputFile, RunInfo};
+use mass_spring_solvers::report::rest_state::Catenary;
+use mass_spring_solvers::report::runs::FigureRuns;
+use mass_spring_solvers::report::{crate_root, render, ReportData, Sources};
+use mass_spring_solvers::{Error, Result};
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) into `report/`.
+#[derive(Parser, Debug)]
+#[command(version)]
+struct Args {
+    /// Output directory [default: report/ in the crate root]
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Run only the rows of these tables (comma-separated, 1-7) for a quick partial report;
+    /// the report then says which solvers were not run. Default: all 56 rows.
+    #[arg(long, value_delimiter = ',')]
+    tables: Vec<u8>,
+}
+
+/// `label: done/total` on one stderr line, only when stderr is a terminal.
+fn progress(label: &'static str) -> impl Fn(usize, usize) + Sync {
+    let show = std::io::stderr().is_terminal();
+    move |done, total| {
+        if show {
+            let mut err = std::io::stderr().lock();
+            let _ = write!(err, "\r{label}: {done}/{total}");
+            if done == total {
+                let _ = writeln!(err);
+            }
+        }
+    }
+}
+
+fn run(args: Args) -> Result<String> {
+    let start = Instant::now();
+    let root = crate_root();
+    let out = args.out.unwrap_or_else(|| root.join("report"));
+    if let Some(bad) = args.tables.iter().find(|t| !(1..=7).contains(*t)) {
+        return Err(Error::invalid("--tables", bad, "table numbers 1 to 7"));
+    }
+    let rows: Vec<PublishedRow> = published_rows()
+        .iter()
+        .filter(|r| args.tables.is_empty() || args.tables.contains(&r.table) || r.table == 1)
+        .cloned()
+        .collect();
+    // Read the sources first, so that a missing region marker fails before the long runs.
+    let solvers: Vec<SolverKind> = SolverKind::ALL
+        .into_iter()
+        .filter(|s| rows.iter().any(|r| r.solver == *s))
+        .collect();
+    let sources = Sources::read(&root, &solvers)?;
+    let mut phases = Vec::new();
+    let t = Instant::now();
+    let results = run_all(&rows, &Configuration::faithful(), &progress("experiments"))?;
+    phases.push((
+        format!("{} thesis experiments (parallel)", rows.len()),
+        t.elapsed(),
+    ));
+    let t = Instant::now();
+    let runs = FigureRuns::compute(&results, &progress("figure runs"))?;
+    let catenary = Catenary::compute()?;
+    phases.push(("figure runs, cloth and catenary".to_string(), t.elapsed()));
+    let t = Instant::now();
+    let data = ReportData {
+        results,
+        runs,
+        catenary,
+        sources,
+    };
+    let mut files = render(&data)?;
+    phases.push(("rendering (Markdown, SVG, CSV)".to_string(), t.elapsed()));
+    let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
+    let info = RunInfo {
+        phases,
+        rows_run: data.results.rows.len(),
+    };
+    files.push(OutputFile::text("run-info.md", info.render(&root)));
+    write_report(&out, &files)?;
+    Ok(format!(
+        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced",
+        files.len(),
+        out.display(),
+        start.elapsed().as_secs_f64(),
+        reproduced,
+        data.results.rows.len()
+    ))
+}
+
+fn main() -> ExitCode {
+    match run(Args::parse()) {
+        Ok(summary) => {
+            println!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("report: {e} (the previous report, if any, is unchanged)");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,371 @@
+//! The report of `make report`: thesis chapter 4 re-done from our runs.
+//!
+//! [`ReportData`] gathers everything the report shows, computed once per process: the
+//! result set of the 56 experiments ([`crate::experiments`]), the recorded runs and the cloth
+//! of the figures ([`runs`]), the exact catenary ([`rest_state`]), the equation tags and the
+//! solvers' step functions read from `src/` ([`traceability`]) and the dependency versions
+//! ([`versions`]). [`render`] turns it into files (Markdown, SVG, CSV) without computing
+//! anything, so the same data always gives the same bytes; [`output::write_report`] writes
+//! them atomically. What changes from run to run (commit, machine, timings) goes to
+//! `run-info.md` ([`output::RunInfo`]), which is git-ignored.
+
+pub mod data;
+pub mod errata;
+pub mod figures;
+pub mod format;
+pub mod output;
+mod plot;
+pub mod rest_state;
+pub mod runs;
+pub mod tables;
+pub mod traceability;
+pub mod versions;
+
+use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
+use crate::error::Result;
+use crate::experiments::{published_rows, ResultSet, SolverKind, HALF_PERIOD_TOLERANCE};
+use crate::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
+use crate::report::format::{short, MarkdownTable};
+use crate::report::output::OutputFile;
+use crate::report::rest_state::Catenary;
+use crate::report::runs::FigureRuns;
+use crate::report::traceability::{Quote, Tag};
+use crate::report::versions::Versions;
+use crate::scene::{
+    THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT, THESIS_GRAVITY, THESIS_NODES, THESIS_NODE_MASS,
+    THESIS_REST_LENGTH,
+};
+use std::path::{Path, PathBuf};
+
+/// The crate's root directory (where `src/`, `Cargo.toml` and `Cargo.lock` are).
+pub fn crate_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// What the report reads from the crate's files: equation tags, the quoted step function of
+/// each solver, and the dependency versions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sources {
+    pub tags: Vec<Tag>,
+    pub quotes: Vec<(SolverKind, Quote)>,
+    pub versions: Versions,
+}
+
+impl Sources {
+    /// Reads the crate at `root`; quotes the step functions of `solvers`. A missing region
+    /// marker is an error naming the file and the marker.
+    pub fn read(root: &Path, solvers: &[SolverKind]) -> Result<Self> {
+        let quotes = solvers
+            .iter()
+            .map(|&s| traceability::solver_step(root, s).map(|q| (s, q)))
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            tags: traceability::scan(root)?,
+            quotes,
+            versions: Versions::read(root)?,
+        })
+    }
+}
+
+/// The solvers that appear in a result set, in table order.
+pub fn solvers_in(results: &ResultSet) -> Vec<SolverKind> {
+    SolverKind::ALL
+        .into_iter()
+        .filter(|s| results.rows.iter().any(|m| m.published.solver == *s))
+        .collect()
+}
+
+/// Everything the report shows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportData {
+    pub results: ResultSet,
+    pub runs: FigureRuns,
+    pub catenary: Catenary,
+    pub sources: Sources,
+}
+
+/// The report's files: `REPORT.md`, `figures/*.svg`, `data/*.csv` (not `run-info.md`).
+pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
+    let figures = figures::all(data)?;
+    let mut files = vec![OutputFile::text("REPORT.md", markdown(data, &figures))];
+    for f in &figures {
+        files.push(OutputFile::text(
+            format!("figures/{}.svg", f.stem),
+            f.svg.clone(),
+        ));
+        files.push(OutputFile::text(
+            format!("data/{}.csv", f.stem),
+            f.csv.clone(),
+        ));
+    }
+    files.push(OutputFile::text(
+        "data/results.csv",
+        data::results_csv(&data.results),
+    ));
+    files.push(OutputFile::text(
+        "data/table1.csv",
+        data::table1_csv(&data.results),
+    ));
+    if let Some(csv) = data::catenary_csv(&data.catenary) {
+        files.push(OutputFile::text("data/catenary.csv", csv));
+    }
+    Ok(files)
+}
+
+fn figure_md(figures: &[figures::Figure], number: u8) -> String {
+    figures
+        .iter()
+        .find(|f| f.number == number)
+        .map(|f| {
+            format!(
+                "![Figure {number}](figures/{stem}.svg)\n\n*{caption}* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
+                stem = f.stem,
+                caption = f.caption
+            )
+        })
+        .unwrap_or_default()
+}
+
+fn table_md(results: &ResultSet, table: u8) -> String {
+    let mut s = tables::render_table(results, table);
+    if (1..=7).contains(&table) || (10..=12).contains(&table) {
+        let t = tables::tally(results, table);
+        s += &format!(
+            "\nReproduced: {} of {} rows run ({} published).\n",
+            t.reproduced, t.run, t.rows
+        );
+    }
+    s + "\n"
+}
+
+fn scene_table() -> MarkdownTable {
+    let v = |a: [f64; 3]| format!("({}, {}) m", short(a[0]), short(a[1]));
+    let mut t = MarkdownTable::new(&["parameter", "value", "source"]);
+    let rows = [
+        (
+            "nodes / springs",
+            format!("{THESIS_NODES} / {}", THESIS_NODES - 1),
+            "§3.1",
+        ),
+        (
+            "mass per node",
+            format!("{} kg", short(THESIS_NODE_MASS)),
+            "§3.1",
+        ),
+        (
+            "fixed nodes",
+            format!(
+                "0 at {}, {} at {}",
+                v(THESIS_ANCHOR_LEFT),
+                THESIS_NODES - 1,
+                v(THESIS_ANCHOR_RIGHT)
+            ),
+            "fitted to Table 1",
+        ),
+        (
+            "rest length",
+            format!(
+                "{} m, the initial spacing (taut start, zero tension)",
+                short(THESIS_REST_LENGTH)
+            ),
+            "fitted",
+        ),
+        (
+            "initial state",
+            "straight on y = 0, at rest".into(),
+            "fitted",
+        ),
+        (
+            "gravity",
+            format!("{} m/s² along -y", short(THESIS_GRAVITY)),
+            "fitted",
+        ),
+        ("stiffness", "1e3 and 1e6 N/m".into(), "§4.3"),
+        (
+            "reference",
+            format!(
+                "Backward Euler, dt = {} s, {REFERENCE_NEWTON_ITERATIONS} Newton iterations",
+                short(REFERENCE_DT)
+            ),
+            "§4.3, Table 1",
+        ),
+        (
+            "stopping rule",
+            format!(
+                "first kinetic-energy peak below {} J (counted); at most {} s simulated",
+                short(STOP_THRESHOLD_J),
+                short(MAX_SIMULATED_TIME_S)
+            ),
+            "§4.2",
+        ),
+    ];
+    for (a, b, c) in rows {
+        t.row(vec![a.into(), b, c.into()]);
+    }
+    t
+}
+
+fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
+    let r = &data.results;
+    let mut md = String::new();
+    md += "# Solvers de Elasticidad y Restricciones en Simulación — chapter 4 regenerated\n\n";
+    md += "This report re-does chapter 4 of the thesis (C. Peñalva Carbonell, URJC 2020) from this crate's \
+           runs: every published number beside ours, every figure redrawn from our runs, and for every \
+           equation the code that implements it. It is generated by `make report` (`cargo run --bin report`); \
+           the same inputs give byte-identical files. When and where it ran is in `run-info.md` \
+           (git-ignored).\n\n";
+    let run = r.rows.len();
+    if run < published_rows().len() {
+        let missing: Vec<&str> = SolverKind::ALL
+            .into_iter()
+            .filter(|s| !solvers_in(r).contains(s))
+            .map(|s| s.abbreviation())
+            .collect();
+        md += &format!(
+            "> **Partial report:** {run} of {} experiments were run; not run: {}. Their cells read `–` and \
+             their status `{}`.\n\n",
+            published_rows().len(),
+            missing.join(", "),
+            tables::NOT_RUN
+        );
+    }
+    md += "Contents: 1 Mass-spring systems · 2 The test scene · 3 Measurements · 4 Results (Tables 1-7) · \
+           5 Reproduction summary · 6 Conclusions revisited (Tables 8-12, Figures 5-15) · 7 Analytic catenary · \
+           8 Errata · 9 Equation traceability · 10 Data files · 11 Versions\n\n";
+
+    md += "## 1. Mass-spring systems (§2.1)\n\n";
+    md += &figure_md(figures, 1);
+
+    md += "## 2. The test scene (§3.1-3.3)\n\n";
+    md += "The thesis states the rope's topology and masses but not its geometry; the values below were fitted \
+           to Table 1 and checked against Tables 2 and 3 (`docs/thesis-scene.md`).\n\n";
+    md += &scene_table().render();
+    md += "\n";
+    md += &figure_md(figures, 2);
+    md += &figure_md(figures, 3);
+    md += &figure_md(figures, 4);
+
+    md += "## 3. Measurements (§4.2)\n\n";
+    md += &format!(
+        "- **Kinetic energy** $KE = \\frac12\\sum m|v|^2$ per step, with each solver's own velocity.\n\
+         - **Peaks** (\"nº máx. E_k\"): samples with $KE_{{i-1}} < KE_i \\ge KE_{{i+1}}$; the run stops at the \
+         first peak below {} J, which is counted.\n\
+         - **T/2, thesis convention** (used for every comparison with published numbers): the time stamp of the \
+         last peak divided by the number of peaks, a peak stamped at the step that detects it, time accumulated \
+         in single precision as the thesis's code did (convention 5 of `docs/thesis-scene.md`).\n\
+         - **T/2, exact convention** (shown beside it): the mean interval between consecutive peaks, each at its \
+         own sample, time in double precision.\n\
+         - **Relative T error**: $|T/2 - T/2_{{ref}}|/T/2_{{ref}}$ against our reference of the same stiffness.\n\
+         - **Error** (rest state): the sum over the nodes of the distance between the final positions and those \
+         of our reference of the same stiffness.\n\n\
+         **Reproduction rule** (one rule for tests, report and summaries): a row is reproduced ({}) when, under \
+         the thesis convention, |peaks − published| ≤ max(1, round(0.005 × published)) and |T/2 − published| ≤ \
+         {} % of published; otherwise {}. The rest-state error is checked only where the published error \
+         exceeds {}: ours/published within {}-{} ({} or {} after the ratio); smaller published errors are floors \
+         that depend on where a run stops inside its residual oscillation, compared but not asserted (\"floor\").\n\n",
+        short(STOP_THRESHOLD_J),
+        tables::PASS,
+        short(100.0 * HALF_PERIOD_TOLERANCE),
+        tables::FAIL,
+        short(tables::ERROR_CHECK_ABOVE),
+        short(tables::ERROR_RATIO_RANGE.0),
+        short(tables::ERROR_RATIO_RANGE.1),
+        tables::PASS,
+        tables::FAIL,
+    );
+    md += &tables::rounding_note();
+    md += " Δ peaks and T/2 dev. are ours minus published.\n\n";
+
+    md += "## 4. Results (§4.3)\n\n";
+    for table in 1..=7 {
+        md += &table_md(r, table);
+    }
+
+    md += "## 5. Reproduction summary\n\n";
+    md += &tables::summary(r).render();
+    md += "\nRows not reproduced, with the best explanation we have (the forensic findings are in \
+           `docs/thesis-scene.md`; a faithful implementation is the default and is not tuned to the published \
+           numbers):\n\n";
+    md += &tables::explanations(r);
+    md += "\n";
+
+    md += "## 6. Conclusions revisited (§4.4)\n\n";
+    md += &table_md(r, 8);
+    md += "### 6.1 Statics\n\n";
+    md += &table_md(r, 9);
+    for n in 5..=10 {
+        md += &figure_md(figures, n);
+    }
+    md += "### 6.2 Dynamics\n\n";
+    md += &figure_md(figures, 11);
+    md += &figure_md(figures, 12);
+    md += &table_md(r, 10);
+    md += &table_md(r, 11);
+    md += &figure_md(figures, 13);
+    md += &figure_md(figures, 14);
+    md += &figure_md(figures, 15);
+    md += &table_md(r, 12);
+
+    md += "## 7. Analytic catenary against the Newton rest state\n\n";
+    md += "The exact static equilibrium of the discrete elastic chain (every spring carries the same horizontal \
+           tension; solved to machine precision) against the final state of our Backward Euler reference, which \
+           stops at the first kinetic-energy peak below 0.001 J and so still moves a little: the expected residual \
+           amplitude is $\\sqrt{2E/M}\\,/\\,\\omega$ with $E$ the last peak's energy, $M$ the free mass and \
+           $\\omega = \\pi/(T/2)$.\n\n";
+    md += &rest_state::comparison(r, &data.catenary);
+    md += "\n";
+
+    md += "## 8. Errata\n\n";
+    md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
+           documentation says so.\n\n";
+    md += &errata::table().render();
+    md += "\n";
+
+    md += "## 9. Equation traceability\n\n";
+    md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
+           implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
+           others may be a definition or a derivation, with the reason given.\n\n";
+    let missing = traceability::missing(&data.sources.tags);
+    if !missing.is_empty() {
+        let list: Vec<String> = missing.iter().map(|n| n.to_string()).collect();
+        md += &format!(
+            "> **Missing:** equations {} have no code and are not listed.\n\n",
+            list.join(", ")
+        );
+    }
+    md += &traceability::table(&data.sources.tags).render();
+    md += "\n### 9.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+           `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
+    for (solver, quote) in &data.sources.quotes {
+        md += &format!(
+            "**{}** — [`{}`](../{}#L{})\n\n```rust\n{}\n```\n\n",
+            tables::solver_name(*solver),
+            quote.file,
+            quote.file,
+            quote.line,
+            quote.code
+        );
+    }
+
+    md += "## 10. Data files\n\n";
+    md += &format!(
+        "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
+         `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
+         numbers as the shortest decimal that reads back to the same double.\n\
+         - [`data/table1.csv`](data/table1.csv): the same for Table 1.\n\
+         - [`data/catenary.csv`](data/catenary.csv): `stiffness,node,x,y`, the exact discrete-chain equilibrium \
+         of the thesis rope, full precision.\n\
+         - `data/figNN-*.csv`: the points each figure draws (long series reduced to the minimum and maximum of \
+         each of at most 1500 buckets).\n\n",
+        data::RESULTS_HEADER
+    );
+
+    md += "## 11. Crate and dependency versions\n\n";
+    let v = &data.sources.versions;
+    md += &format!(
+        "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",
+        v.name, v.version, v.rust_version
+    );
+    md += &v.table().render();
+    md
+}

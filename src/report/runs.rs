@@ -1,0 +1,230 @@
+//! The runs the figures need beyond the 56 measured rows: the same experiments with their
+//! kinetic energy and positions recorded (Figures 11-15), and the cloth of Figure 1.
+//!
+//! Each run is made once per process, for the solvers present in the result set, in
+//! parallel over the available cores.
+
+use crate::backward_euler::BackwardEuler;
+use crate::error::Result;
+use crate::experiments::{ResultSet, SolverKind};
+use crate::metrics::StoppingRule;
+use crate::particles::scenes::ClothParams;
+use crate::report::tables::iteration_count;
+use crate::scene::RopeParams;
+use crate::solver::{simulate, Recording, Run, RunOptions};
+use crate::system::{MassSpringSystem, Vec3};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// A recorded run of the thesis rope.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FigureRunSpec {
+    /// Key the figures look the run up by.
+    pub key: &'static str,
+    pub solver: SolverKind,
+    pub stiffness: f64,
+    pub dt: f64,
+    pub iterations: usize,
+    /// Stop here (s) instead of at the stopping rule's peak.
+    pub max_time: Option<f64>,
+    /// Record the positions at every step.
+    pub positions: bool,
+}
+
+/// Simulated time of the recorded k = 1e3 reference start (Figures 12 and 13), s.
+pub const SOFT_START_S: f64 = 60.0;
+
+/// Key of the k = 1e3 reference, first [`SOFT_START_S`] seconds with positions.
+pub const BE_SOFT: &str = "be-soft";
+/// Key of the k = 1e6 reference, whole run.
+pub const BE_STIFF: &str = "be-stiff";
+/// Key of Fast m-s at k = 1e3, dt = 0.1 s, fewest iterations (Figure 13).
+pub const FMS_SOFT_COARSE: &str = "fms-soft-coarse";
+/// Keys of the k = 1e6, dt = 0.01 s runs with the middle iteration count (Figures 14-15).
+pub const STIFF_MIDDLE: [(SolverKind, &str); 3] = [
+    (SolverKind::Xpbd, "xpbd-stiff-middle"),
+    (SolverKind::FastMassSpring, "fms-stiff-middle"),
+    (SolverKind::AdmmPd, "admm-stiff-middle"),
+];
+
+/// Every recorded run the figures use.
+pub fn figure_run_specs() -> Vec<FigureRunSpec> {
+    let reference = |key, stiffness, max_time, positions| FigureRunSpec {
+        key,
+        solver: SolverKind::BackwardEuler,
+        stiffness,
+        dt: crate::backward_euler::REFERENCE_DT,
+        iterations: crate::backward_euler::REFERENCE_NEWTON_ITERATIONS,
+        max_time,
+        positions,
+    };
+    let mut specs = vec![
+        reference(BE_SOFT, 1e3, Some(SOFT_START_S), true),
+        reference(BE_STIFF, 1e6, None, false),
+    ];
+    if let Some(iterations) = iteration_count(SolverKind::FastMassSpring, 0) {
+        specs.push(FigureRunSpec {
+            key: FMS_SOFT_COARSE,
+            solver: SolverKind::FastMassSpring,
+            stiffness: 1e3,
+            dt: 0.1,
+            iterations,
+            max_time: None,
+            positions: true,
+        });
+    }
+    for (solver, key) in STIFF_MIDDLE {
+        if let Some(iterations) = iteration_count(solver, 1) {
+            specs.push(FigureRunSpec {
+                key,
+                solver,
+                stiffness: 1e6,
+                dt: 0.01,
+                iterations,
+                max_time: None,
+                positions: false,
+            });
+        }
+    }
+    specs
+}
+
+/// Runs one recorded experiment from the thesis rope at rest, faithful configuration.
+pub fn run_spec(spec: &FigureRunSpec) -> Result<Run> {
+    let system = RopeParams::thesis(spec.stiffness).build()?;
+    let mut solver = spec.solver.build(&system, spec.dt, spec.iterations)?;
+    let mut stop = StoppingRule::default();
+    if let Some(t) = spec.max_time {
+        // Only the time limit ends the run: the figure shows a fixed window.
+        stop.max_time = t;
+        stop.threshold = f64::MIN_POSITIVE;
+    }
+    let options = RunOptions {
+        stop,
+        velocity_damping: 0.0,
+        recording: Recording {
+            kinetic_energy: true,
+            positions_every: spec.positions.then_some(1),
+        },
+    };
+    simulate(solver.as_mut(), system.initial_state(), &options)
+}
+
+/// The cloth of Figure 1: the scene, and its positions at a few instants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClothFrames {
+    pub params: ClothParams,
+    pub system: MassSpringSystem,
+    pub dt: f64,
+    /// (time, positions), the first at t = 0.
+    pub frames: Vec<(f64, Vec<Vec3>)>,
+}
+
+/// Particles per side of the cloth of Figure 1.
+pub const CLOTH_SIDE: usize = 15;
+/// Instants of the cloth drawn in Figure 1, s.
+pub const CLOTH_TIMES_S: [f64; 3] = [0.0, 0.25, 1.0];
+/// Time step of the cloth's Backward Euler run, s.
+pub const CLOTH_DT_S: f64 = 1e-3;
+
+/// Simulates the hanging cloth (`particles::scenes`) with Backward Euler and keeps the
+/// frames at [`CLOTH_TIMES_S`].
+pub fn cloth() -> Result<ClothFrames> {
+    let params = ClothParams {
+        nx: CLOTH_SIDE,
+        ny: CLOTH_SIDE,
+        spacing: 1.0 / (CLOTH_SIDE - 1) as f64,
+        ..ClothParams::default()
+    };
+    let system = params.hanging()?;
+    let mut solver = BackwardEuler::reference(&system)?;
+    let last = CLOTH_TIMES_S[CLOTH_TIMES_S.len() - 1];
+    let every = (CLOTH_TIMES_S[1] / CLOTH_DT_S).round() as u64;
+    let options = RunOptions {
+        stop: StoppingRule {
+            threshold: f64::MIN_POSITIVE,
+            max_time: last,
+            exempt_first_peak: false,
+        },
+        velocity_damping: 0.0,
+        recording: Recording {
+            kinetic_energy: false,
+            positions_every: Some(every),
+        },
+    };
+    let run = simulate(&mut solver, system.initial_state(), &options)?;
+    let frames = CLOTH_TIMES_S
+        .iter()
+        .filter_map(|&t| {
+            run.positions
+                .iter()
+                .find(|(time, _)| (time - t).abs() < 0.5 * CLOTH_DT_S)
+                .map(|(time, state)| (*time, state.x.clone()))
+        })
+        .collect();
+    Ok(ClothFrames {
+        params,
+        system,
+        dt: CLOTH_DT_S,
+        frames,
+    })
+}
+
+/// The recorded runs and the cloth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FigureRuns {
+    pub runs: BTreeMap<&'static str, (FigureRunSpec, Run)>,
+    pub cloth: ClothFrames,
+}
+
+impl FigureRuns {
+    /// The recorded run of a key, if its solver is part of the report.
+    pub fn get(&self, key: &str) -> Option<&(FigureRunSpec, Run)> {
+        self.runs.get(key)
+    }
+
+    /// Makes every recorded run whose solver appears in `results`, and the cloth, in
+    /// parallel; `progress(done, total)` after each.
+    pub fn compute(results: &ResultSet, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
+        let specs: Vec<FigureRunSpec> = figure_run_specs()
+            .into_iter()
+            .filter(|s| results.rows.iter().any(|m| m.published.solver == s.solver))
+            .collect();
+        // Job 0 is the cloth; the longest rope runs (k = 1e6 reference) come first after it.
+        let total = specs.len() + 1;
+        let next = AtomicUsize::new(0);
+        let done = AtomicUsize::new(0);
+        let runs: Mutex<Vec<Option<Result<Run>>>> = Mutex::new(vec![None; specs.len()]);
+        let cloth_result: Mutex<Option<Result<ClothFrames>>> = Mutex::new(None);
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(total);
+        std::thread::scope(|scope| {
+            for _ in 0..threads {
+                scope.spawn(|| loop {
+                    let job = next.fetch_add(1, Ordering::Relaxed);
+                    if job == 0 {
+                        *cloth_result.lock().expect("no panic holding the lock") = Some(cloth());
+                    } else if let Some(spec) = specs.get(job - 1) {
+                        let run = run_spec(spec);
+                        runs.lock().expect("no panic holding the lock")[job - 1] = Some(run);
+                    } else {
+                        break;
+                    }
+                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                });
+            }
+        });
+        let cloth = cloth_result
+            .into_inner()
+            .expect("no panic holding the lock")
+            .expect("the cloth job ran")?;
+        let mut map = BTreeMap::new();
+        let runs = runs.into_inner().expect("no panic holding the lock");
+        for (spec, run) in specs.into_iter().zip(runs) {
+            map.insert(spec.key, (spec, run.expect("every job ran")?));
+        }
+        Ok(Self { runs: map, cloth })
+    }
+}

@@ -1,0 +1,211 @@
+//! The report (`make report`): snapshots of the reproduced Tables 1-12, of the
+//! published-vs-ours reproduction summary and of the machine-readable results, rounded to
+//! four significant digits; byte-identical output from two renderings; the files it writes.
+//!
+//! One result set per process: the 56 experiments come from
+//! [`experiments::faithful_results`], the figure runs are made once, and every test formats
+//! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
+//! accept it with `INSTA_UPDATE=always cargo test --test report`.
+
+use mass_spring_solvers::experiments::{faithful_results, published_rows};
+use mass_spring_solvers::report::format::sig4;
+use mass_spring_solvers::report::output::{write_report, OutputFile};
+use mass_spring_solvers::report::rest_state::Catenary;
+use mass_spring_solvers::report::runs::FigureRuns;
+use mass_spring_solvers::report::{crate_root, render, solvers_in, tables, ReportData, Sources};
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The report's data, computed once per test process.
+fn data() -> &'static ReportData {
+    static DATA: OnceLock<ReportData> = OnceLock::new();
+    DATA.get_or_init(|| {
+        let results = faithful_results().clone();
+        let sources = Sources::read(&crate_root(), &solvers_in(&results))
+            .expect("the sources read and quote");
+        let runs = FigureRuns::compute(&results, &|_, _| {}).expect("the figure runs run");
+        let catenary = Catenary::compute().expect("the exact catenary solves");
+        ReportData {
+            results,
+            runs,
+            catenary,
+            sources,
+        }
+    })
+}
+
+/// The rendered files, rendered once per process for the checks that only read them.
+fn files() -> &'static [OutputFile] {
+    static FILES: OnceLock<Vec<OutputFile>> = OnceLock::new();
+    FILES.get_or_init(|| render(data()).expect("the report renders"))
+}
+
+fn snapshot(name: &str, text: &str) {
+    insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!(name, text);
+    });
+}
+
+#[test]
+fn tables_1_to_12_match_their_snapshots() {
+    let results = &data().results;
+    for table in 1..=12 {
+        snapshot(
+            &format!("table{table:02}"),
+            &tables::render_table(results, table),
+        );
+    }
+}
+
+#[test]
+fn reproduction_summary_matches_its_snapshot() {
+    let results = &data().results;
+    let text = format!(
+        "{}\n{}",
+        tables::summary(results).render(),
+        tables::explanations(results)
+    );
+    snapshot("reproduction-summary", &text);
+}
+
+/// Every measured number of the 56 rows at four significant digits, one line per row.
+#[test]
+fn measured_numbers_match_their_snapshot() {
+    let mut text = String::from("table solver dt iter k | peaks T/2(thesis) T/2(exact) relT | error_sum error_l2 error_max | limit\n");
+    let opt = |x: Option<f64>| x.map_or("-".to_string(), sig4);
+    for m in &data().results.rows {
+        let p = &m.published;
+        text += &format!(
+            "{} {} {} {} {:e} | {} {} {} {} | {} {} {} | {}\n",
+            p.table,
+            p.solver.id(),
+            p.dt_s,
+            p.iterations,
+            p.stiffness,
+            m.peaks,
+            opt(m.half_period_thesis),
+            opt(m.half_period_exact),
+            opt(m.period_rel_error),
+            opt(m.error_sum),
+            opt(m.error_l2),
+            opt(m.error_max),
+            m.hit_time_limit
+        );
+    }
+    snapshot("measured-rows", &text);
+}
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("mss-report-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// Every file under `dir`, relative, sorted.
+fn tree(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                out.push(path.strip_prefix(dir).unwrap().to_path_buf());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn two_renderings_write_byte_identical_files() {
+    let (a, b) = (scratch_dir("a"), scratch_dir("b"));
+    write_report(&a, &render(data()).unwrap()).unwrap();
+    write_report(&b, &render(data()).unwrap()).unwrap();
+    let files = tree(&a);
+    assert_eq!(files, tree(&b));
+    assert!(files.len() >= 33, "{files:?}");
+    for f in &files {
+        let (x, y) = (
+            std::fs::read(a.join(f)).unwrap(),
+            std::fs::read(b.join(f)).unwrap(),
+        );
+        assert!(x == y, "{} differs between two renderings", f.display());
+    }
+    std::fs::remove_dir_all(&a).unwrap();
+    std::fs::remove_dir_all(&b).unwrap();
+}
+
+fn file(path: &str) -> &'static str {
+    let f = files()
+        .iter()
+        .find(|f| f.path == Path::new(path))
+        .unwrap_or_else(|| panic!("the report has no {path}"));
+    std::str::from_utf8(&f.contents).expect("text")
+}
+
+#[test]
+fn every_table_figure_and_data_file_is_there() {
+    let report = file("REPORT.md");
+    for table in 1..=12 {
+        assert!(
+            report.contains(&format!("**Table {table}. ")),
+            "Table {table} missing"
+        );
+    }
+    let svgs: Vec<&OutputFile> = files()
+        .iter()
+        .filter(|f| f.path.extension().is_some_and(|e| e == "svg"))
+        .collect();
+    assert_eq!(svgs.len(), 15);
+    for n in 1..=15 {
+        let prefix = format!("figures/fig{n:02}-");
+        let svg = svgs
+            .iter()
+            .find(|f| f.path.to_string_lossy().starts_with(&prefix))
+            .unwrap_or_else(|| panic!("figure {n} missing"));
+        let stem = svg.path.file_stem().unwrap().to_string_lossy();
+        assert!(
+            report.contains(&format!("figures/{stem}.svg")),
+            "figure {n} not in REPORT.md"
+        );
+        file(&format!("data/{stem}.csv"));
+    }
+    assert!(
+        !report.contains("Partial report"),
+        "the report must run all 56 rows"
+    );
+}
+
+#[test]
+fn results_csv_has_the_56_rows_in_the_thesis_columns() {
+    let csv = file("data/results.csv");
+    let mut lines = csv.lines();
+    let header = lines.next().unwrap();
+    let published_header = mass_spring_solvers::experiments::PUBLISHED_CSV
+        .lines()
+        .next()
+        .unwrap();
+    assert_eq!(header, format!("{published_header},half_period_exact_s"));
+    assert_eq!(lines.count(), published_rows().len());
+    let table1 = file("data/table1.csv");
+    assert_eq!(table1.lines().count(), 3);
+}
+
+#[test]
+fn catenary_csv_holds_both_stiffnesses_at_full_precision() {
+    let csv = file("data/catenary.csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], "stiffness,node,x,y");
+    assert_eq!(lines.len(), 1 + 2 * 10);
+    for line in &lines[1..] {
+        let fields: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
+        assert_eq!(fields.len(), 4);
+    }
+    // Full precision: the file reads back to the same doubles.
+    let exact = data().catenary.analytic(1e3).unwrap();
+    let y4: f64 = lines[5].split(',').nth(3).unwrap().parse().unwrap();
+    assert_eq!(y4, exact[4].y);
+}
