@@ -6,7 +6,9 @@
 //! and uses [`crate::solver::simulate`]; the rest-state error of a row is measured against the
 //! final state of the Backward Euler reference of the same stiffness.
 
+use crate::admm::AdmmPd;
 use crate::backward_euler::BackwardEuler;
+use crate::fast_mass_spring::FastMassSpring;
 use crate::error::{Error, Result};
 use crate::metrics::{rest_error_l1, rest_error_l2, rest_error_max, rest_error_sum, StoppingRule};
 use crate::scene::RopeParams;
@@ -80,8 +82,8 @@ impl SolverKind {
         Ok(match self {
             SolverKind::BackwardEuler => Box::new(BackwardEuler::new(system, dt, iterations)?),
             SolverKind::Xpbd => Box::new(Xpbd::new(system, dt, iterations)?),
-            // TEMPORARY while the solver modules are being written (lead removes before commit).
-            other => return Err(Error::Input(format!("{} is not wired yet", other.id()))),
+            SolverKind::FastMassSpring => Box::new(FastMassSpring::new(system, dt, iterations)?),
+            SolverKind::AdmmPd => Box::new(AdmmPd::new(system, dt, iterations)?),
         })
     }
 }

@@ -178,6 +178,8 @@ pub struct BandedCholesky {
     n: usize,
     p: usize,
     band: Vec<f64>,
+    /// $1/L_{ii}$: the substitutions multiply, a division per row would serialise them.
+    inverse_diagonal: Vec<f64>,
 }
 
 impl BandedCholesky {
@@ -187,6 +189,7 @@ impl BandedCholesky {
             n: a.dim(),
             p: a.bandwidth(),
             band: vec![0.0; a.dim() * (a.bandwidth() + 1)],
+            inverse_diagonal: vec![0.0; a.dim()],
         };
         f.refactor(a)?;
         Ok(f)
@@ -217,8 +220,9 @@ impl BandedCholesky {
                         return Err(not_positive_definite(i, s));
                     }
                     self.band[i * w + p] = s.sqrt();
+                    self.inverse_diagonal[i] = 1.0 / s.sqrt();
                 } else {
-                    self.band[i * w + p + j - i] = s / self.band[j * w + p];
+                    self.band[i * w + p + j - i] = s * self.inverse_diagonal[j];
                 }
             }
         }
@@ -235,7 +239,7 @@ impl BandedCholesky {
                 let k0 = i.saturating_sub(p);
                 let row = &self.band[i * w + p + k0 - i..i * w + p];
                 let s: f64 = row.iter().zip(&col[k0..i]).map(|(l, y)| l * y).sum();
-                col[i] = (col[i] - s) / self.band[i * w + p];
+                col[i] = (col[i] - s) * self.inverse_diagonal[i];
             }
             // Lᵀ x = y: column i of Lᵀ is row i of L, read down the rows below i.
             for i in (0..n).rev() {
@@ -243,7 +247,7 @@ impl BandedCholesky {
                 for (k, x_k) in col.iter().enumerate().take((i + p + 1).min(n)).skip(i + 1) {
                     s -= self.band[k * w + p + i - k] * x_k;
                 }
-                col[i] = s / self.band[i * w + p];
+                col[i] = s * self.inverse_diagonal[i];
             }
         }
     }

@@ -153,6 +153,7 @@ impl TimeStepper for Pbd {
     }
 
     /// Algorithm 1 with its erratum: the projection moves $p$.
+    // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let dt = self.dt;
         let p = &mut self.p;
@@ -186,6 +187,7 @@ impl TimeStepper for Pbd {
         }
         Ok(())
     }
+    // endregion: step
 }
 
 #[cfg(test)]

@@ -277,6 +277,7 @@ impl TimeStepper for Xpbd {
     }
 
     /// Algorithm 2. The iterate $x_i$ lives in `state.x`.
+    // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let dt = self.dt;
         let x = &mut state.x;
@@ -319,6 +320,7 @@ impl TimeStepper for Xpbd {
         }
         Ok(())
     }
+    // endregion: step
 }
 
 #[cfg(test)]

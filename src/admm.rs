@@ -1,0 +1,241 @@
+//! ADMM ⊇ Projective Dynamics (Overby et al. 2017; thesis §2.3.2 and §3.5, Algorithm 4,
+//! Eqs 30-42 and 54-56).
+//!
+//! Eq (20) split as in Eqs (34)-(39): $f(x) = \frac{1}{2dt^2}|x - \tilde x|_M^2$,
+//! $g(z) = U_*(z)$ (the springs' Hooke energy), constraint $W(Dx - z) = 0$ with the reduction
+//! matrix $D$ (Eq 54) and the weights $W = \omega I$, $\omega_i = \sqrt{k_i}$ by default (the
+//! "usual" choice of §2.3.2, and the one §3.5 assumes). Each step starts from
+//! $x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ with the scaled dual $\bar u = 0$
+//! (lines 2.1-2.2), then iterates, in the order of Algorithm 4: the local step $z$ (Eq 41,
+//! solved by Eqs 55-56 for Hooke's energy), the dual update $\bar u$ (Eq 42), and the global
+//! step $x$ (Eq 40) with $A = M + dt^2 D^\top W^\top W D$ factored once per scene and time step
+//! ([`crate::projective`], shared with Liu 2013; fixed nodes by Eqs 43-47). The velocity is
+//! $(x - x_n)/dt$ (line 2.11).
+//!
+//! Errata implemented in consistent form (see `docs/thesis-errata.md`):
+//! - Eq (34): the inertial term is $(x - \tilde x)^\top M (x - \tilde x)$, as Eq (35) has it
+//!   (printed with $x^n - x^{n+1}$).
+//! - Eq (36): $g(z) = U_*(z)$ (printed $g(x)$).
+//! - Eq (40), last line: $D^\top W^\top W$ (printed $D^\top W W$; equal for a diagonal $W$).
+//!
+//! Eq (56)'s simplified form $z = \frac12(p + D_i x + \bar u_i)$ holds only for
+//! $\omega_i^2 = k_i$; the general form is used so that other weights ([`AdmmPd::with_omega`])
+//! stay correct.
+
+use crate::error::{require_positive, Error, Result};
+use crate::projective::{
+    finish_step, project_on_sphere, reduction_matrix, to_columns, GlobalSolve, SpringIncidence,
+};
+use crate::solver::TimeStepper;
+use crate::system::{MassSpringSystem, State, Vec3};
+
+/// The default weights $\omega_i = \sqrt{k_i}$ (§2.3.2, Eqs 37-38: $A = WD$, $B = -W$).
+pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {
+    system
+        .springs()
+        .iter()
+        .map(|s| s.stiffness.sqrt())
+        .collect()
+}
+
+/// Eq. (56): $z_i = \dfrac{k\,p_i + \omega_i^2\,(D_i x + \bar u_i)}{\omega_i^2 + k}$, the
+/// minimiser of Eq (41) for Hooke's energy given the projection $p_i$ of Eq (55);
+/// $\frac12(p_i + D_i x + \bar u_i)$ when $\omega_i^2 = k$.
+#[inline]
+pub fn z_update(p: Vec3, q: Vec3, k: f64, omega: f64) -> Vec3 {
+    let omega2 = omega * omega;
+    (k * p + omega2 * q) / (omega2 + k)
+}
+
+/// Eq. (41): $z_i = \arg\min_{z_i} U_i(z_i) + \frac12|W_i(D_i x - z_i + \bar u_i)|^2$ for
+/// $U_i(z) = \frac12 k(|z| - l_0)^2$, with $q = D_i x + \bar u_i$: the minimiser lies on $q$'s
+/// ray, so it is Eq (56) applied to the projection $p_i = l_0\,q/|q|$ of Eq (55).
+#[inline]
+pub fn z_minimisation(q: Vec3, l0: f64, k: f64, omega: f64) -> Vec3 {
+    let p = project_on_sphere(q, l0);
+    z_update(p, q, k, omega)
+}
+
+/// Eq. (42): $\bar u_i \leftarrow \bar u_i + D_i x - z_i$.
+#[inline]
+pub fn dual_update(u_bar: Vec3, d_x: Vec3, z: Vec3) -> Vec3 {
+    u_bar + d_x - z
+}
+
+/// ADMM-PD with a fixed number of iterations per step.
+#[derive(Debug, Clone)]
+pub struct AdmmPd {
+    system: MassSpringSystem,
+    dt: f64,
+    iterations: usize,
+    /// $D$ of Eq (54), stored per spring.
+    d: SpringIncidence,
+    /// $\omega_i$, the diagonal of $W$.
+    omega: Vec<f64>,
+    default_weights: bool,
+    /// $dt^2\,\omega_i^2$, the factor of $D_i^\top$ in Eq (40)'s right-hand side.
+    dt2_omega2: Vec<f64>,
+    /// $A = M + dt^2 D^\top W^\top W D$, factored once (line 1.5).
+    a: GlobalSolve,
+    // Per-step buffers (column-major, 3n; one Vec3 per spring), so that a step allocates nothing.
+    x_n: Vec<f64>,
+    x_tilde: Vec<f64>,
+    /// $M\tilde x$.
+    m_x_tilde: Vec<f64>,
+    x: Vec<f64>,
+    z: Vec<Vec3>,
+    u_bar: Vec<Vec3>,
+}
+
+impl AdmmPd {
+    /// The faithful solver: $\omega_i = \sqrt{k_i}$. Needs every stiffness > 0, `dt` > 0 and
+    /// `iterations` >= 1.
+    pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
+        system.require_positive_stiffness()?;
+        Self::with_omega(system, dt, iterations, default_omega(system))
+    }
+
+    /// The solver with other per-spring weights $\omega_i$ (> 0), a variant of the faithful
+    /// $\omega_i = \sqrt{k_i}$. Algorithm 4, lines 1.1-1.5.
+    pub fn with_omega(
+        system: &MassSpringSystem,
+        dt: f64,
+        iterations: usize,
+        omega: Vec<f64>,
+    ) -> Result<Self> {
+        require_positive("dt", dt)?;
+        system.require_positive_stiffness()?;
+        if iterations == 0 {
+            return Err(Error::invalid("iterations", 0, "an integer >= 1"));
+        }
+        if omega.len() != system.springs().len() {
+            return Err(Error::invalid(
+                "omega.len()",
+                omega.len(),
+                &format!("one weight per spring ({})", system.springs().len()),
+            ));
+        }
+        for (j, &w) in omega.iter().enumerate() {
+            require_positive(format!("omega[{j}]"), w)?;
+        }
+        let n = system.len();
+        let s = system.springs().len();
+        let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
+        Ok(Self {
+            system: system.clone(),
+            dt,
+            iterations,
+            d: reduction_matrix(system),
+            dt2_omega2: omega2.iter().map(|w2| dt * dt * w2).collect(),
+            a: GlobalSolve::new(system, dt, &omega2)?,
+            default_weights: omega == default_omega(system),
+            omega,
+            x_n: vec![0.0; 3 * n],
+            x_tilde: vec![0.0; 3 * n],
+            m_x_tilde: vec![0.0; 3 * n],
+            x: vec![0.0; 3 * n],
+            z: vec![Vec3::zeros(); s],
+            u_bar: vec![Vec3::zeros(); s],
+        })
+    }
+
+    /// Iterations per step.
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// The weights $\omega_i$.
+    pub fn omega(&self) -> &[f64] {
+        &self.omega
+    }
+
+    /// Line 2.1: $\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ (Eq 35's $\tilde x$), and
+    /// $M\tilde x$ for Eq (40). Fixed nodes predict their own position: they never move.
+    fn predict(&mut self, state: &State) {
+        let (n, dt) = (state.x.len(), self.dt);
+        for (i, node) in self.system.nodes().iter().enumerate() {
+            let x_tilde = if node.fixed {
+                state.x[i]
+            } else {
+                state.x[i] + dt * state.v[i] + dt * dt / node.mass * self.system.external_force(i)
+            };
+            for c in 0..3 {
+                self.x_tilde[c * n + i] = x_tilde[c];
+                self.m_x_tilde[c * n + i] = node.mass * x_tilde[c];
+            }
+        }
+    }
+
+    /// Lines 2.4-2.7: for every spring, $z_i$ (Eq 41 by Eqs 55-56), then $\bar u_i$ (Eq 42),
+    /// from the current iterate $x$.
+    fn local_step(&mut self) {
+        let springs = self.system.springs();
+        for (i, ((z, u_bar), s)) in self
+            .z
+            .iter_mut()
+            .zip(self.u_bar.iter_mut())
+            .zip(springs)
+            .enumerate()
+        {
+            let d_x = self.d.apply_row(i, &self.x);
+            *z = z_minimisation(d_x + *u_bar, s.rest_length, s.stiffness, self.omega[i]);
+            *u_bar = dual_update(*u_bar, d_x, *z);
+        }
+    }
+
+    /// Eq. (40): $(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)$,
+    /// solved with the prefactored $A$ for the three coordinates at once; fixed nodes stay at
+    /// $x_n$.
+    fn global_step(&mut self) {
+        self.x.copy_from_slice(&self.m_x_tilde);
+        for (i, ((z, u_bar), &w)) in self
+            .z
+            .iter()
+            .zip(&self.u_bar)
+            .zip(&self.dt2_omega2)
+            .enumerate()
+        {
+            self.d.add_row_transposed(i, w * (z - u_bar), &mut self.x);
+        }
+        self.a.solve(&mut self.x, &self.x_n);
+    }
+}
+
+impl TimeStepper for AdmmPd {
+    fn name(&self) -> String {
+        let weights = if self.default_weights {
+            ""
+        } else {
+            ", variant: custom ω"
+        };
+        format!("ADMM-PD ({} iterations{weights})", self.iterations)
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn system(&self) -> &MassSpringSystem {
+        &self.system
+    }
+
+    /// Algorithm 4, run-time part.
+    // region: step
+    fn step(&mut self, state: &mut State) -> Result<()> {
+        to_columns(&state.x, &mut self.x_n);
+        // 2.1: x⁰ = x̃.
+        self.predict(state);
+        self.x.copy_from_slice(&self.x_tilde);
+        // 2.2: ū = 0 every step.
+        self.u_bar.fill(Vec3::zeros());
+        // 2.3-2.10
+        for _ in 0..self.iterations {
+            self.local_step();
+            self.global_step();
+        }
+        // 2.11
+        finish_step(state, &self.x, self.dt);
+        Ok(())
+    }
+    // endregion: step
+}

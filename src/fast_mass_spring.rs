@@ -1,0 +1,156 @@
+//! Liu et al. 2013, *Fast Simulation of Mass-Spring Systems* (thesis §2.3.1 and §3.4,
+//! Algorithm 3, Eqs 20-29 and 52-53).
+//!
+//! Block coordinate descent on Eq (20) with the spring energy rewritten by Eqs (21)-(23):
+//! a local step projects every spring onto its rest length (Eq 28), a global step solves the
+//! prefactored system $(M + dt^2 L)\,x = M y + dt^2 f_{ext} + dt^2 J d$ (Eq 29). The matrices
+//! $M$, $L$, $J$ (Eqs 24-26, 52-53) and the factorisation of $A = M + dt^2 L$ are built once
+//! per scene and time step ([`crate::projective`], shared with ADMM-PD); fixed nodes enter the
+//! factorisation by Eqs 43-47.
+//!
+//! Errata implemented in consistent form (see `docs/thesis-errata.md`):
+//! - Eqs (27), (29): as printed, $b = M x + dt^2 f_{ext}$ and $(M + dt^2 L)x = dt^2 J d - b$
+//!   give the inertia the wrong sign and no velocity. Liu 2013 uses the prediction
+//!   $y = x_n + dt\,v_n$: the right-hand side is $M y + dt^2 f_{ext} + dt^2 J d$.
+//! - Algorithm 3 has no velocity update: $v_{n+1} = (x_{n+1} - x_n)/dt$ after the loop, as in
+//!   Algorithm 4 line 2.11.
+//!
+//! Algorithm 3 does not say where the iteration starts. The first iterate is $x_n$: with it,
+//! one iteration reproduces the thesis's one-iteration rows (Tables 4-5), which starting from
+//! $y$ does not. With many iterations the step converges to the Backward Euler step of Eq (20)
+//! whatever the start.
+
+use crate::error::{require_positive, Error, Result};
+use crate::projective::{
+    finish_step, incidence_matrix, project_on_sphere, to_columns, GlobalSolve, SpringIncidence,
+};
+use crate::solver::TimeStepper;
+use crate::system::{MassSpringSystem, State, Vec3};
+
+/// Liu 2013's solver with a fixed number of local/global iterations per step.
+#[derive(Debug, Clone)]
+pub struct FastMassSpring {
+    system: MassSpringSystem,
+    dt: f64,
+    iterations: usize,
+    /// $J$ of Eqs (26), (53), stored per spring.
+    j: SpringIncidence,
+    rest_lengths: Vec<f64>,
+    /// $A = M + dt^2 L$, factored once (Algorithm 3 line 1.4).
+    a: GlobalSolve,
+    /// $dt^2 f_{ext}$, column-major.
+    dt2_f_ext: Vec<f64>,
+    // Per-step buffers (column-major, 3n), so that a step allocates nothing.
+    x_n: Vec<f64>,
+    b: Vec<f64>,
+    x: Vec<f64>,
+    /// One $d_i$ per spring.
+    d: Vec<Vec3>,
+}
+
+impl FastMassSpring {
+    /// The solver for `system` with time step `dt` (s, > 0) and `iterations` (>= 1)
+    /// local/global iterations per step. Algorithm 3, lines 1.1-1.4.
+    pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
+        require_positive("dt", dt)?;
+        if iterations == 0 {
+            return Err(Error::invalid("iterations", 0, "an integer >= 1"));
+        }
+        let n = system.len();
+        let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+        let mut dt2_f_ext = vec![0.0; 3 * n];
+        let f_ext: Vec<Vec3> = (0..n).map(|i| dt * dt * system.external_force(i)).collect();
+        to_columns(&f_ext, &mut dt2_f_ext);
+        Ok(Self {
+            system: system.clone(),
+            dt,
+            iterations,
+            j: incidence_matrix(system),
+            rest_lengths: system.springs().iter().map(|s| s.rest_length).collect(),
+            a: GlobalSolve::new(system, dt, &k)?,
+            dt2_f_ext,
+            x_n: vec![0.0; 3 * n],
+            b: vec![0.0; 3 * n],
+            x: vec![0.0; 3 * n],
+            d: vec![Vec3::zeros(); system.springs().len()],
+        })
+    }
+
+    /// Local/global iterations per step.
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// Eq. (27), consistent form: $b = M y + dt^2 f_{ext}$ with $y = x_n + dt\,v_n$
+    /// (printed: $b = M x + f_{ext}\,dt^2$, subtracted in Eq 29).
+    fn inertial_rhs(&mut self, state: &State) {
+        let n = state.x.len();
+        for (i, ((x, v), node)) in state
+            .x
+            .iter()
+            .zip(&state.v)
+            .zip(self.system.nodes())
+            .enumerate()
+        {
+            let y = x + self.dt * v;
+            for c in 0..3 {
+                self.b[c * n + i] = node.mass * y[c] + self.dt2_f_ext[c * n + i];
+            }
+        }
+    }
+
+    /// Eq. (28): $d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|$ for every spring, at the current
+    /// iterate (the local step, lines 2.3-2.5).
+    fn local_step(&mut self) {
+        for (i, (d, &l0)) in self.d.iter_mut().zip(&self.rest_lengths).enumerate() {
+            *d = project_on_sphere(self.j.difference(i, &self.x), l0);
+        }
+    }
+
+    /// Eq. (29), consistent form: $(M + dt^2 L)\,x = b + dt^2 J d$, solved with the
+    /// prefactored $A$ for the three coordinates at once; fixed nodes stay at $x_n$.
+    fn global_step(&mut self) {
+        let dt2 = self.dt * self.dt;
+        self.x.copy_from_slice(&self.b);
+        for (i, &d) in self.d.iter().enumerate() {
+            self.j.add_row_transposed(i, dt2 * d, &mut self.x);
+        }
+        self.a.solve(&mut self.x, &self.x_n);
+    }
+}
+
+impl TimeStepper for FastMassSpring {
+    fn name(&self) -> String {
+        format!(
+            "Fast mass-spring (Liu 2013, {} iterations)",
+            self.iterations
+        )
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn system(&self) -> &MassSpringSystem {
+        &self.system
+    }
+
+    /// Algorithm 3, run-time part.
+    // region: step
+    fn step(&mut self, state: &mut State) -> Result<()> {
+        to_columns(&state.x, &mut self.x_n);
+        // 2.1: b (Eq 27).
+        self.inertial_rhs(state);
+        // First iterate x_n (Algorithm 3 is silent; see the module doc).
+        self.x.copy_from_slice(&self.x_n);
+        // 2.2-2.8
+        for _ in 0..self.iterations {
+            self.local_step();
+            self.global_step();
+        }
+        // Erratum: Algorithm 3 omits the velocity update.
+        finish_step(state, &self.x, self.dt);
+        Ok(())
+    }
+    // endregion: step
+}

@@ -1,0 +1,633 @@
+//! Liu 2013 (Algorithm 3) and ADMM-PD (Algorithm 4) against their oracles: the converged
+//! Backward Euler step (Eq 20's minimiser), the closed-form matrices of Eqs 52-54, the scene's
+//! symmetry and fixed nodes, and the published Tables 4-7.
+
+use mass_spring_solvers::admm::{z_minimisation, z_update, AdmmPd};
+use mass_spring_solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::metrics::rest_error_sum;
+use mass_spring_solvers::projective::{
+    incidence_matrix, mass_matrix, project_on_sphere, reduction_matrix, stiffness_laplacian,
+    system_matrix, weighted_laplacian,
+};
+use mass_spring_solvers::scene::thesis_rope;
+use mass_spring_solvers::{
+    simulate, Error, MassSpringSystem, Node, RunOptions, Spring, State, TimeStepper, Vec3,
+};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
+
+/// A moving state: the thesis rope after `steps` steps of the Backward Euler reference.
+fn moving_state(system: &MassSpringSystem, steps: usize) -> State {
+    let mut be = BackwardEuler::reference(system).unwrap();
+    let mut state = system.initial_state();
+    for _ in 0..steps {
+        be.step(&mut state).unwrap();
+    }
+    state
+}
+
+/// Largest distance between the positions of two states, m.
+fn max_distance(a: &State, b: &State) -> f64 {
+    a.x.iter()
+        .zip(&b.x)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
+}
+
+fn one_step(solver: &mut dyn TimeStepper, state: &State) -> State {
+    let mut next = state.clone();
+    solver.step(&mut next).unwrap();
+    next
+}
+
+/// A hanging cloth of `w`×`h` nodes (springs on the grid edges and one diagonal per cell, i.e.
+/// every triangle edge), pinned at the two top corners: a general, non-chain spring graph.
+fn cloth(w: usize, h: usize, k: f64) -> MassSpringSystem {
+    let id = |i: usize, j: usize| j * w + i;
+    let nodes = (0..h)
+        .flat_map(|j| {
+            (0..w).map(move |i| Node {
+                mass: 0.1 + 0.01 * ((i + 2 * j) % 5) as f64,
+                position: Vec3::new(i as f64 * 0.1, 0.0, -(j as f64) * 0.1),
+                velocity: Vec3::zeros(),
+                fixed: j == 0 && (i == 0 || i == w - 1),
+            })
+        })
+        .collect();
+    let mut springs = Vec::new();
+    let mut spring = |a: usize, b: usize, l: f64, n: usize| {
+        springs.push(Spring {
+            a,
+            b,
+            rest_length: l,
+            stiffness: k * (1.0 + 0.1 * (n % 3) as f64),
+            damping: 0.0,
+        })
+    };
+    for j in 0..h {
+        for i in 0..w {
+            if i + 1 < w {
+                spring(id(i, j), id(i + 1, j), 0.1, i + j);
+            }
+            if j + 1 < h {
+                spring(id(i, j), id(i, j + 1), 0.1, i + 2 * j);
+            }
+            if i + 1 < w && j + 1 < h {
+                spring(id(i, j), id(i + 1, j + 1), 0.1 * 2f64.sqrt(), i * j);
+            }
+        }
+    }
+    MassSpringSystem::new(nodes, springs, Vec3::new(0.0, 0.0, -9.81)).unwrap()
+}
+
+// ---------------------------------------------------------------------------------------------
+// The shared precomputation (Eqs 24-26, 52-54).
+
+#[test]
+fn rope_matrices_are_those_of_eqs_52_to_54() {
+    let k = 1e6;
+    let system = thesis_rope(k).unwrap();
+    let n = system.len();
+    let l = stiffness_laplacian(&system);
+    let m = mass_matrix(&system);
+    for i in 0..n {
+        for j in 0..n {
+            // Eq (52): k·tridiag(−1, 2, −1) with 1 at both ends.
+            let expected = if i == j {
+                if i == 0 || i == n - 1 {
+                    k
+                } else {
+                    2.0 * k
+                }
+            } else if i.abs_diff(j) == 1 {
+                -k
+            } else {
+                0.0
+            };
+            assert_eq!(l.get(i, j), expected, "L[{i}][{j}]");
+            assert_eq!(m.get(i, j), if i == j { 1.0 } else { 0.0 }, "M[{i}][{j}]");
+        }
+    }
+    let j_mat = incidence_matrix(&system);
+    let d = reduction_matrix(&system);
+    assert_eq!((d.springs(), d.nodes()), (n - 1, n));
+    for s in 0..n - 1 {
+        for node in 0..n {
+            // Eq (53): column s of J is k at node s and −k at node s + 1; Eq (54): row s of D
+            // is I at node s and −I at node s + 1.
+            let unit = if node == s {
+                1.0
+            } else if node == s + 1 {
+                -1.0
+            } else {
+                0.0
+            };
+            assert_eq!(j_mat.entry(s, node), k * unit, "J[{node}][{s}]");
+            assert_eq!(d.entry(s, node), unit, "D[{s}][{node}]");
+        }
+    }
+    // DᵀD·k = L.
+    for a in 0..n {
+        for b in 0..n {
+            let dtd: f64 = (0..n - 1).map(|s| d.entry(s, a) * d.entry(s, b)).sum();
+            assert_eq!(k * dtd, l.get(a, b), "(DᵀD k)[{a}][{b}]");
+        }
+    }
+}
+
+#[test]
+fn general_graph_matrices_satisfy_their_identities() {
+    let system = cloth(4, 3, 50.0);
+    let n = system.len();
+    let s = system.springs().len();
+    let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+    let l = stiffness_laplacian(&system);
+    let d = reduction_matrix(&system);
+    let j_mat = incidence_matrix(&system);
+    let dt = 0.02;
+    let a = system_matrix(&system, dt, &k).unwrap();
+    assert_eq!(weighted_laplacian(&system, &k).unwrap(), l);
+    for p in 0..n {
+        // A Laplacian's rows sum to zero.
+        assert!(l.row(p).map(|(_, v)| v).sum::<f64>().abs() < 1e-12);
+        for q in 0..n {
+            // Eq (25) as DᵀKD, and J = DᵀK (Eqs 26, 54).
+            let dtkd: f64 = (0..s).map(|i| k[i] * d.entry(i, p) * d.entry(i, q)).sum();
+            assert!((dtkd - l.get(p, q)).abs() < 1e-12, "L[{p}][{q}]");
+            let mass = if p == q { system.nodes()[p].mass } else { 0.0 };
+            assert!((a.get(p, q) - (mass + dt * dt * l.get(p, q))).abs() < 1e-12);
+        }
+        for (i, k_i) in k.iter().enumerate() {
+            assert_eq!(j_mat.entry(i, p), k_i * d.entry(i, p));
+        }
+    }
+    // Row i of D applied to positions is x_a − x_b.
+    let x: Vec<f64> = (0..3 * n).map(|r| (r as f64 * 0.7).sin()).collect();
+    for i in 0..s {
+        let (a, b) = d.ends(i);
+        let expected = Vec3::new(
+            x[a] - x[b],
+            x[n + a] - x[n + b],
+            x[2 * n + a] - x[2 * n + b],
+        );
+        assert_eq!(d.apply_row(i, &x), expected);
+    }
+    assert!(weighted_laplacian(&system, &k[1..]).is_err());
+}
+
+#[test]
+fn local_steps_solve_their_minimisations() {
+    let q = Vec3::new(0.3, -1.2, 0.4);
+    let (l0, k) = (1.1, 7.0);
+    // Eqs (28), (55): the closest point of the sphere |d| = l0.
+    let p = project_on_sphere(q, l0);
+    assert!((p.norm() - l0).abs() < 1e-15 && p.cross(&q).norm() < 1e-15 && p.dot(&q) > 0.0);
+    assert_eq!(project_on_sphere(Vec3::zeros(), l0), Vec3::zeros());
+    // Eq (56) with ω² = k is the printed simplification ½(p + q).
+    let half = 0.5 * (p + q);
+    assert!((z_update(p, q, k, k.sqrt()) - half).norm() < 1e-15);
+    // Eq (41): z minimises ½k(|z| − l0)² + ½ω²|z − q|², checked against perturbations.
+    for omega in [0.5, k.sqrt(), 10.0] {
+        let objective = |z: Vec3| {
+            0.5 * k * (z.norm() - l0).powi(2) + 0.5 * omega * omega * (z - q).norm_squared()
+        };
+        let z = z_minimisation(q, l0, k, omega);
+        for e in [
+            Vec3::x(),
+            Vec3::y(),
+            Vec3::z(),
+            -Vec3::x(),
+            -Vec3::y(),
+            -Vec3::z(),
+        ] {
+            assert!(objective(z) <= objective(z + 1e-6 * e), "ω = {omega}");
+        }
+    }
+}
+
+#[test]
+fn bad_parameters_are_rejected_with_their_names() {
+    let system = thesis_rope(1e3).unwrap();
+    let message = |e: Error| e.to_string();
+    assert!(message(FastMassSpring::new(&system, 0.0, 1).unwrap_err()).contains("dt"));
+    assert!(message(FastMassSpring::new(&system, 1e-2, 0).unwrap_err()).contains("iterations"));
+    assert!(message(AdmmPd::new(&system, f64::NAN, 1).unwrap_err()).contains("dt"));
+    assert!(message(AdmmPd::new(&system, 1e-2, 0).unwrap_err()).contains("iterations"));
+    let slack = system.with_stiffness(0.0).unwrap();
+    assert!(message(AdmmPd::new(&slack, 1e-2, 1).unwrap_err()).contains("springs[0].stiffness"));
+    assert!(
+        FastMassSpring::new(&slack, 1e-2, 1).is_ok(),
+        "Liu accepts k = 0"
+    );
+    assert!(
+        message(AdmmPd::with_omega(&system, 1e-2, 1, vec![1.0; 3]).unwrap_err()).contains("omega")
+    );
+    let mut omega = vec![1.0; 9];
+    omega[4] = -1.0;
+    assert!(message(AdmmPd::with_omega(&system, 1e-2, 1, omega).unwrap_err()).contains("omega[4]"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Convergence to the Backward Euler step.
+
+/// Iterations that bring each solver within 1e-9 m of the converged Backward Euler step from
+/// the moving state below (measured: at dt = 1e-3 Liu 46, ADMM 34; at dt = 1e-2 Liu about 3470,
+/// ADMM about 3490), with a margin to reach round-off.
+const CONVERGED_ITERATIONS: [(f64, usize); 2] = [(1e-3, 200), (1e-2, 10_000)];
+
+#[test]
+fn liu_and_admm_converge_to_the_backward_euler_step() {
+    let system = thesis_rope(1e6).unwrap();
+    let state = moving_state(&system, 300);
+    assert!(
+        state.kinetic_energy(&system) > 1.0,
+        "the state must be moving"
+    );
+    for (dt, iterations) in CONVERGED_ITERATIONS {
+        let oracle = converged_step(&system, &state, dt, ConvergedStepOptions::default()).unwrap();
+        let liu = one_step(
+            &mut FastMassSpring::new(&system, dt, iterations).unwrap(),
+            &state,
+        );
+        let admm = one_step(&mut AdmmPd::new(&system, dt, iterations).unwrap(), &state);
+        let (e_liu, e_admm) = (max_distance(&liu, &oracle), max_distance(&admm, &oracle));
+        println!("dt {dt}: {iterations} iterations, Liu {e_liu:.1e} m, ADMM {e_admm:.1e} m");
+        assert!(e_liu < 1e-12, "Liu at dt = {dt}: {e_liu:e} m");
+        assert!(e_admm < 1e-12, "ADMM at dt = {dt}: {e_admm:e} m");
+        // The velocities follow: v = (x − x_n)/dt for all three.
+        let dv = liu
+            .v
+            .iter()
+            .zip(&oracle.v)
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0, f64::max);
+        assert!(dv * dt < 1e-12, "Liu velocity at dt = {dt}");
+        // A handful of iterations is not converged: the comparison can fail.
+        let rough = one_step(&mut FastMassSpring::new(&system, dt, 5).unwrap(), &state);
+        assert!(max_distance(&rough, &oracle) > 1e-7);
+    }
+}
+
+/// On a cloth (a non-chain graph whose bandwidth sends the factorisation to the sparse path)
+/// both solvers still converge to the Backward Euler step.
+#[test]
+fn liu_and_admm_converge_on_a_general_graph() {
+    let system = cloth(18, 4, 200.0);
+    let dt = 1e-2;
+    let mut be = BackwardEuler::new(&system, dt, 5).unwrap();
+    let mut state = system.initial_state();
+    for _ in 0..20 {
+        be.step(&mut state).unwrap();
+    }
+    let oracle = converged_step(&system, &state, dt, ConvergedStepOptions::default()).unwrap();
+    let liu = one_step(&mut FastMassSpring::new(&system, dt, 3000).unwrap(), &state);
+    let admm = one_step(&mut AdmmPd::new(&system, dt, 3000).unwrap(), &state);
+    let (e_liu, e_admm) = (max_distance(&liu, &oracle), max_distance(&admm, &oracle));
+    println!("cloth: Liu {e_liu:.1e} m, ADMM {e_admm:.1e} m");
+    assert!(
+        e_liu < 1e-10 && e_admm < 1e-10,
+        "Liu {e_liu:e}, ADMM {e_admm:e}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fixed nodes and symmetry.
+
+#[test]
+fn fixed_nodes_never_move() {
+    for k in [1e3, 1e6] {
+        let system = thesis_rope(k).unwrap();
+        let start = moving_state(&system, 200);
+        for dt in [1e-1, 1e-2] {
+            let solvers: Vec<Box<dyn TimeStepper>> = vec![
+                Box::new(FastMassSpring::new(&system, dt, 7).unwrap()),
+                Box::new(AdmmPd::new(&system, dt, 7).unwrap()),
+            ];
+            for mut solver in solvers {
+                let mut state = start.clone();
+                for _ in 0..200 {
+                    solver.step(&mut state).unwrap();
+                    for i in [0, 9] {
+                        assert_eq!(state.x[i], start.x[i], "{} moved node {i}", solver.name());
+                        assert_eq!(state.v[i], Vec3::zeros());
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Both updates are symmetric (Jacobi-style local steps, a symmetric global solve), so the rope
+/// stays mirror-symmetric about x = 4.5 m to round-off.
+///
+/// Round-off does break it slowly, and more than in Backward Euler: positions near x = 9 m are
+/// rounded 16 times more coarsely than their mirror images near 0, and the velocity
+/// $(x_{n+1} - x_n)/dt$ turns that rounding into a velocity noise of order ulp(x)/dt each step,
+/// which the weakly damped antisymmetric motion accumulates (Backward Euler keeps v as its
+/// unknown and does not). The rounding is nearly the same from one step to the next, so it
+/// acts as a bias: at k = 1e3, dt = 1e-3 the x-velocity asymmetry grows by about
+/// ulp(8 m)/dt = 2e-12 m/s per step from the first step on. Measured with 10 iterations: 2e-11 m
+/// after 0.3 s and 8e-9 m after 30 s, the same with 50 iterations and for ADMM (Backward Euler:
+/// 8e-14 m after 30 s); with the anchors at ±4.5 m, 4 times less. Hence short runs, and a
+/// looser bound at dt = 1e-3; an asymmetric update (a Gauss-Seidel sweep) would break the
+/// symmetry at the size of the motion itself.
+#[test]
+fn mirror_symmetry_of_the_rope_is_kept() {
+    for k in [1e3, 1e6] {
+        let system = thesis_rope(k).unwrap();
+        for (dt, steps, tolerance) in [(1e-1, 100, 1e-12), (1e-2, 100, 1e-12), (1e-3, 300, 1e-10)] {
+            let solvers: Vec<Box<dyn TimeStepper>> = vec![
+                Box::new(FastMassSpring::new(&system, dt, 10).unwrap()),
+                Box::new(AdmmPd::new(&system, dt, 10).unwrap()),
+            ];
+            for mut solver in solvers {
+                let mut state = system.initial_state();
+                for _ in 0..steps {
+                    solver.step(&mut state).unwrap();
+                }
+                let asymmetry = (0..10)
+                    .map(|i| {
+                        let (p, q) = (state.x[i], state.x[9 - i]);
+                        (p.x + q.x - 9.0)
+                            .abs()
+                            .max((p.y - q.y).abs())
+                            .max((p.z - q.z).abs())
+                    })
+                    .fold(0.0, f64::max);
+                println!(
+                    "{} k = {k} dt = {dt}, {steps} steps: {asymmetry:.1e} m",
+                    solver.name()
+                );
+                assert!(state.x[4].y < -0.01, "the rope must have moved");
+                assert!(
+                    asymmetry < tolerance,
+                    "{} k = {k} dt = {dt}: {asymmetry:e} m",
+                    solver.name()
+                );
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tables 4-7.
+
+/// One published row of Tables 4-7 (`data/thesis_results.csv`).
+#[derive(Debug, Clone)]
+struct Published {
+    table: u8,
+    solver: String,
+    dt: f64,
+    iterations: usize,
+    stiffness: f64,
+    error: f64,
+    peaks: usize,
+    half_period: f64,
+}
+
+fn published_rows() -> Vec<Published> {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/thesis_results.csv"
+    ))
+    .unwrap();
+    text.lines()
+        .skip(1)
+        .map(|line| line.split(',').collect::<Vec<_>>())
+        .filter(|f| f[1] == "fast_mass_spring" || f[1] == "admm_pd")
+        .map(|f| Published {
+            table: f[0].parse().unwrap(),
+            solver: f[1].to_string(),
+            dt: f[2].parse().unwrap(),
+            iterations: f[3].parse().unwrap(),
+            stiffness: f[4].parse().unwrap(),
+            error: f[5].parse().unwrap(),
+            peaks: f[6].parse().unwrap(),
+            half_period: f[7].parse().unwrap(),
+        })
+        .collect()
+}
+
+#[derive(Debug, Clone)]
+struct Measured {
+    published: Published,
+    peaks: usize,
+    half_period: Option<f64>,
+    error: f64,
+    hit_time_limit: bool,
+    last_peak_energy: f64,
+}
+
+impl Measured {
+    /// The reproduction rule of `docs/thesis-scene.md`.
+    fn reproduces(&self) -> bool {
+        let p = &self.published;
+        let peak_tolerance = ((0.005 * p.peaks as f64).round() as usize).max(1);
+        self.peaks.abs_diff(p.peaks) <= peak_tolerance
+            && self
+                .half_period
+                .is_some_and(|t| (t - p.half_period).abs() <= 0.005 * p.half_period)
+    }
+
+    fn label(&self) -> String {
+        let p = &self.published;
+        format!(
+            "T{} dt={} it={} k={:e}",
+            p.table, p.dt, p.iterations, p.stiffness
+        )
+    }
+}
+
+struct Tables {
+    rows: Vec<Measured>,
+    wall_seconds: f64,
+}
+
+enum Job {
+    Reference(f64),
+    Row(Published),
+}
+
+/// All 36 rows of Tables 4-7 and the two references, run once per test binary on 2 threads.
+fn tables() -> &'static Tables {
+    static TABLES: OnceLock<Tables> = OnceLock::new();
+    TABLES.get_or_init(|| {
+        let start = std::time::Instant::now();
+        let mut jobs: Vec<Job> = vec![Job::Reference(1e3), Job::Reference(1e6)];
+        let mut rows = published_rows();
+        assert_eq!(rows.len(), 36);
+        // Longest first (cost ~ iterations/dt), so that the two threads finish together.
+        rows.sort_by(|a, b| (b.iterations as f64 / b.dt).total_cmp(&(a.iterations as f64 / a.dt)));
+        jobs.extend(rows.into_iter().map(Job::Row));
+        let next = AtomicUsize::new(0);
+        let references = Mutex::new(Vec::new());
+        let runs = Mutex::new(Vec::new());
+        std::thread::scope(|scope| {
+            for _ in 0..2 {
+                scope.spawn(|| {
+                    while let Some(job) = jobs.get(next.fetch_add(1, Ordering::Relaxed)) {
+                        match job {
+                            Job::Reference(k) => {
+                                let system = thesis_rope(*k).unwrap();
+                                let mut be = BackwardEuler::reference(&system).unwrap();
+                                let run = simulate(
+                                    &mut be,
+                                    system.initial_state(),
+                                    &RunOptions::default(),
+                                )
+                                .unwrap();
+                                references.lock().unwrap().push((*k, run.final_state.x));
+                            }
+                            Job::Row(p) => {
+                                let system = thesis_rope(p.stiffness).unwrap();
+                                let mut solver: Box<dyn TimeStepper> = if p.solver
+                                    == "fast_mass_spring"
+                                {
+                                    Box::new(
+                                        FastMassSpring::new(&system, p.dt, p.iterations).unwrap(),
+                                    )
+                                } else {
+                                    Box::new(AdmmPd::new(&system, p.dt, p.iterations).unwrap())
+                                };
+                                let run = simulate(
+                                    solver.as_mut(),
+                                    system.initial_state(),
+                                    &RunOptions::default(),
+                                )
+                                .unwrap_or_else(|e| panic!("{p:?}: {e}"));
+                                runs.lock().unwrap().push((p.clone(), run));
+                            }
+                        }
+                    }
+                });
+            }
+        });
+        let references = references.into_inner().unwrap();
+        let mut rows: Vec<Measured> = runs
+            .into_inner()
+            .unwrap()
+            .into_iter()
+            .map(|(published, run)| {
+                let reference = &references
+                    .iter()
+                    .find(|(k, _)| *k == published.stiffness)
+                    .unwrap()
+                    .1;
+                Measured {
+                    peaks: run.peak_count(),
+                    half_period: run.half_period_thesis(),
+                    error: rest_error_sum(&run.final_state.x, reference),
+                    hit_time_limit: run.hit_time_limit,
+                    last_peak_energy: run.peaks.last().map_or(f64::NAN, |p| p.energy),
+                    published,
+                }
+            })
+            .collect();
+        rows.sort_by(|a, b| {
+            let key = |m: &Measured| (m.published.table, m.published.iterations, -m.published.dt);
+            let (ka, kb) = (key(a), key(b));
+            ka.0.cmp(&kb.0)
+                .then(ka.1.cmp(&kb.1))
+                .then(ka.2.total_cmp(&kb.2))
+        });
+        Tables {
+            rows,
+            wall_seconds: start.elapsed().as_secs_f64(),
+        }
+    })
+}
+
+fn check_table(table: u8, expected: &[(f64, usize)]) {
+    let tables = tables();
+    println!(
+        "36 rows and 2 references in {:.1} s (2 threads)",
+        tables.wall_seconds
+    );
+    println!(
+        "{:<28} {:>6} {:>6} {:>10} {:>10} {:>8} {:>9} {:>9} {:>10} ok",
+        "row", "peaks", "pub", "T/2", "pub T/2", "dev %", "error", "pub err", "last KE J"
+    );
+    let mut reproduced = Vec::new();
+    for m in tables.rows.iter().filter(|m| m.published.table == table) {
+        let p = &m.published;
+        let t = m.half_period.unwrap_or(f64::NAN);
+        println!(
+            "{:<28} {:>6} {:>6} {:>10.4} {:>10.4} {:>8.2} {:>9.2e} {:>9.2e} {:>10.1e} {}{}",
+            m.label(),
+            m.peaks,
+            p.peaks,
+            t,
+            p.half_period,
+            100.0 * (t - p.half_period) / p.half_period,
+            m.error,
+            p.error,
+            m.last_peak_energy,
+            if m.reproduces() { "yes" } else { "no" },
+            if m.hit_time_limit {
+                " (time limit)"
+            } else {
+                ""
+            },
+        );
+        assert!(
+            p.error <= 0.1,
+            "no row of Tables 4-7 has a published error above 0.1"
+        );
+        if m.reproduces() {
+            reproduced.push((p.dt, p.iterations));
+        }
+    }
+    assert_eq!(
+        reproduced, expected,
+        "rows of Table {table} that reproduce, as (dt, iterations)"
+    );
+}
+
+/// Faithful Liu at k = 1e3 reproduces 3 of 9 rows. The misses, per the forensic findings of
+/// `docs/thesis-scene.md`: 0.1/1 is a round-off row (finding 1: 2 peaks, exact; its T/2 is set
+/// by a noise peak near 1e-26 J, -2.4 %); 0.001/1 (118 vs 87 peaks), 0.01/30 and 0.01/70 (74 vs
+/// 61) and 0.001/30 and 0.001/70 (725 vs 227) are the 0.05 s⁻¹ velocity damping of finding 3
+/// (our converged rows equal Backward Euler's 725 peaks; their T/2 still matches within 0.1 %
+/// except the 725-peak rows, +0.52 %).
+#[test]
+fn table_4_liu_k_1e3() {
+    check_table(4, &[(0.01, 1), (0.1, 30), (0.1, 70)]);
+}
+
+/// Faithful Liu at k = 1e6 reproduces 1 of 9 rows. The misses: 0.1/1 and 0.01/1 stop at their
+/// first peak, which is below 1e-3 J (finding 2: the thesis exempted it; 1 vs 2 peaks);
+/// 0.001/1 (+1.3 %) and 0.1/30 (-5.8 %) are round-off rows with exact peak counts (finding 1;
+/// 0.1/70 is one too and matches by chance); 0.01/30 (4 vs 5), 0.01/70 (16 vs 20), 0.001/30 and
+/// 0.001/70 (175 vs 184) are finding 4's effective 1e-4 J threshold with finding 3's damping.
+#[test]
+fn table_5_liu_k_1e6() {
+    check_table(5, &[(0.1, 70)]);
+}
+
+/// Faithful ADMM-PD at k = 1e3 reproduces 8 of 9 rows; the miss, 0.1/1 (10 vs 11 peaks, T/2
+/// +17 %), is the large-dt ADMM behaviour of finding 6.
+#[test]
+fn table_6_admm_k_1e3() {
+    check_table(
+        6,
+        &[
+            (0.01, 1),
+            (0.001, 1),
+            (0.1, 20),
+            (0.01, 20),
+            (0.001, 20),
+            (0.1, 50),
+            (0.01, 50),
+            (0.001, 50),
+        ],
+    );
+}
+
+/// Faithful ADMM-PD at k = 1e6 reproduces the 3 rows at dt = 1e-3 (they equal Backward Euler
+/// when converged); the six rows at dt = 0.1 and 0.01 stop much earlier than published (4 to 36
+/// peaks against 7 to 49), the unexplained behaviour of finding 6.
+#[test]
+fn table_7_admm_k_1e6() {
+    check_table(7, &[(0.001, 1), (0.001, 20), (0.001, 50)]);
+}
