@@ -81,7 +81,7 @@ impl FastMassSpring {
         self.iterations
     }
 
-    /// Eq. (27), consistent form: $b = M y + dt^2 f_{ext}$ with $y = x_n + dt\,v_n$
+    /// Eq. (27): consistent form $b = M y + dt^2 f_{ext}$ with $y = x_n + dt\,v_n$
     /// (printed: $b = M x + f_{ext}\,dt^2$, subtracted in Eq 29).
     fn inertial_rhs(&mut self, state: &State) {
         let n = state.x.len();
@@ -107,7 +107,7 @@ impl FastMassSpring {
         }
     }
 
-    /// Eq. (29), consistent form: $(M + dt^2 L)\,x = b + dt^2 J d$, solved with the
+    /// Eq. (29): consistent form $(M + dt^2 L)\,x = b + dt^2 J d$, solved with the
     /// prefactored $A$ for the three coordinates at once; fixed nodes stay at $x_n$.
     fn global_step(&mut self) {
         let dt2 = self.dt * self.dt;
