@@ -1,7 +1,7 @@
 # One profile (dev, optimised in Cargo.toml) serves tests and the report, so each builds once.
 CARGO ?= cargo
 
-.PHONY: all test report bench lint fmt
+.PHONY: all test report bench lint fmt doc
 
 all: test report
 
@@ -20,3 +20,7 @@ lint:
 
 fmt:
 	$(CARGO) fmt
+
+# API documentation with the thesis's equations rendered by KaTeX (as on docs.rs).
+doc:
+	RUSTDOCFLAGS="--html-in-header katex-header.html" $(CARGO) doc --no-deps
