@@ -1,33 +1,138 @@
-//! Cost of one step of each solver on the thesis rope (`make bench`).
+//! Cost of one step of each solver on the thesis rope at the thesis's iteration counts, and of
+//! Liu's and ADMM's iterations on a 100×100 hanging cloth (`make bench`).
+//!
+//! The rope runs at dt = 1e-3 s and k = 1e3 N/m, the setting of the longest published runs
+//! (about 488 000 steps each), from a moving state. On the cloth, the global solve goes
+//! through faer's sparse Cholesky; `cloth_global_solve` measures its three coordinates solved
+//! together (as the solvers do) against one at a time.
 
+use mass_spring_solvers::admm::AdmmPd;
 use mass_spring_solvers::backward_euler::BackwardEuler;
+use mass_spring_solvers::boundary::{fixed_unknowns, ConstrainedSystem};
+use mass_spring_solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::particles::scenes::ClothParams;
+use mass_spring_solvers::projective::system_matrix;
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::solver::TimeStepper;
-use mass_spring_solvers::State;
+use mass_spring_solvers::xpbd::Xpbd;
+use mass_spring_solvers::{MassSpringSystem, State};
 
 fn main() {
     divan::main();
 }
 
-/// A moving state of the rope, so the Newton iterations do real work.
-fn moving(system: &mass_spring_solvers::MassSpringSystem) -> State {
-    let mut be = BackwardEuler::reference(system).unwrap();
+/// Time step of the benchmarks, s.
+const DT: f64 = 1e-3;
+
+/// The thesis rope at k = 1e3 N/m and a moving state of it (200 reference steps from rest).
+fn rope() -> (MassSpringSystem, State) {
+    let system = thesis_rope(1e3).unwrap();
+    let mut be = BackwardEuler::reference(&system).unwrap();
     let mut state = system.initial_state();
     for _ in 0..200 {
         be.step(&mut state).unwrap();
     }
-    state
+    (system, state)
 }
 
-/// One Backward Euler step of the thesis rope (dt = 1e-3), by Newton iterations per step.
-#[divan::bench(args = [1, 5])]
-fn backward_euler_step(bencher: divan::Bencher, newton_iterations: usize) {
-    let system = thesis_rope(1e6).unwrap();
-    let start = moving(&system);
-    let mut be = BackwardEuler::new(&system, 1e-3, newton_iterations).unwrap();
-    bencher.bench_local(|| {
-        let mut state = start.clone();
-        be.step(divan::black_box(&mut state)).unwrap();
-        state
-    });
+/// One step of `solver` from `start`; the copy of the start state is made outside the timing.
+fn bench_step(bencher: divan::Bencher, mut solver: Box<dyn TimeStepper>, start: &State) {
+    bencher
+        .with_inputs(|| start.clone())
+        .bench_local_refs(|state| solver.step(state).unwrap());
+}
+
+/// Backward Euler, 5 Newton iterations (the reference of Table 1).
+#[divan::bench(args = [5])]
+fn rope_backward_euler(bencher: divan::Bencher, newton_iterations: usize) {
+    let (system, start) = rope();
+    let solver = BackwardEuler::new(&system, DT, newton_iterations).unwrap();
+    bench_step(bencher, Box::new(solver), &start);
+}
+
+/// XPBD at the iteration counts of Tables 2-3.
+#[divan::bench(args = [1, 20, 50])]
+fn rope_xpbd(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = Xpbd::new(&system, DT, iterations).unwrap();
+    bench_step(bencher, Box::new(solver), &start);
+}
+
+/// Liu 2013 at the iteration counts of Tables 4-5.
+#[divan::bench(args = [1, 30, 70])]
+fn rope_liu(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = FastMassSpring::new(&system, DT, iterations).unwrap();
+    bench_step(bencher, Box::new(solver), &start);
+}
+
+/// ADMM-PD at the iteration counts of Tables 6-7.
+#[divan::bench(args = [1, 20, 50])]
+fn rope_admm(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = AdmmPd::new(&system, DT, iterations).unwrap();
+    bench_step(bencher, Box::new(solver), &start);
+}
+
+/// A 100×100 cloth hanging from its two top corners (10 000 nodes, 29 601 springs), moving:
+/// 20 steps of Liu with 10 iterations from rest.
+fn cloth() -> (MassSpringSystem, State) {
+    let system = ClothParams {
+        nx: 100,
+        ny: 100,
+        ..ClothParams::default()
+    }
+    .hanging()
+    .unwrap();
+    let mut solver = FastMassSpring::new(&system, DT, 10).unwrap();
+    let mut state = system.initial_state();
+    for _ in 0..20 {
+        solver.step(&mut state).unwrap();
+    }
+    (system, state)
+}
+
+/// Liu on the cloth: a step with 1 and with 2 iterations; their difference is one iteration
+/// (a local step over the springs and one sparse solve), the rest the step's own O(n) work.
+#[divan::bench(args = [1, 2], sample_count = 30)]
+fn cloth_liu(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = cloth();
+    let solver = FastMassSpring::new(&system, DT, iterations).unwrap();
+    bench_step(bencher, Box::new(solver), &start);
+}
+
+/// ADMM-PD on the cloth, as [`cloth_liu`].
+#[divan::bench(args = [1, 2], sample_count = 30)]
+fn cloth_admm(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = cloth();
+    let solver = AdmmPd::new(&system, DT, iterations).unwrap();
+    bench_step(bencher, Box::new(solver), &start);
+}
+
+/// The cloth's prefactored global solve (Eqs 43-47 and faer's sparse Cholesky) for the three
+/// coordinates: together (one solve with three right-hand sides) or one at a time.
+#[divan::bench(args = ["together", "one at a time"], sample_count = 30)]
+fn cloth_global_solve(bencher: divan::Bencher, how: &str) {
+    let (system, state) = cloth();
+    let n = system.len();
+    let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+    let mut a = system_matrix(&system, DT, &k).unwrap();
+    let fixed_nodes = system.nodes().iter().enumerate().filter(|(_, n)| n.fixed);
+    let fixed = fixed_unknowns(fixed_nodes.map(|(i, _)| i), 1);
+    let solve = ConstrainedSystem::new(&mut a, &fixed).unwrap();
+    let columns: Vec<f64> = (0..3)
+        .flat_map(|c| state.x.iter().map(move |p| p[c]))
+        .collect();
+    let together = how == "together";
+    bencher
+        .with_inputs(|| columns.clone())
+        .bench_local_refs(|b| {
+            if together {
+                solve.solve(b, &columns, 3);
+            } else {
+                for (b, x_bar) in b.chunks_exact_mut(n).zip(columns.chunks_exact(n)) {
+                    solve.solve(b, x_bar, 1);
+                }
+            }
+        });
 }

@@ -33,8 +33,18 @@ pub fn position_update(x_n: &Vec3, v_next: &Vec3, dt: f64) -> Vec3 {
 
 /// Eqs. (7), (8): the residual of $v(t+dt) = v(t) + M^{-1}F(x(t+dt))\,dt$ multiplied by $M$,
 /// with Eq (9) for $x(t+dt)$: $r(v) = M(v - v_n) - dt\,F(x_n + dt\,v)$. Zero on fixed nodes.
-pub fn velocity_residual(system: &MassSpringSystem, state: &State, v: &[Vec3], dt: f64) -> Vec<Vec3> {
-    let x: Vec<Vec3> = state.x.iter().zip(v).map(|(x, v)| position_update(x, v, dt)).collect();
+pub fn velocity_residual(
+    system: &MassSpringSystem,
+    state: &State,
+    v: &[Vec3],
+    dt: f64,
+) -> Vec<Vec3> {
+    let x: Vec<Vec3> = state
+        .x
+        .iter()
+        .zip(v)
+        .map(|(x, v)| position_update(x, v, dt))
+        .collect();
     let mut f = vec![Vec3::zeros(); x.len()];
     system.forces(&x, &mut f);
     system
@@ -74,7 +84,14 @@ impl ImplicitMatrix {
         let spring_blocks = system
             .springs()
             .iter()
-            .map(|s| [block(s.a, s.a), block(s.a, s.b), block(s.b, s.a), block(s.b, s.b)])
+            .map(|s| {
+                [
+                    block(s.a, s.a),
+                    block(s.a, s.b),
+                    block(s.b, s.a),
+                    block(s.b, s.b),
+                ]
+            })
             .collect();
         Self {
             matrix,
@@ -93,12 +110,15 @@ impl ImplicitMatrix {
                 values[self.diagonal[3 * i + c]] = node.mass;
             }
         }
-        for (blocks, jac) in self.spring_blocks.iter().zip(jacobians) {
+        let dt2 = dt * dt;
+        for ([aa, ab, ba, bb], jac) in self.spring_blocks.iter().zip(jacobians) {
             // dF_a/dx_a = dF_b/dx_b = J and dF_a/dx_b = dF_b/dx_a = -J.
-            for (block, sign) in blocks.iter().zip([-1.0, 1.0, 1.0, -1.0]) {
-                for (rc, &slot) in block.iter().enumerate() {
-                    values[slot] += sign * dt * dt * jac[(rc / 3, rc % 3)];
-                }
+            for rc in 0..9 {
+                let dt2_j = dt2 * jac[(rc / 3, rc % 3)];
+                values[aa[rc]] -= dt2_j;
+                values[ab[rc]] += dt2_j;
+                values[ba[rc]] += dt2_j;
+                values[bb[rc]] -= dt2_j;
             }
         }
     }
@@ -130,7 +150,12 @@ impl BackwardEuler {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
         let n = system.len();
-        let fixed_nodes = system.nodes().iter().enumerate().filter(|(_, n)| n.fixed).map(|(i, _)| i);
+        let fixed_nodes = system
+            .nodes()
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| n.fixed)
+            .map(|(i, _)| i);
         Ok(Self {
             system: system.clone(),
             dt,
@@ -182,10 +207,18 @@ impl BackwardEuler {
         self.implicit.assemble(&self.system, dt, &self.jacobians);
         match &mut self.solve {
             Some(solve) => solve.refactor(&mut self.implicit.matrix)?,
-            None => self.solve = Some(ConstrainedSystem::new(&mut self.implicit.matrix, &self.fixed)?),
+            None => {
+                self.solve = Some(ConstrainedSystem::new(
+                    &mut self.implicit.matrix,
+                    &self.fixed,
+                )?)
+            }
         }
         // Fixed nodes have v = 0: the x̄ of Eqs 45-47 is zero.
-        self.solve.as_ref().expect("factored").solve(&mut self.rhs, &self.zeros, 1);
+        self.solve
+            .as_ref()
+            .expect("factored")
+            .solve(&mut self.rhs, &self.zeros, 1);
         for (i, v_k) in self.v_k.iter_mut().enumerate() {
             *v_k = Vec3::new(self.rhs[3 * i], self.rhs[3 * i + 1], self.rhs[3 * i + 2]);
         }
@@ -195,7 +228,10 @@ impl BackwardEuler {
 
 impl TimeStepper for BackwardEuler {
     fn name(&self) -> String {
-        format!("Backward Euler ({} Newton iterations)", self.newton_iterations)
+        format!(
+            "Backward Euler ({} Newton iterations)",
+            self.newton_iterations
+        )
     }
 
     fn dt(&self) -> f64 {
@@ -269,14 +305,24 @@ pub fn converged_step(
 ) -> Result<State> {
     require_positive("dt", dt)?;
     let n = system.len();
-    let y: Vec<Vec3> = state.x.iter().zip(&state.v).map(|(x, v)| x + dt * v).collect();
+    let y: Vec<Vec3> = state
+        .x
+        .iter()
+        .zip(&state.v)
+        .map(|(x, v)| x + dt * v)
+        .collect();
     let mut x: Vec<Vec3> = system
         .nodes()
         .iter()
         .enumerate()
         .map(|(i, node)| if node.fixed { state.x[i] } else { y[i] })
         .collect();
-    let fixed_nodes = system.nodes().iter().enumerate().filter(|(_, n)| n.fixed).map(|(i, _)| i);
+    let fixed_nodes = system
+        .nodes()
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.fixed)
+        .map(|(i, _)| i);
     let fixed = fixed_unknowns(fixed_nodes, 3);
     let mut implicit = ImplicitMatrix::new(system);
     let mut solve: Option<ConstrainedSystem> = None;
@@ -318,7 +364,11 @@ pub fn converged_step(
         }
         x = trial(alpha);
         if alpha * step_norm <= options.tolerance {
-            let v = x.iter().zip(&state.x).map(|(x1, x0)| (x1 - x0) / dt).collect();
+            let v = x
+                .iter()
+                .zip(&state.x)
+                .map(|(x1, x0)| (x1 - x0) / dt)
+                .collect();
             return Ok(State { x, v });
         }
         if iteration + 1 == options.max_iterations {
@@ -342,12 +392,21 @@ pub fn converged_step(
 /// Each step minimises $\frac{1}{2dt^2}|x - x_k|^2_M + E(x)$, whose fixed points are exactly the
 /// minimisers of $E$; the inertial term regularises the start (a straight rope has no
 /// transverse stiffness). Used to check the analytic catenary.
-pub fn static_equilibrium(system: &MassSpringSystem, dt_s: f64, tolerance: f64) -> Result<Vec<Vec3>> {
+pub fn static_equilibrium(
+    system: &MassSpringSystem,
+    dt_s: f64,
+    tolerance: f64,
+) -> Result<Vec<Vec3>> {
     let mut state = system.initial_state();
     state.v.fill(Vec3::zeros());
     for _ in 0..10_000 {
         let next = converged_step(system, &state, dt_s, ConvergedStepOptions::default())?;
-        let moved = next.x.iter().zip(&state.x).map(|(a, b)| (a - b).amax()).fold(0.0, f64::max);
+        let moved = next
+            .x
+            .iter()
+            .zip(&state.x)
+            .map(|(a, b)| (a - b).amax())
+            .fold(0.0, f64::max);
         state.x = next.x;
         if moved <= tolerance {
             return Ok(state.x);

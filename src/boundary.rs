@@ -14,11 +14,23 @@ use crate::linear::{Factorization, SymmetricMatrix};
 #[derive(Debug, Clone)]
 pub struct ConstrainedSystem {
     fixed: Vec<usize>,
-    is_fixed: Vec<bool>,
     /// The block $A_2$ of Eq (43): $(i, j, A_{ij})$ for free rows $i$ and fixed columns $j$,
     /// saved before Eq (44) zeroes it, so that Eq (46) can form $A u$.
     coupling: Vec<(usize, usize, f64)>,
+    slots: ImpositionSlots,
     factorization: Factorization,
+}
+
+/// Where Eq (44) reads and writes in the matrix's values, found once so that a
+/// refactorisation searches nothing.
+#[derive(Debug, Clone)]
+struct ImpositionSlots {
+    /// The slot of each entry of `coupling` (entry $(j, i)$, equal by symmetry).
+    coupling: Vec<usize>,
+    /// The off-diagonal entries of the fixed rows and columns.
+    zero: Vec<usize>,
+    /// The fixed diagonal entries.
+    unit: Vec<usize>,
 }
 
 impl ConstrainedSystem {
@@ -30,11 +42,30 @@ impl ConstrainedSystem {
             is_fixed[j] = true;
         }
         let mut coupling = Vec::new();
-        impose_on_matrix(a, fixed, &is_fixed, &mut coupling);
+        let mut slots = ImpositionSlots {
+            coupling: Vec::new(),
+            zero: Vec::new(),
+            unit: Vec::new(),
+        };
+        for &j in fixed {
+            for (slot, i) in a.row_slots(j) {
+                if i == j {
+                    slots.unit.push(slot);
+                    continue;
+                }
+                if !is_fixed[i] {
+                    coupling.push((i, j, 0.0));
+                    slots.coupling.push(slot);
+                }
+                slots.zero.push(slot);
+                slots.zero.push(a.slot(i, j).expect("a symmetric pattern"));
+            }
+        }
+        slots.impose_on_matrix(a, &mut coupling);
         Ok(Self {
             fixed: fixed.to_vec(),
-            is_fixed,
             coupling,
+            slots,
             factorization: Factorization::new(a)?,
         })
     }
@@ -42,13 +73,14 @@ impl ConstrainedSystem {
     /// Eq. (44) again for new values of a matrix with the same pattern and fixed set, and a
     /// numeric refactorisation that reuses the pattern's analysis.
     pub fn refactor(&mut self, a: &mut SymmetricMatrix) -> Result<()> {
-        impose_on_matrix(a, &self.fixed, &self.is_fixed, &mut self.coupling);
+        self.slots.impose_on_matrix(a, &mut self.coupling);
         self.factorization.refactor(a)
     }
 
     /// Eq. (43): solves $A x = b$ with $x_j = \bar x_j$ on the fixed unknowns, for `ncols`
     /// right-hand sides stored column after column. `x_bar` has the layout of `b` and is
     /// read only at fixed unknowns. The solution overwrites `b`.
+    #[inline]
     pub fn solve(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
         self.impose_on_rhs(b, x_bar, ncols);
         self.factorization.solve_in_place(b, ncols);
@@ -56,10 +88,10 @@ impl ConstrainedSystem {
 
     /// Eqs. (45)-(47): with $u = (0, \bar x)$ (Eq 45), $b \leftarrow b - A u$ (Eqs 46-47) on the
     /// free rows, and $b_j = \bar x_j$ on the fixed rows (step 4 of §3.2).
+    #[inline]
     pub fn impose_on_rhs(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
         let n = b.len() / ncols;
-        for col in 0..ncols {
-            let (b, x_bar) = (&mut b[col * n..(col + 1) * n], &x_bar[col * n..(col + 1) * n]);
+        for (b, x_bar) in b.chunks_exact_mut(n).zip(x_bar.chunks_exact(n)) {
             for &(i, j, a_ij) in &self.coupling {
                 b[i] -= a_ij * x_bar[j];
             }
@@ -70,24 +102,20 @@ impl ConstrainedSystem {
     }
 }
 
-/// Saves the block $A_2$ (free rows, fixed columns; by symmetry read from the fixed rows) into
-/// `coupling`, then replaces the fixed rows and columns by the identity.
-fn impose_on_matrix(
-    a: &mut SymmetricMatrix,
-    fixed: &[usize],
-    is_fixed: &[bool],
-    coupling: &mut Vec<(usize, usize, f64)>,
-) {
-    coupling.clear();
-    for &j in fixed {
-        coupling.extend(
-            a.row(j)
-                .filter(|&(i, _)| !is_fixed[i])
-                .map(|(i, a_ji)| (i, j, a_ji)),
-        );
-    }
-    for &j in fixed {
-        a.set_identity_row_and_column(j);
+impl ImpositionSlots {
+    /// Saves the block $A_2$ (free rows, fixed columns) into `coupling`, then replaces the
+    /// fixed rows and columns by the identity.
+    fn impose_on_matrix(&self, a: &mut SymmetricMatrix, coupling: &mut [(usize, usize, f64)]) {
+        let values = a.values_mut();
+        for ((_, _, a_ij), &slot) in coupling.iter_mut().zip(&self.coupling) {
+            *a_ij = values[slot];
+        }
+        for &slot in &self.zero {
+            values[slot] = 0.0;
+        }
+        for &slot in &self.unit {
+            values[slot] = 1.0;
+        }
     }
 }
 

@@ -22,7 +22,7 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::projective::{
-    finish_step, incidence_matrix, project_on_sphere, to_columns, GlobalSolve, SpringIncidence,
+    finish_step, incidence_matrix, project_on_spheres, to_columns, GlobalSolve, SpringIncidence,
 };
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
@@ -46,6 +46,8 @@ pub struct FastMassSpring {
     x: Vec<f64>,
     /// One $d_i$ per spring.
     d: Vec<Vec3>,
+    /// Scratch of the local step, one entry per spring.
+    scale: Vec<f64>,
 }
 
 impl FastMassSpring {
@@ -73,6 +75,7 @@ impl FastMassSpring {
             b: vec![0.0; 3 * n],
             x: vec![0.0; 3 * n],
             d: vec![Vec3::zeros(); system.springs().len()],
+            scale: vec![0.0; system.springs().len()],
         })
     }
 
@@ -102,9 +105,10 @@ impl FastMassSpring {
     /// Eq. (28): $d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|$ for every spring, at the current
     /// iterate (the local step, lines 2.3-2.5).
     fn local_step(&mut self) {
-        for (i, (d, &l0)) in self.d.iter_mut().zip(&self.rest_lengths).enumerate() {
-            *d = project_on_sphere(self.j.difference(i, &self.x), l0);
+        for (i, d) in self.d.iter_mut().enumerate() {
+            *d = self.j.difference(i, &self.x);
         }
+        project_on_spheres(&mut self.d, &self.rest_lengths, &mut self.scale);
     }
 
     /// Eq. (29): consistent form $(M + dt^2 L)\,x = b + dt^2 J d$, solved with the

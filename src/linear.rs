@@ -2,10 +2,14 @@
 //! factorisation per Newton iteration) and by Liu 2013 and ADMM-PD (one factorisation per
 //! scene and time step, Algorithm 3 line 1.4 and Algorithm 4 line 1.5).
 //!
-//! Two factorisations sit behind [`Factorization`]: a banded Cholesky, chosen when the
-//! matrix's bandwidth is small (a chain: 5 for the 3D rope, 1 per coordinate), and faer's
+//! Three factorisations sit behind [`Factorization`], chosen by the matrix's half-bandwidth:
+//! a twisted tridiagonal $LDL^\top$ for 1 (a chain with one unknown per node: Liu's and ADMM's
+//! per-coordinate matrix of the rope), a banded $LDL^\top$ up to
+//! [`BANDED_MAX_BANDWIDTH`] (5 for Backward Euler's 3n×3n matrix of the rope), and faer's
 //! sparse supernodal Cholesky with a fill-reducing ordering for everything else (a cloth).
-//! The pattern is analysed once; refactoring with new values reuses it.
+//! The pattern is analysed once; refactoring with new values reuses it. The solves of the
+//! rope are a few tens of nanoseconds of latency-bound arithmetic, made every iteration, so
+//! their loops are written for it (see each type); they allocate nothing.
 
 use crate::error::{Error, Result};
 use faer::linalg::solvers::Solve;
@@ -103,16 +107,19 @@ impl SymmetricMatrix {
             .zip(self.values[range].iter().copied())
     }
 
-    /// Sets row `i` and column `i` to zero and the diagonal entry to one.
-    pub fn set_identity_row_and_column(&mut self, i: usize) {
-        for k in self.row_ptr[i]..self.row_ptr[i + 1] {
-            let j = self.col_idx[k];
-            self.values[k] = if i == j { 1.0 } else { 0.0 };
-            if j != i {
-                let kt = self.slot(j, i).expect("symmetric pattern");
-                self.values[kt] = 0.0;
-            }
-        }
+    /// The stored values, in pattern order.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Row `i` as (slot, column) pairs: where each stored entry's value sits in
+    /// [`Self::values`].
+    pub fn row_slots(&self, i: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (self.row_ptr[i]..self.row_ptr[i + 1]).zip(
+            self.col_idx[self.row_ptr[i]..self.row_ptr[i + 1]]
+                .iter()
+                .copied(),
+        )
     }
 
     /// $y = A x$.
@@ -125,7 +132,11 @@ impl SymmetricMatrix {
     /// Half-bandwidth: the largest |i - j| of a stored entry.
     pub fn bandwidth(&self) -> usize {
         (0..self.n)
-            .flat_map(|i| self.col_idx[self.row_ptr[i]..self.row_ptr[i + 1]].iter().map(move |&j| i.abs_diff(j)))
+            .flat_map(|i| {
+                self.col_idx[self.row_ptr[i]..self.row_ptr[i + 1]]
+                    .iter()
+                    .map(move |&j| i.abs_diff(j))
+            })
             .max()
             .unwrap_or(0)
     }
@@ -134,12 +145,14 @@ impl SymmetricMatrix {
 /// Matrices with a half-bandwidth up to this use the banded factorisation.
 pub const BANDED_MAX_BANDWIDTH: usize = 16;
 
-/// A Cholesky factorisation $A = LL^\top$ of a symmetric positive definite matrix, analysed
-/// once for its pattern.
+/// A factorisation of a symmetric positive definite matrix ($LDL^\top$ or $LL^\top$),
+/// analysed once for its pattern.
 #[derive(Debug, Clone)]
 pub enum Factorization {
+    /// Half-bandwidth at most 1 (a chain with one unknown per node).
+    Tridiagonal(TwistedTridiagonal),
     /// Dense band storage; no fill outside the band.
-    Banded(BandedCholesky),
+    Banded(BandedLdlt),
     /// faer's sparse Cholesky with its symbolic analysis kept for refactoring.
     Sparse(SparseCholesky),
 }
@@ -147,16 +160,17 @@ pub enum Factorization {
 impl Factorization {
     /// Analyses the pattern of `a` and factors it. Fails if `a` is not positive definite.
     pub fn new(a: &SymmetricMatrix) -> Result<Self> {
-        if a.bandwidth() <= BANDED_MAX_BANDWIDTH {
-            BandedCholesky::new(a).map(Self::Banded)
-        } else {
-            SparseCholesky::new(a).map(Self::Sparse)
+        match a.bandwidth() {
+            0 | 1 => TwistedTridiagonal::new(a).map(Self::Tridiagonal),
+            p if p <= BANDED_MAX_BANDWIDTH => BandedLdlt::new(a).map(Self::Banded),
+            _ => SparseCholesky::new(a).map(Self::Sparse),
         }
     }
 
     /// Factors new values with the same pattern as the matrix this was built from.
     pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
         match self {
+            Self::Tridiagonal(f) => f.refactor(a),
             Self::Banded(f) => f.refactor(a),
             Self::Sparse(f) => f.refactor(a),
         }
@@ -164,90 +178,345 @@ impl Factorization {
 
     /// Solves $A x = b$ in place for `ncols` right-hand sides stored one after another
     /// (column-major, each of length n).
+    #[inline]
     pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
         match self {
+            Self::Tridiagonal(f) => f.solve_in_place(b, ncols),
             Self::Banded(f) => f.solve_in_place(b, ncols),
             Self::Sparse(f) => f.solve_in_place(b, ncols),
         }
     }
 }
 
-/// Band Cholesky: row i of $L$ stores columns $i-p..=i$.
-#[derive(Debug, Clone)]
-pub struct BandedCholesky {
-    n: usize,
-    p: usize,
-    band: Vec<f64>,
-    /// $1/L_{ii}$: the substitutions multiply, a division per row would serialise them.
-    inverse_diagonal: Vec<f64>,
+/// Splits `b` into `C` right-hand sides of length `n`, stored one after another.
+#[inline]
+fn columns<const C: usize>(b: &mut [f64], n: usize) -> [&mut [f64]; C] {
+    let mut columns = b.chunks_exact_mut(n);
+    std::array::from_fn(|_| columns.next().expect("C columns of length n"))
 }
 
-impl BandedCholesky {
-    /// Factors `a` with half-bandwidth p = `a.bandwidth()`.
+/// Rejects a pivot that is not positive and finite, and returns its inverse.
+#[inline]
+fn inverse_pivot(row: usize, d: f64) -> Result<f64> {
+    if d.is_nan() || d <= 0.0 || d.is_infinite() {
+        Err(not_positive_definite(row, d))
+    } else {
+        Ok(1.0 / d)
+    }
+}
+
+/// A symmetric tridiagonal matrix factored from both ends toward a middle row k (a twisted
+/// factorisation): $LDL^\top$ down rows $0..k$, its mirror image $UEU^\top$ up rows
+/// $n-1..k$, and the pivot $\gamma_k$ where the two meet.
+///
+/// A substitution is a chain in which every row waits for its neighbour; starting from both
+/// ends halves the chain, the two halves running side by side. This is the solve Liu 2013
+/// and ADMM-PD make every iteration on a rope (n = 10), for three right-hand sides swept
+/// together so that their chains overlap too.
+#[derive(Debug, Clone)]
+pub struct TwistedTridiagonal {
+    n: usize,
+    /// The middle row.
+    k: usize,
+    /// Slots of $a_{ii}$, and of $a_{i,i+1}$ where stored, in the matrix's values.
+    diagonal_slots: Vec<usize>,
+    off_diagonal_slots: Vec<Option<usize>>,
+    /// $L_{i,i-1}$ for $1 \le i \le k$, zero elsewhere.
+    lower: Vec<f64>,
+    /// $U_{i,i+1}$ for $k \le i < n-1$, zero elsewhere.
+    upper: Vec<f64>,
+    /// $1/d_i$ above k, $1/\gamma_k$ at k, $1/e_i$ below k.
+    inverse_pivot: Vec<f64>,
+}
+
+impl TwistedTridiagonal {
+    /// Factors `a`, whose half-bandwidth must be at most 1.
     pub fn new(a: &SymmetricMatrix) -> Result<Self> {
+        if a.bandwidth() > 1 {
+            return Err(Error::invalid(
+                "bandwidth",
+                a.bandwidth(),
+                "at most 1 for the tridiagonal factorisation",
+            ));
+        }
+        let n = a.dim();
         let mut f = Self {
-            n: a.dim(),
-            p: a.bandwidth(),
-            band: vec![0.0; a.dim() * (a.bandwidth() + 1)],
-            inverse_diagonal: vec![0.0; a.dim()],
+            n,
+            k: n.saturating_sub(1) / 2,
+            diagonal_slots: (0..n)
+                .map(|i| a.slot(i, i).expect("the pattern stores the diagonal"))
+                .collect(),
+            off_diagonal_slots: (0..n).map(|i| a.slot(i, i + 1)).collect(),
+            lower: vec![0.0; n],
+            upper: vec![0.0; n],
+            inverse_pivot: vec![0.0; n],
         };
         f.refactor(a)?;
         Ok(f)
     }
 
-    /// Factors new values of a matrix with the same bandwidth.
+    /// Factors new values of a matrix with the pattern of the one this was built from:
+    /// $L_{i,i-1} = a_{i,i-1}/d_{i-1}$, $d_i = a_{ii} - a_{i,i-1}L_{i,i-1}$ down to k, the
+    /// mirror image up to k, and $\gamma_k = a_{kk} - a_{k,k-1}L_{k,k-1} - a_{k,k+1}U_{k,k+1}$.
     pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
-        let (n, p) = (self.n, self.p);
-        let w = p + 1;
-        self.band.fill(0.0);
-        for i in 0..n {
-            for (j, v) in a.row(i) {
-                if j <= i {
-                    self.band[i * w + p + j - i] = v;
+        let (n, k) = (self.n, self.k);
+        if n == 0 {
+            return Ok(());
+        }
+        let values = a.values();
+        let diagonal = |i: usize| values[self.diagonal_slots[i]];
+        // a_{i,i+1}, zero past the end or where the pattern has no entry.
+        let off_diagonal = |i: usize| self.off_diagonal_slots[i].map_or(0.0, |s| values[s]);
+        for i in 0..k {
+            let (t, l) = if i > 0 {
+                let t = off_diagonal(i - 1);
+                (t, t * self.inverse_pivot[i - 1])
+            } else {
+                (0.0, 0.0)
+            };
+            self.lower[i] = l;
+            self.inverse_pivot[i] = inverse_pivot(i, diagonal(i) - t * l)?;
+        }
+        for i in (k + 1..n).rev() {
+            let (t, u) = if i + 1 < n {
+                let t = off_diagonal(i);
+                (t, t * self.inverse_pivot[i + 1])
+            } else {
+                (0.0, 0.0)
+            };
+            self.upper[i] = u;
+            self.inverse_pivot[i] = inverse_pivot(i, diagonal(i) - t * u)?;
+        }
+        let (t_lower, l) = if k > 0 {
+            let t = off_diagonal(k - 1);
+            (t, t * self.inverse_pivot[k - 1])
+        } else {
+            (0.0, 0.0)
+        };
+        let (t_upper, u) = if k + 1 < n {
+            let t = off_diagonal(k);
+            (t, t * self.inverse_pivot[k + 1])
+        } else {
+            (0.0, 0.0)
+        };
+        self.lower[k] = l;
+        self.upper[k] = u;
+        self.inverse_pivot[k] = inverse_pivot(k, diagonal(k) - t_lower * l - t_upper * u)?;
+        Ok(())
+    }
+
+    /// Solves for `ncols` right-hand sides, three of them together.
+    pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
+        let b = &mut b[..self.n * ncols];
+        if self.n == 0 {
+            return;
+        }
+        match ncols {
+            3 => self.solve_together(columns::<3>(b, self.n)),
+            _ => {
+                for col in b.chunks_exact_mut(self.n) {
+                    self.solve_together([col]);
                 }
             }
         }
-        for i in 0..n {
-            let j0 = i.saturating_sub(p);
-            for j in j0..=i {
-                let mut s = self.band[i * w + p + j - i];
-                let k0 = j0.max(j.saturating_sub(p));
-                for k in k0..j {
-                    s -= self.band[i * w + p + k - i] * self.band[j * w + p + k - j];
-                }
-                if j == i {
-                    if s.is_nan() || s <= 0.0 || s.is_infinite() {
-                        return Err(not_positive_definite(i, s));
-                    }
-                    self.band[i * w + p] = s.sqrt();
-                    self.inverse_diagonal[i] = 1.0 / s.sqrt();
-                } else {
-                    self.band[i * w + p + j - i] = s * self.inverse_diagonal[j];
-                }
+    }
+
+    /// $y_i = b_i - L_{i,i-1}y_{i-1}$ down to k and $y_i = b_i - U_{i,i+1}y_{i+1}$ up to k,
+    /// $x_k = (b_k - L_{k,k-1}y_{k-1} - U_{k,k+1}y_{k+1})/\gamma_k$, then outward
+    /// $x_i = y_i/d_i - L_{i+1,i}x_{i+1}$ and $x_i = y_i/e_i - U_{i-1,i}x_{i-1}$.
+    #[inline]
+    fn solve_together<const C: usize>(&self, mut cols: [&mut [f64]; C]) {
+        let (n, k) = (self.n, self.k);
+        let lower = &self.lower[..n];
+        let upper = &self.upper[..n];
+        let inv = &self.inverse_pivot[..n];
+        for col in cols.iter_mut() {
+            let (above, rest) = col.split_at_mut(k);
+            let mut y = 0.0;
+            for (b, &l) in above.iter_mut().zip(lower) {
+                y = *b - l * y;
+                *b = y;
             }
+            let mut y = 0.0;
+            for (b, &u) in rest[1..].iter_mut().zip(&upper[k + 1..]).rev() {
+                y = *b - u * y;
+                *b = y;
+            }
+        }
+        for col in cols.iter_mut() {
+            let (above, rest) = col.split_at_mut(k);
+            let (middle, below) = rest.split_at_mut(1);
+            let y_above = above.last().map_or(0.0, |y| lower[k] * y);
+            let y_below = below.first().map_or(0.0, |y| upper[k] * y);
+            let x_k = (middle[0] - y_above - y_below) * inv[k];
+            middle[0] = x_k;
+            let mut x = x_k;
+            for ((b, &inv), &l) in above.iter_mut().zip(inv).zip(&lower[1..]).rev() {
+                x = *b * inv - l * x;
+                *b = x;
+            }
+            let mut x = x_k;
+            for ((b, &inv), &u) in below.iter_mut().zip(&inv[k + 1..]).zip(&upper[k..]) {
+                x = *b * inv - u * x;
+                *b = x;
+            }
+        }
+    }
+}
+
+/// Banded $LDL^\top$ (square-root-free Cholesky): $L$ unit lower triangular with
+/// half-bandwidth p, $D$ diagonal.
+///
+/// Both the factorisation and the substitutions are latency-bound: each row waits for the
+/// one before. $LDL^\top$ keeps the square root off that chain ($LL^\top$ has a square root
+/// and a division per row on it; here a division, and none in the substitutions), the
+/// substitutions add the newest unknown last, and several right-hand sides are swept
+/// together, row by row, so that their independent chains overlap. Half-bandwidth 5, that of
+/// Backward Euler's 3n×3n matrix of a rope, is dispatched as a constant so that its loops
+/// unroll.
+#[derive(Debug, Clone)]
+pub struct BandedLdlt {
+    n: usize,
+    p: usize,
+    /// (slot in the matrix's values, index in `band`) of every stored entry on or below the
+    /// diagonal, so that refactoring copies without searching.
+    lower: Vec<(usize, usize)>,
+    /// Row i of the matrix is row i + p here (p zero rows first, so that every row has p
+    /// entries left of its diagonal): $L_{i,i-p}, \dots, L_{i,i-1}, d_i$, zero left of
+    /// column 0.
+    band: Vec<f64>,
+    /// $1/d_i$ at i + p (zero before): the substitutions multiply, a division per row would
+    /// lengthen their chain.
+    inverse_diagonal: Vec<f64>,
+}
+
+impl BandedLdlt {
+    /// Factors `a` with half-bandwidth p = `a.bandwidth()`.
+    pub fn new(a: &SymmetricMatrix) -> Result<Self> {
+        let p = a.bandwidth();
+        if p > BANDED_MAX_BANDWIDTH {
+            return Err(Error::invalid(
+                "bandwidth",
+                p,
+                &format!("at most {BANDED_MAX_BANDWIDTH} for the banded factorisation"),
+            ));
+        }
+        let w = p + 1;
+        let lower = (0..a.dim())
+            .flat_map(|i| {
+                a.row_slots(i)
+                    .filter(move |&(_, j)| j <= i)
+                    .map(move |(slot, j)| (slot, (i + p) * w + p + j - i))
+            })
+            .collect();
+        let mut f = Self {
+            n: a.dim(),
+            p,
+            lower,
+            band: vec![0.0; (a.dim() + p) * w],
+            inverse_diagonal: vec![0.0; a.dim() + p],
+        };
+        f.refactor(a)?;
+        Ok(f)
+    }
+
+    /// Factors new values of a matrix with the pattern of the one this was built from.
+    pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
+        debug_assert_eq!(a.dim(), self.n);
+        self.band.fill(0.0);
+        let values = a.values();
+        for &(slot, k) in &self.lower {
+            self.band[k] = values[slot];
+        }
+        match self.p {
+            5 => self.factor(5),
+            p => self.factor(p),
+        }
+    }
+
+    /// Row by row: $t_j = a_{ij} - \sum_{k<j} t_k L_{jk}$ (so $t_k = L_{ik} d_k$),
+    /// $L_{ij} = t_j / d_j$, $d_i = a_{ii} - \sum_{k<i} t_k L_{ik}$. The zero rows and
+    /// columns before the matrix give every row the same p steps, adding exact zeros.
+    #[inline(always)]
+    fn factor(&mut self, p: usize) -> Result<()> {
+        let w = p + 1;
+        // t_m = L_ik d_k for the columns k = i - p + m of the current row i.
+        let mut t = [0.0; BANDED_MAX_BANDWIDTH];
+        for i in 0..self.n {
+            // Rows before i are final; row i holds A's entries until overwritten.
+            let (done, rest) = self.band.split_at_mut((i + p) * w);
+            let (l_i, a_ii) = rest[..w].split_at_mut(p);
+            for m in 0..p {
+                // Row j = i - p + m is stored at i + m; its column i - p + q at p - m + q.
+                let l_j = &done[(i + m) * w + p - m..(i + m) * w + p];
+                let mut s = l_i[m];
+                for (t_q, l_jq) in t[..m].iter().zip(l_j) {
+                    s -= t_q * l_jq;
+                }
+                t[m] = s;
+                l_i[m] = s * self.inverse_diagonal[i + m];
+            }
+            let mut d = a_ii[0];
+            for (t_q, l_iq) in t[..p].iter().zip(&*l_i) {
+                d -= t_q * l_iq;
+            }
+            self.inverse_diagonal[i + p] = inverse_pivot(i, d)?;
+            a_ii[0] = d;
         }
         Ok(())
     }
 
-    /// Forward and back substitution for `ncols` right-hand sides.
+    /// $L y = b$, $D z = y$, $L^\top x = z$ for `ncols` right-hand sides.
     pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
-        let (n, p) = (self.n, self.p);
-        let w = p + 1;
-        for col in b.chunks_exact_mut(n).take(ncols) {
-            // L y = b: row i of L holds columns i-p..i, stored at band[i*w + p - (i - k)].
-            for i in 0..n {
-                let k0 = i.saturating_sub(p);
-                let row = &self.band[i * w + p + k0 - i..i * w + p];
-                let s: f64 = row.iter().zip(&col[k0..i]).map(|(l, y)| l * y).sum();
-                col[i] = (col[i] - s) * self.inverse_diagonal[i];
-            }
-            // Lᵀ x = y: column i of Lᵀ is row i of L, read down the rows below i.
-            for i in (0..n).rev() {
-                let mut s = col[i];
-                for (k, x_k) in col.iter().enumerate().take((i + p + 1).min(n)).skip(i + 1) {
-                    s -= self.band[k * w + p + i - k] * x_k;
+        let b = &mut b[..self.n * ncols];
+        match ncols {
+            3 => self.solve_together(columns::<3>(b, self.n)),
+            _ => {
+                for col in b.chunks_exact_mut(self.n) {
+                    self.solve_together([col]);
                 }
-                col[i] = s * self.inverse_diagonal[i];
+            }
+        }
+    }
+
+    #[inline]
+    fn solve_together<const C: usize>(&self, mut cols: [&mut [f64]; C]) {
+        match self.p {
+            5 => self.solve_banded(&mut cols, 5),
+            p => self.solve_banded(&mut cols, p),
+        }
+    }
+
+    /// Row i of $L$ holds columns i-p..i-1; column i of $L^\top$ is read down the rows below
+    /// i, farthest first.
+    #[inline(always)]
+    fn solve_banded<const C: usize>(&self, cols: &mut [&mut [f64]; C], p: usize) {
+        let n = self.n;
+        let w = p + 1;
+        for i in 0..n {
+            let k0 = i.saturating_sub(p);
+            let l_i = &self.band[(i + p) * w + p + k0 - i..(i + p) * w + p];
+            for col in cols.iter_mut() {
+                let (y, rest) = col.split_at_mut(i);
+                // Ascending, so that the newest unknown y_{i-1} comes last.
+                let mut s = -0.0;
+                for (l_ik, y_k) in l_i.iter().zip(&y[k0..]) {
+                    s += l_ik * y_k;
+                }
+                rest[0] -= s;
+            }
+        }
+        for i in (0..n).rev() {
+            let k1 = (i + p + 1).min(n);
+            let inv = self.inverse_diagonal[i + p];
+            for col in cols.iter_mut() {
+                let (z, x) = col.split_at_mut(i + 1);
+                // Descending, so that the newest unknown x_{i+1} comes last.
+                let mut s = -0.0;
+                for (k, x_k) in (i + 1..k1).zip(&x[..k1 - i - 1]).rev() {
+                    s += self.band[(k + p) * w + p + i - k] * x_k;
+                }
+                z[i] = z[i] * inv - s;
             }
         }
     }
@@ -292,15 +561,22 @@ impl SparseCholesky {
             Side::Lower,
         )
         .map_err(|e| match e {
-            faer::sparse::linalg::LltError::Numeric(_) => not_positive_definite(usize::MAX, f64::NAN),
+            faer::sparse::linalg::LltError::Numeric(_) => {
+                not_positive_definite(usize::MAX, f64::NAN)
+            }
             other => Error::Input(format!("sparse Cholesky failed: {other:?}")),
         })
     }
 
     /// Numeric refactorisation with the kept symbolic analysis.
     pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
-        let pattern =
-            SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx);
+        let pattern = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
         self.numeric = Self::factor(&self.symbolic, pattern, &a.values)?;
         Ok(())
     }
@@ -347,13 +623,15 @@ mod tests {
         a
     }
 
-    fn check_solve(a: &SymmetricMatrix, f: &Factorization) {
+    /// Solves `ncols` right-hand sides with `f` and compares with the known solutions.
+    fn check_solve(a: &SymmetricMatrix, f: &Factorization, ncols: usize) {
         let n = a.dim();
-        let x: Vec<f64> = (0..2 * n).map(|i| (i as f64 * 0.37).sin()).collect();
-        let mut b = vec![0.0; 2 * n];
-        a.mul_vec(&x[..n], &mut b[..n]);
-        a.mul_vec(&x[n..], &mut b[n..]);
-        f.solve_in_place(&mut b, 2);
+        let x: Vec<f64> = (0..ncols * n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut b = vec![0.0; ncols * n];
+        for (x, b) in x.chunks_exact(n).zip(b.chunks_exact_mut(n)) {
+            a.mul_vec(x, b);
+        }
+        f.solve_in_place(&mut b, ncols);
         for (xi, bi) in x.iter().zip(&b) {
             assert!((xi - bi).abs() < 1e-12, "{xi} vs {bi}");
         }
@@ -361,21 +639,72 @@ mod tests {
 
     #[test]
     fn banded_and_sparse_solve_the_same_system() {
-        let a = chain(40, 3);
-        assert_eq!(a.bandwidth(), 5);
-        let banded = Factorization::new(&a).unwrap();
-        assert!(matches!(banded, Factorization::Banded(_)));
-        check_solve(&a, &banded);
-        let sparse = Factorization::Sparse(SparseCholesky::new(&a).unwrap());
-        check_solve(&a, &sparse);
+        for block in [2, 3] {
+            let a = chain(40, block);
+            assert_eq!(a.bandwidth(), 2 * block - 1);
+            let banded = Factorization::new(&a).unwrap();
+            assert!(matches!(banded, Factorization::Banded(_)));
+            let sparse = Factorization::Sparse(SparseCholesky::new(&a).unwrap());
+            for ncols in 1..=3 {
+                check_solve(&a, &banded, ncols);
+                check_solve(&a, &sparse, ncols);
+            }
+        }
+    }
+
+    /// The twisted factorisation meets in the middle row: chains of every small length (odd,
+    /// even, one row) and a long one, against the banded and sparse solves of the same matrix.
+    #[test]
+    fn tridiagonal_solves_chains_of_any_length() {
+        for n in [1, 2, 3, 4, 5, 10, 41] {
+            let a = if n == 1 {
+                let mut a = SymmetricMatrix::from_node_graph(1, 1, &[]);
+                a.add(0, 0, 3.0);
+                a
+            } else {
+                chain(n, 1)
+            };
+            let twisted = Factorization::new(&a).unwrap();
+            assert!(matches!(twisted, Factorization::Tridiagonal(_)), "n = {n}");
+            let banded = Factorization::Banded(BandedLdlt::new(&a).unwrap());
+            let sparse = Factorization::Sparse(SparseCholesky::new(&a).unwrap());
+            for ncols in 1..=3 {
+                check_solve(&a, &twisted, ncols);
+                check_solve(&a, &banded, ncols);
+                check_solve(&a, &sparse, ncols);
+            }
+        }
+    }
+
+    /// A refactorisation takes the new values (the pattern's analysis is kept).
+    #[test]
+    fn refactoring_solves_the_new_matrix() {
+        for block in [1, 3] {
+            let mut a = chain(12, block);
+            let mut f = Factorization::new(&a).unwrap();
+            for i in 0..a.dim() {
+                a.add(i, i, 0.5 * i as f64);
+            }
+            a.add(1, 0, -0.25);
+            a.add(0, 1, -0.25);
+            f.refactor(&a).unwrap();
+            check_solve(&a, &f, 3);
+        }
     }
 
     #[test]
     fn indefinite_matrix_is_reported_not_solved() {
-        let mut a = chain(5, 1);
-        a.add(2, 2, -100.0);
-        let err = Factorization::new(&a).unwrap_err();
-        assert!(err.to_string().contains("not positive definite"), "{err}");
-        assert!(SparseCholesky::new(&a).is_err());
+        for block in [1, 3] {
+            let mut a = chain(5, block);
+            a.add(2, 2, -100.0);
+            let err = Factorization::new(&a).unwrap_err();
+            assert!(err.to_string().contains("not positive definite"), "{err}");
+            assert!(BandedLdlt::new(&a).is_err());
+            assert!(SparseCholesky::new(&a).is_err());
+        }
+        // A pivot that is only reached from below (the twisted factorisation's other half).
+        let mut a = chain(6, 1);
+        a.add(5, 5, -100.0);
+        assert!(Factorization::new(&a).is_err());
     }
 }

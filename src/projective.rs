@@ -88,12 +88,8 @@ impl SpringIncidence {
     #[inline]
     pub fn difference(&self, i: usize, x: &[f64]) -> Vec3 {
         let (a, b) = self.ends[i];
-        let n = self.nodes;
-        Vec3::new(
-            x[a] - x[b],
-            x[n + a] - x[n + b],
-            x[2 * n + a] - x[2 * n + b],
-        )
+        let [x, y, z] = coordinates(x, self.nodes);
+        Vec3::new(x[a] - x[b], y[a] - y[b], z[a] - z[b])
     }
 
     /// Adds row `i` transposed times `value` to the column-major `out` (length 3n):
@@ -102,13 +98,26 @@ impl SpringIncidence {
     #[inline]
     pub fn add_row_transposed(&self, i: usize, value: Vec3, out: &mut [f64]) {
         let (a, b) = self.ends[i];
-        let n = self.nodes;
         let v = self.weights[i] * value;
-        for c in 0..3 {
-            out[c * n + a] += v[c];
-            out[c * n + b] -= v[c];
+        for (out, v) in coordinates_mut(out, self.nodes).into_iter().zip(v.iter()) {
+            out[a] += v;
+            out[b] -= v;
         }
     }
+}
+
+/// The three coordinate columns (x, y, z) of column-major positions over `n` nodes.
+#[inline]
+fn coordinates(columns: &[f64], n: usize) -> [&[f64]; 3] {
+    [&columns[..n], &columns[n..2 * n], &columns[2 * n..3 * n]]
+}
+
+/// [`coordinates`], mutable.
+#[inline]
+fn coordinates_mut(columns: &mut [f64], n: usize) -> [&mut [f64]; 3] {
+    let (x, rest) = columns.split_at_mut(n);
+    let (y, rest) = rest.split_at_mut(n);
+    [x, y, &mut rest[..n]]
 }
 
 /// The n×n pattern of the spring graph: a diagonal entry per node, two entries per spring.
@@ -216,11 +225,32 @@ pub fn system_matrix(
 /// spring pushes its nodes in no arbitrary direction instead of producing NaN.
 #[inline]
 pub fn project_on_sphere(q: Vec3, l0: f64) -> Vec3 {
-    let length = q.norm();
-    if length > 0.0 {
-        q * (l0 / length)
+    q * sphere_scale(q.norm_squared(), l0)
+}
+
+/// Eqs. (28), (55): $q_i \leftarrow l_{0,i}\,q_i/|q_i|$ for every spring at once, with the
+/// arithmetic of [`project_on_sphere`]. A square root and a division per spring are most of a
+/// local step's cost; gathered in one loop over `scale` (scratch, one entry per spring) they
+/// run several at a time in SIMD registers.
+pub fn project_on_spheres(q: &mut [Vec3], l0: &[f64], scale: &mut [f64]) {
+    for (r, q) in scale.iter_mut().zip(q.iter()) {
+        *r = q.norm_squared();
+    }
+    for (r, &l0) in scale.iter_mut().zip(l0) {
+        *r = sphere_scale(*r, l0);
+    }
+    for (q, &r) in q.iter_mut().zip(scale.iter()) {
+        *q *= r;
+    }
+}
+
+/// $l_0/|q|$ from $|q|^2$, and 0 for $q = 0$: the factor that takes $q$ onto the sphere.
+#[inline]
+fn sphere_scale(length_squared: f64, l0: f64) -> f64 {
+    if length_squared > 0.0 {
+        l0 / length_squared.sqrt()
     } else {
-        Vec3::zeros()
+        0.0
     }
 }
 

@@ -7,7 +7,7 @@
 //! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
 //! accept it with `INSTA_UPDATE=always cargo test --test report`.
 
-use mass_spring_solvers::experiments::{faithful_results, published_rows};
+use mass_spring_solvers::experiments::{faithful_results, forensic_results, published_rows};
 use mass_spring_solvers::report::format::sig4;
 use mass_spring_solvers::report::output::{write_report, OutputFile};
 use mass_spring_solvers::report::rest_state::Catenary;
@@ -27,6 +27,7 @@ fn data() -> &'static ReportData {
         let catenary = Catenary::compute().expect("the exact catenary solves");
         ReportData {
             results,
+            forensics: Some(forensic_results().clone()),
             runs,
             catenary,
             sources,

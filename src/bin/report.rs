@@ -1,10 +1,11 @@
 //! `make report`: runs every experiment the thesis's tables and figures need (once, in
-//! parallel) and writes `report/` atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv` and
-//! the git-ignored `run-info.md`. Progress goes to stderr when it is a terminal.
+//! parallel), then the forensic configurations of the rows run, and writes `report/`
+//! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv` and the git-ignored `run-info.md`.
+//! Progress goes to stderr when it is a terminal.
 
 use clap::Parser;
 use mass_spring_solvers::experiments::{
-    published_rows, run_all, Configuration, PublishedRow, SolverKind,
+    published_rows, run_all, Configuration, Forensics, PublishedRow, SolverKind,
 };
 use mass_spring_solvers::report::output::{write_report, OutputFile, RunInfo};
 use mass_spring_solvers::report::rest_state::Catenary;
@@ -69,12 +70,19 @@ fn run(args: Args) -> Result<String> {
         t.elapsed(),
     ));
     let t = Instant::now();
+    let forensics = Forensics::compute(&results, &progress("forensic configurations"))?;
+    phases.push((
+        "forensic configurations and gravity mismatch (parallel)".to_string(),
+        t.elapsed(),
+    ));
+    let t = Instant::now();
     let runs = FigureRuns::compute(&results, &progress("figure runs"))?;
     let catenary = Catenary::compute()?;
     phases.push(("figure runs, cloth and catenary".to_string(), t.elapsed()));
     let t = Instant::now();
     let data = ReportData {
         results,
+        forensics: Some(forensics),
         runs,
         catenary,
         sources,
@@ -82,6 +90,8 @@ fn run(args: Args) -> Result<String> {
     let mut files = render(&data)?;
     phases.push(("rendering (Markdown, SVG, CSV)".to_string(), t.elapsed()));
     let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
+    let [faithful, variant, noise, unexplained] =
+        data.forensics.as_ref().map_or([0; 4], |f| f.counts(None));
     let info = RunInfo {
         phases,
         rows_run: data.results.rows.len(),
@@ -89,7 +99,8 @@ fn run(args: Args) -> Result<String> {
     files.push(OutputFile::text("run-info.md", info.render(&root)));
     write_report(&out, &files)?;
     Ok(format!(
-        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced",
+        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced by the faithful configuration; \
+         status: {faithful} faithful, {variant} variant, {noise} noise-limited, {unexplained} unexplained",
         files.len(),
         out.display(),
         start.elapsed().as_secs_f64(),

@@ -1,7 +1,8 @@
 //! The report of `make report`: thesis chapter 4 re-done from our runs.
 //!
 //! [`ReportData`] gathers everything the report shows, computed once per process: the
-//! result set of the 56 experiments ([`crate::experiments`]), the recorded runs and the cloth
+//! result set of the 56 experiments ([`crate::experiments`]), the forensic reproduction of
+//! every row ([`forensics`]), the recorded runs and the cloth
 //! of the figures ([`runs`]), the exact catenary ([`rest_state`]), the equation tags and the
 //! solvers' step functions read from `src/` ([`traceability`]) and the dependency versions
 //! ([`versions`]). [`render`] turns it into files (Markdown, SVG, CSV) without computing
@@ -12,6 +13,7 @@
 pub mod data;
 pub mod errata;
 pub mod figures;
+pub mod forensics;
 pub mod format;
 pub mod output;
 mod plot;
@@ -23,7 +25,7 @@ pub mod versions;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use crate::error::Result;
-use crate::experiments::{published_rows, ResultSet, SolverKind, HALF_PERIOD_TOLERANCE};
+use crate::experiments::{published_rows, Forensics, ResultSet, SolverKind, HALF_PERIOD_TOLERANCE};
 use crate::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
 use crate::report::format::{short, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -79,6 +81,8 @@ pub fn solvers_in(results: &ResultSet) -> Vec<SolverKind> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReportData {
     pub results: ResultSet,
+    /// The forensic reproduction of `results` (issue 5); None leaves its sections out.
+    pub forensics: Option<Forensics>,
     pub runs: FigureRuns,
     pub catenary: Catenary,
     pub sources: Sources,
@@ -108,6 +112,20 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     ));
     if let Some(csv) = data::catenary_csv(&data.catenary) {
         files.push(OutputFile::text("data/catenary.csv", csv));
+    }
+    if let Some(f) = &data.forensics {
+        files.push(OutputFile::text(
+            "data/reproduction.csv",
+            data::reproduction_csv(f),
+        ));
+        files.push(OutputFile::text(
+            "data/configurations.csv",
+            data::configurations_csv(f),
+        ));
+        files.push(OutputFile::text(
+            "data/gravity-mismatch.csv",
+            data::gravity_csv(f),
+        ));
     }
     Ok(files)
 }
@@ -229,9 +247,19 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
             tables::NOT_RUN
         );
     }
+    if let Some(f) = &data.forensics {
+        let [faithful, variant, noise, unexplained] = f.counts(None);
+        md += &format!(
+            "**Reproduction status of the {} published rows** (section 6): {faithful} faithful, {variant} by a \
+             labelled variant, {noise} noise-limited, {unexplained} unexplained.\n\n",
+            f.statuses.len()
+        );
+        md += &forensics::counts_table(f).render();
+        md += "\n";
+    }
     md += "Contents: 1 Mass-spring systems · 2 The test scene · 3 Measurements · 4 Results (Tables 1-7) · \
-           5 Reproduction summary · 6 Conclusions revisited (Tables 8-12, Figures 5-15) · 7 Analytic catenary · \
-           8 Errata · 9 Equation traceability · 10 Data files · 11 Versions\n\n";
+           5 Reproduction summary · 6 Forensic reproduction · 7 Conclusions revisited (Tables 8-12, Figures \
+           5-15) · 8 Analytic catenary · 9 Errata · 10 Equation traceability · 11 Data files · 12 Versions\n\n";
 
     md += "## 1. Mass-spring systems (§2.1)\n\n";
     md += &figure_md(figures, 1);
@@ -289,14 +317,20 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
     md += &tables::explanations(r);
     md += "\n";
 
-    md += "## 6. Conclusions revisited (§4.4)\n\n";
+    md += "## 6. Forensic reproduction: how each published number arose\n\n";
+    match &data.forensics {
+        Some(f) => md += &forensics::section(f, r),
+        None => md += "Not computed for this report.\n\n",
+    }
+
+    md += "## 7. Conclusions revisited (§4.4)\n\n";
     md += &table_md(r, 8);
-    md += "### 6.1 Statics\n\n";
+    md += "### 7.1 Statics\n\n";
     md += &table_md(r, 9);
     for n in 5..=10 {
         md += &figure_md(figures, n);
     }
-    md += "### 6.2 Dynamics\n\n";
+    md += "### 7.2 Dynamics\n\n";
     md += &figure_md(figures, 11);
     md += &figure_md(figures, 12);
     md += &table_md(r, 10);
@@ -306,7 +340,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
     md += &figure_md(figures, 15);
     md += &table_md(r, 12);
 
-    md += "## 7. Analytic catenary against the Newton rest state\n\n";
+    md += "## 8. Analytic catenary against the Newton rest state\n\n";
     md += "The exact static equilibrium of the discrete elastic chain (every spring carries the same horizontal \
            tension; solved to machine precision) against the final state of our Backward Euler reference, which \
            stops at the first kinetic-energy peak below 0.001 J and so still moves a little: the expected residual \
@@ -315,13 +349,13 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
     md += &rest_state::comparison(r, &data.catenary);
     md += "\n";
 
-    md += "## 8. Errata\n\n";
+    md += "## 9. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 9. Equation traceability\n\n";
+    md += "## 10. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -334,7 +368,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 9.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 10.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -347,7 +381,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
         );
     }
 
-    md += "## 10. Data files\n\n";
+    md += "## 11. Data files\n\n";
     md += &format!(
         "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
          `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
@@ -355,12 +389,22 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
          - [`data/table1.csv`](data/table1.csv): the same for Table 1.\n\
          - [`data/catenary.csv`](data/catenary.csv): `stiffness,node,x,y`, the exact discrete-chain equilibrium \
          of the thesis rope, full precision.\n\
+         - [`data/reproduction.csv`](data/reproduction.csv): `{}`, the status of every published row and the \
+         configuration that produced our numbers (section 6); `our_error` is the sum of absolute coordinate \
+         differences.\n\
+         - [`data/configurations.csv`](data/configurations.csv): `{}`, every run of a named configuration other \
+         than the faithful one.\n\
+         - [`data/gravity-mismatch.csv`](data/gravity-mismatch.csv): `{}`, the gravity-mismatch errors of \
+         section 6.4 in both norms.\n\
          - `data/figNN-*.csv`: the points each figure draws (long series reduced to the minimum and maximum of \
          each of at most 1500 buckets).\n\n",
-        data::RESULTS_HEADER
+        data::RESULTS_HEADER,
+        data::REPRODUCTION_HEADER,
+        data::CONFIGURATIONS_HEADER,
+        data::GRAVITY_HEADER
     );
 
-    md += "## 11. Crate and dependency versions\n\n";
+    md += "## 12. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

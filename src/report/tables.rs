@@ -472,8 +472,7 @@ fn summary_cells(table: String, solver: &str, k: String, n: Tally) -> Vec<String
 /// are the round-off rows of forensic finding 1.
 const ROUND_OFF_PEAKS: usize = 2;
 const ROUND_OFF_HALF_PERIOD_S: f64 = 5.0;
-/// A peak below this kinetic energy is floating-point noise, J.
-pub const NOISE_PEAK_J: f64 = 1e-15;
+pub use crate::experiments::NOISE_PEAK_J;
 
 /// The best explanation of a row that is not reproduced: the deviations, then the most
 /// likely cause (the forensic findings of the scene specification, `docs/thesis-scene.md`).
@@ -531,9 +530,9 @@ pub fn explain(m: &Measured) -> String {
                 s
             }
             SolverKind::AdmmPd => {
-                "not explained (forensic finding 6): the published ADMM rows at dt = 0.1 and 0.01 s keep \
-                 oscillating longer than the faithful per-step reset of the dual variable gives; every \
-                 variant tried so far fails"
+                "the thesis's ADMM most likely started each step's iteration at x⁰ = x_n + dt·v_n rather \
+                 than at Algorithm 4's x̃ (section 6.3: that labelled variant reproduces every published \
+                 ADMM row; the other variants tried fail)"
                     .to_string()
             }
             SolverKind::Xpbd => {
