@@ -86,10 +86,12 @@ impl Run {
 /// system's extent and the springs' energy at twice their rest length ($\sum rac12 k l_0^2$),
 /// so that a system starting at rest, with or without gravity, still has a scale.
 fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
-    let (lo, hi) = state.x.iter().fold(
-        (state.x[0], state.x[0]),
-        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-    );
+    let (lo, hi) = state
+        .x
+        .iter()
+        .fold((state.x[0], state.x[0]), |(lo, hi), p| {
+            (lo.inf(p), hi.sup(p))
+        });
     let total_mass: f64 = system.nodes().iter().map(|n| n.mass).sum();
     let gravity_work = total_mass * system.gravity().norm() * (hi - lo).norm();
     let spring_scale: f64 = system
@@ -113,7 +115,11 @@ fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
 /// A non-finite state or a kinetic energy above [`DIVERGENCE_FACTOR`] times the energy scale
 /// stops the run with [`Error::Diverged`], naming the step and time; a failing step stops it
 /// with [`Error::StepFailed`].
-pub fn simulate(solver: &mut dyn TimeStepper, mut state: State, options: &RunOptions) -> Result<Run> {
+pub fn simulate(
+    solver: &mut dyn TimeStepper,
+    mut state: State,
+    options: &RunOptions,
+) -> Result<Run> {
     options.stop.validate()?;
     require_non_negative("velocity_damping", options.velocity_damping)?;
     let dt = solver.dt();
@@ -181,7 +187,9 @@ pub fn simulate(solver: &mut dyn TimeStepper, mut state: State, options: &RunOpt
         }
     }
     if options.recording.positions_every.is_some()
-        && positions.last().is_some_and(|(t, _)| *t < steps as f64 * dt)
+        && positions
+            .last()
+            .is_some_and(|(t, _)| *t < steps as f64 * dt)
     {
         positions.push((steps as f64 * dt, state.clone()));
     }

@@ -99,7 +99,12 @@ mod tests {
                 p[c] += h;
                 m[c] -= h;
                 let grad = (energy(&p, &x2, l0, k) - energy(&m, &x2, l0, k)) / (2.0 * h);
-                assert!((f[c] + grad).abs() < 1e-7, "l0={l0} c={c}: {} vs {}", f[c], -grad);
+                assert!(
+                    (f[c] + grad).abs() < 1e-7,
+                    "l0={l0} c={c}: {} vs {}",
+                    f[c],
+                    -grad
+                );
             }
         }
     }
@@ -141,8 +146,12 @@ mod tests {
         let (x1, x2) = sample();
         let l = (x1 - x2).norm();
         let eig = |m: Matrix3<f64>| m.symmetric_eigenvalues();
-        assert!(eig(force_jacobian(&x1, &x2, 0.5 * l, 3.0)).iter().all(|&e| e <= 1e-12));
-        assert!(eig(force_jacobian(&x1, &x2, 2.0 * l, 3.0)).iter().any(|&e| e > 0.1));
+        assert!(eig(force_jacobian(&x1, &x2, 0.5 * l, 3.0))
+            .iter()
+            .all(|&e| e <= 1e-12));
+        assert!(eig(force_jacobian(&x1, &x2, 2.0 * l, 3.0))
+            .iter()
+            .any(|&e| e > 0.1));
         assert!(eig(force_jacobian_definite(&x1, &x2, 2.0 * l, 3.0))
             .iter()
             .all(|&e| e <= 1e-12));

@@ -67,7 +67,10 @@ impl State {
 
     /// True when every coordinate is finite.
     pub fn is_finite(&self) -> bool {
-        self.x.iter().chain(&self.v).all(|p| p.iter().all(|c| c.is_finite()))
+        self.x
+            .iter()
+            .chain(&self.v)
+            .all(|p| p.iter().all(|c| c.is_finite()))
     }
 }
 

@@ -15,7 +15,10 @@ fn newton_static_solve_matches_discrete_catenary() {
     for k in [1e3, 1e6] {
         let system = thesis_rope(k).unwrap();
         let newton = static_equilibrium(&system, 1.0, 1e-13).unwrap();
-        let exact = ElasticChain::thesis_rope(k).unwrap().solve_equilibrium().unwrap();
+        let exact = ElasticChain::thesis_rope(k)
+            .unwrap()
+            .solve_equilibrium()
+            .unwrap();
         let gap = rest_error_max(&newton, &exact.positions);
         println!("k={k:e}: Newton static vs discrete catenary: max {gap:e} m");
         assert!(gap < 1e-9, "k={k}: {gap:e} m");
@@ -25,13 +28,25 @@ fn newton_static_solve_matches_discrete_catenary() {
 /// Smallest angular frequency of the rope linearised at `x`: ω² from M⁻¹K on the free unknowns.
 fn lowest_frequency(k: f64, x: &[Vec3]) -> f64 {
     let system = thesis_rope(k).unwrap();
-    let free: Vec<usize> = (0..system.len()).filter(|&i| !system.nodes()[i].fixed).collect();
+    let free: Vec<usize> = (0..system.len())
+        .filter(|&i| !system.nodes()[i].fixed)
+        .collect();
     let n = free.len() * 3;
     let mut stiffness = DMatrix::<f64>::zeros(n, n);
     let index = |node: usize| free.iter().position(|&f| f == node);
     for s in system.springs() {
-        let j = mass_spring_solvers::spring::force_jacobian(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
-        for (p, q, sign) in [(s.a, s.a, 1.0), (s.b, s.b, 1.0), (s.a, s.b, -1.0), (s.b, s.a, -1.0)] {
+        let j = mass_spring_solvers::spring::force_jacobian(
+            &x[s.a],
+            &x[s.b],
+            s.rest_length,
+            s.stiffness,
+        );
+        for (p, q, sign) in [
+            (s.a, s.a, 1.0),
+            (s.b, s.b, 1.0),
+            (s.a, s.b, -1.0),
+            (s.b, s.a, -1.0),
+        ] {
             if let (Some(p), Some(q)) = (index(p), index(q)) {
                 for r in 0..3 {
                     for c in 0..3 {
@@ -43,7 +58,9 @@ fn lowest_frequency(k: f64, x: &[Vec3]) -> f64 {
     }
     // Unit masses: M⁻¹K = K. Out-of-plane (z) modes are excluded: the motion stays in the plane.
     let in_plane: Vec<usize> = (0..n).filter(|i| i % 3 != 2).collect();
-    let k_plane = DMatrix::from_fn(in_plane.len(), in_plane.len(), |r, c| stiffness[(in_plane[r], in_plane[c])]);
+    let k_plane = DMatrix::from_fn(in_plane.len(), in_plane.len(), |r, c| {
+        stiffness[(in_plane[r], in_plane[c])]
+    });
     let eig = SymmetricEigen::new(k_plane).eigenvalues;
     eig.iter().cloned().fold(f64::INFINITY, f64::min).sqrt()
 }
@@ -64,7 +81,10 @@ fn backward_euler_rest_state_matches_within_residual_motion() {
         let system = thesis_rope(k).unwrap();
         let mut be = BackwardEuler::reference(&system).unwrap();
         let run = simulate(&mut be, system.initial_state(), &RunOptions::default()).unwrap();
-        let exact = ElasticChain::thesis_rope(k).unwrap().solve_equilibrium().unwrap();
+        let exact = ElasticChain::thesis_rope(k)
+            .unwrap()
+            .solve_equilibrium()
+            .unwrap();
         let last_peak = run.peaks.last().unwrap().energy;
         let omega = lowest_frequency(k, &exact.positions);
         let bound = 1.5 * (2.0 * last_peak).sqrt() / omega;
@@ -81,6 +101,9 @@ fn backward_euler_rest_state_matches_within_residual_motion() {
         );
         assert!(gap <= bound, "k={k}: {gap:e} > {bound:e}");
         let crossing = 2.0 * (2.0 * last_peak).sqrt() * run.dt;
-        assert!(gap <= crossing, "k={k}: {gap:e} > {crossing:e} (one step past the crossing)");
+        assert!(
+            gap <= crossing,
+            "k={k}: {gap:e} > {crossing:e} (one step past the crossing)"
+        );
     }
 }

@@ -4,7 +4,9 @@
 use mass_spring_solvers::backward_euler::{
     converged_step, velocity_residual, BackwardEuler, ConvergedStepOptions,
 };
-use mass_spring_solvers::experiments::{published_rows, reproduces, run_all, Configuration, SolverKind};
+use mass_spring_solvers::experiments::{
+    published_rows, reproduces, run_all, Configuration, SolverKind,
+};
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::solver::{simulate, Recording, RunOptions, TimeStepper};
 use mass_spring_solvers::{MassSpringSystem, State, Vec3};
@@ -29,7 +31,12 @@ fn max_residual(system: &MassSpringSystem, state: &State, v: &[Vec3], dt: f64) -
 
 /// The printed Eq (12) re-evaluated at x_k without the term dt·K_k·(x_n − x_k): a fixed-point
 /// iteration, written densely here as an independent check.
-fn printed_scheme_iterate(system: &MassSpringSystem, state: &State, dt: f64, iterations: usize) -> Vec<Vec3> {
+fn printed_scheme_iterate(
+    system: &MassSpringSystem,
+    state: &State,
+    dt: f64,
+    iterations: usize,
+) -> Vec<Vec3> {
     let n = system.len();
     let mut v = vec![Vec3::zeros(); n];
     for _ in 0..iterations {
@@ -45,8 +52,18 @@ fn printed_scheme_iterate(system: &MassSpringSystem, state: &State, dt: f64, ite
             }
         }
         for s in system.springs() {
-            let j = mass_spring_solvers::spring::force_jacobian(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
-            for (p, q, sign) in [(s.a, s.a, 1.0), (s.b, s.b, 1.0), (s.a, s.b, -1.0), (s.b, s.a, -1.0)] {
+            let j = mass_spring_solvers::spring::force_jacobian(
+                &x[s.a],
+                &x[s.b],
+                s.rest_length,
+                s.stiffness,
+            );
+            for (p, q, sign) in [
+                (s.a, s.a, 1.0),
+                (s.b, s.b, 1.0),
+                (s.a, s.b, -1.0),
+                (s.b, s.a, -1.0),
+            ] {
                 for r in 0..3 {
                     for c in 0..3 {
                         a[(3 * p + r, 3 * q + c)] -= sign * dt * dt * j[(r, c)];
@@ -66,7 +83,9 @@ fn printed_scheme_iterate(system: &MassSpringSystem, state: &State, dt: f64, ite
             }
         }
         let sol = a.lu().solve(&b).unwrap();
-        v = (0..n).map(|i| Vec3::new(sol[3 * i], sol[3 * i + 1], sol[3 * i + 2])).collect();
+        v = (0..n)
+            .map(|i| Vec3::new(sol[3 * i], sol[3 * i + 1], sol[3 * i + 2]))
+            .collect();
     }
     v
 }
@@ -87,9 +106,18 @@ fn newton_iterations_solve_the_backward_euler_equations() {
             be.step(&mut next).unwrap();
             residuals.push(max_residual(&system, &state, &next.v, dt));
             if iterations == 5 {
-                let oracle = converged_step(&system, &state, dt, ConvergedStepOptions::default()).unwrap();
-                let gap = next.x.iter().zip(&oracle.x).map(|(a, b)| (a - b).amax()).fold(0.0, f64::max);
-                assert!(gap < 1e-12, "k={k}: 5 Newton iterations are {gap:e} m from the converged step");
+                let oracle =
+                    converged_step(&system, &state, dt, ConvergedStepOptions::default()).unwrap();
+                let gap = next
+                    .x
+                    .iter()
+                    .zip(&oracle.x)
+                    .map(|(a, b)| (a - b).amax())
+                    .fold(0.0, f64::max);
+                assert!(
+                    gap < 1e-12,
+                    "k={k}: 5 Newton iterations are {gap:e} m from the converged step"
+                );
             }
         }
         println!("k={k:e}: residual after 1..5 Newton iterations {residuals:?}");
@@ -99,7 +127,10 @@ fn newton_iterations_solve_the_backward_euler_equations() {
         let printed = printed_scheme_iterate(&system, &state, dt, 5);
         let printed_residual = max_residual(&system, &state, &printed, dt);
         println!("k={k:e}: printed-Eq-12 iterate residual {printed_residual:e}");
-        assert!(printed_residual > 1e3 * residuals[4], "the printed scheme should not solve Eq 8");
+        assert!(
+            printed_residual > 1e3 * residuals[4],
+            "the printed scheme should not solve Eq 8"
+        );
     }
 }
 
@@ -120,7 +151,11 @@ fn converged_step_handles_large_steps() {
 /// reproduction rule (k = 1e6: 175 peaks, T/2 0.2060 s; k = 1e3: 723 peaks, 0.6773 s).
 #[test]
 fn table_1_reproduces() {
-    let rows: Vec<_> = published_rows().iter().filter(|r| r.table == 1).cloned().collect();
+    let rows: Vec<_> = published_rows()
+        .iter()
+        .filter(|r| r.table == 1)
+        .cloned()
+        .collect();
     let results = run_all(&rows, &Configuration::faithful(), &|_, _| {}).unwrap();
     for m in &results.rows {
         println!(
@@ -134,7 +169,11 @@ fn table_1_reproduces() {
             m.end_time
         );
         assert_eq!(m.published.solver, SolverKind::BackwardEuler);
-        assert!(m.reproduces(), "Table 1 row k={} does not reproduce", m.published.stiffness);
+        assert!(
+            m.reproduces(),
+            "Table 1 row k={} does not reproduce",
+            m.published.stiffness
+        );
         assert!(!m.hit_time_limit);
     }
     assert_eq!(results.reference(1e6).peaks, 175);
@@ -170,15 +209,21 @@ fn first_peak_is_about_six_joules() {
 #[test]
 fn bad_parameters_name_the_field() {
     let system = thesis_rope(1e3).unwrap();
-    let err = BackwardEuler::new(&system, -1.0, 5).unwrap_err().to_string();
+    let err = BackwardEuler::new(&system, -1.0, 5)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("dt"), "{err}");
-    let err = BackwardEuler::new(&system, 1e-3, 0).unwrap_err().to_string();
+    let err = BackwardEuler::new(&system, 1e-3, 0)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("iterations"), "{err}");
     let err = thesis_rope(f64::NAN).unwrap_err().to_string();
     assert!(err.contains("stiffness"), "{err}");
     let mut options = RunOptions::default();
     options.stop.threshold = 0.0;
     let mut be = BackwardEuler::reference(&system).unwrap();
-    let err = simulate(&mut be, system.initial_state(), &options).unwrap_err().to_string();
+    let err = simulate(&mut be, system.initial_state(), &options)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("threshold"), "{err}");
 }
