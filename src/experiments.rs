@@ -361,8 +361,12 @@ pub fn run_all(
     })
 }
 
-/// The faithful result set of all 56 rows, computed once per process and shared by every
-/// test and by the report.
+/// The faithful result set of all 56 rows, computed once per process and shared by the tests
+/// of a test binary (the report binary calls [`run_all`] itself, to show progress and return
+/// errors).
+///
+/// # Panics
+/// If a faithful run fails: the tests treat that as a failure.
 pub fn faithful_results() -> &'static ResultSet {
     static RESULTS: OnceLock<ResultSet> = OnceLock::new();
     RESULTS.get_or_init(|| {
@@ -1003,6 +1007,9 @@ fn row_status(faithful: &Measured, runs: &[ConfigurationRun]) -> RowStatus {
 
 /// The forensic results of all 56 rows, computed once per process from
 /// [`faithful_results`].
+///
+/// # Panics
+/// If a run fails, as [`faithful_results`].
 pub fn forensic_results() -> &'static Forensics {
     static FORENSICS: OnceLock<Forensics> = OnceLock::new();
     FORENSICS.get_or_init(|| {

@@ -212,6 +212,28 @@ impl MassSpringSystem {
         }
     }
 
+    /// The force Jacobian $dF/dx$ of every spring (Eq. 4) assembled densely, $3n\times3n$ with
+    /// unknown $3i + c$ for coordinate $c$ of node $i$; fixed nodes are included. For
+    /// analysis (modes, stability) and as an independent check of the solvers' sparse assembly.
+    pub fn force_jacobian_dense(&self, x: &[Vec3]) -> nalgebra::DMatrix<f64> {
+        let n = 3 * self.nodes.len();
+        let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for s in &self.springs {
+            let j = spring::force_jacobian(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
+            // dF_a/dx_a = dF_b/dx_b = J, dF_a/dx_b = dF_b/dx_a = -J.
+            for (p, q, sign) in [
+                (s.a, s.a, 1.0),
+                (s.b, s.b, 1.0),
+                (s.a, s.b, -1.0),
+                (s.b, s.a, -1.0),
+            ] {
+                let mut block = k.fixed_view_mut::<3, 3>(3 * p, 3 * q);
+                block += sign * j;
+            }
+        }
+        k
+    }
+
     /// Potential energy: springs (Eq. 2) plus gravity, $\sum E_j - \sum_i m_i\,g\cdot x_i$.
     pub fn potential_energy(&self, x: &[Vec3]) -> f64 {
         let elastic: f64 = self

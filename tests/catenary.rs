@@ -31,31 +31,14 @@ fn lowest_frequency(k: f64, x: &[Vec3]) -> f64 {
     let free: Vec<usize> = (0..system.len())
         .filter(|&i| !system.nodes()[i].fixed)
         .collect();
-    let n = free.len() * 3;
-    let mut stiffness = DMatrix::<f64>::zeros(n, n);
-    let index = |node: usize| free.iter().position(|&f| f == node);
-    for s in system.springs() {
-        let j = mass_spring_solvers::spring::force_jacobian(
-            &x[s.a],
-            &x[s.b],
-            s.rest_length,
-            s.stiffness,
-        );
-        for (p, q, sign) in [
-            (s.a, s.a, 1.0),
-            (s.b, s.b, 1.0),
-            (s.a, s.b, -1.0),
-            (s.b, s.a, -1.0),
-        ] {
-            if let (Some(p), Some(q)) = (index(p), index(q)) {
-                for r in 0..3 {
-                    for c in 0..3 {
-                        stiffness[(3 * p + r, 3 * q + c)] -= sign * j[(r, c)];
-                    }
-                }
-            }
-        }
-    }
+    // K = -dF/dx restricted to the free unknowns.
+    let dofs: Vec<usize> = free
+        .iter()
+        .flat_map(|&i| (0..3).map(move |c| 3 * i + c))
+        .collect();
+    let n = dofs.len();
+    let jacobian = system.force_jacobian_dense(x);
+    let stiffness = DMatrix::from_fn(n, n, |r, c| -jacobian[(dofs[r], dofs[c])]);
     // Unit masses: M⁻¹K = K. Out-of-plane (z) modes are excluded: the motion stays in the plane.
     let in_plane: Vec<usize> = (0..n).filter(|i| i % 3 != 2).collect();
     let k_plane = DMatrix::from_fn(in_plane.len(), in_plane.len(), |r, c| {

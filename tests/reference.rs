@@ -51,26 +51,7 @@ fn printed_scheme_iterate(
                 b[3 * i + c] = node.mass * state.v[i][c] + dt * f[i][c];
             }
         }
-        for s in system.springs() {
-            let j = mass_spring_solvers::spring::force_jacobian(
-                &x[s.a],
-                &x[s.b],
-                s.rest_length,
-                s.stiffness,
-            );
-            for (p, q, sign) in [
-                (s.a, s.a, 1.0),
-                (s.b, s.b, 1.0),
-                (s.a, s.b, -1.0),
-                (s.b, s.a, -1.0),
-            ] {
-                for r in 0..3 {
-                    for c in 0..3 {
-                        a[(3 * p + r, 3 * q + c)] -= sign * dt * dt * j[(r, c)];
-                    }
-                }
-            }
-        }
+        a -= dt * dt * system.force_jacobian_dense(&x);
         for (i, node) in system.nodes().iter().enumerate() {
             if node.fixed {
                 for c in 0..3 {

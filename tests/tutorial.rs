@@ -9,7 +9,6 @@ use mass_spring_solvers::particles::{
     DampedSprings, Drag, Gravity, Ground, Integrator, ParticleStepper, ParticleSystem, Particles,
 };
 use mass_spring_solvers::scene::thesis_rope;
-use mass_spring_solvers::spring;
 use mass_spring_solvers::{
     simulate, Error, MassSpringSystem, Node, RunOptions, Spring, State, TimeStepper, Vec3,
 };
@@ -241,27 +240,14 @@ fn linearised_rope() -> &'static Linearised {
         let free: Vec<usize> = (0..system.len())
             .filter(|&i| !system.nodes()[i].fixed)
             .collect();
-        let dof = |i: usize| free.iter().position(|&j| j == i);
-        let n = 3 * free.len();
-        let mut k = DMatrix::<f64>::zeros(n, n);
-        for s in system.springs() {
-            let j =
-                spring::force_jacobian(&state.x[s.a], &state.x[s.b], s.rest_length, s.stiffness);
-            for (p, q, sign) in [
-                (s.a, s.a, -1.0),
-                (s.a, s.b, 1.0),
-                (s.b, s.a, 1.0),
-                (s.b, s.b, -1.0),
-            ] {
-                if let (Some(dp), Some(dq)) = (dof(p), dof(q)) {
-                    for r in 0..3 {
-                        for c in 0..3 {
-                            k[(3 * dp + r, 3 * dq + c)] += sign * j[(r, c)];
-                        }
-                    }
-                }
-            }
-        }
+        // K = -dF/dx restricted to the free unknowns.
+        let dofs: Vec<usize> = free
+            .iter()
+            .flat_map(|&i| (0..3).map(move |c| 3 * i + c))
+            .collect();
+        let n = dofs.len();
+        let jacobian = system.force_jacobian_dense(&state.x);
+        let k = DMatrix::from_fn(n, n, |r, c| -jacobian[(dofs[r], dofs[c])]);
         let inv_sqrt_m = DVector::from_fn(n, |r, _| 1.0 / system.nodes()[free[r / 3]].mass.sqrt());
         let scaled = DMatrix::from_fn(n, n, |r, c| inv_sqrt_m[r] * k[(r, c)] * inv_sqrt_m[c]);
         let eigen = scaled.symmetric_eigen();
