@@ -126,6 +126,76 @@ pub fn fixed_unknowns(fixed_nodes: impl Iterator<Item = usize>, block: usize) ->
         .collect()
 }
 
+/// The second way of §3.2: the fixed unknowns are removed. The free ones solve
+/// $A_{ff}\,x_f = b_f - A_{fc}\,\bar x_c$ with a separately factored $A_{ff}$, so the fixed
+/// values never enter the factorisation. The thesis weighs it and adopts Eqs 43-47 instead
+/// ([`ConstrainedSystem`]); the forensic variants of ADMM-PD use it.
+#[derive(Debug, Clone)]
+pub struct EliminatedSystem {
+    /// The free unknowns, in order; the reduced unknowns are their indices here.
+    free: Vec<usize>,
+    /// $(f, c, A_{fc})$ for reduced row $f$ and fixed unknown $c$.
+    coupling: Vec<(usize, usize, f64)>,
+    factorization: Factorization,
+    /// Scratch for the reduced right-hand sides.
+    reduced: Vec<f64>,
+}
+
+impl EliminatedSystem {
+    /// $A_{ff}$ of `a` without the `fixed` unknowns, factored once; `edges` is the graph of
+    /// `a`'s off-diagonal entries (one unknown per node).
+    pub fn new(a: &SymmetricMatrix, fixed: &[usize], edges: &[(usize, usize)]) -> Result<Self> {
+        let n = a.dim();
+        let mut reduced_index = vec![None; n];
+        let free: Vec<usize> = (0..n).filter(|i| !fixed.contains(i)).collect();
+        for (f, &i) in free.iter().enumerate() {
+            reduced_index[i] = Some(f);
+        }
+        let reduced_edges: Vec<(usize, usize)> = edges
+            .iter()
+            .filter_map(|&(i, j)| Some((reduced_index[i]?, reduced_index[j]?)))
+            .collect();
+        let mut a_ff = SymmetricMatrix::from_node_graph(free.len(), 1, &reduced_edges);
+        let mut coupling = Vec::new();
+        for (f, &i) in free.iter().enumerate() {
+            for (j, a_ij) in a.row(i) {
+                match reduced_index[j] {
+                    Some(g) => a_ff.add(f, g, a_ij),
+                    None => coupling.push((f, j, a_ij)),
+                }
+            }
+        }
+        Ok(Self {
+            reduced: Vec::new(),
+            factorization: Factorization::new(&a_ff)?,
+            free,
+            coupling,
+        })
+    }
+
+    /// Solves for `ncols` right-hand sides stored column-major in `b` (overwritten by $x$), the
+    /// fixed unknowns at their values in `x_bar`.
+    pub fn solve(&mut self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
+        let (n, m) = (b.len() / ncols, self.free.len());
+        self.reduced.resize(ncols * m, 0.0);
+        for c in 0..ncols {
+            for (f, &i) in self.free.iter().enumerate() {
+                self.reduced[c * m + f] = b[c * n + i];
+            }
+            for &(f, j, a_fj) in self.coupling.iter() {
+                self.reduced[c * m + f] -= a_fj * x_bar[c * n + j];
+            }
+        }
+        self.factorization.solve_in_place(&mut self.reduced, ncols);
+        b.copy_from_slice(x_bar);
+        for c in 0..ncols {
+            for (f, &i) in self.free.iter().enumerate() {
+                b[c * n + i] = self.reduced[c * m + f];
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,5 +235,9 @@ mod tests {
         assert_eq!(x[0], 0.5);
         assert_eq!(x[3], -1.5);
         assert!((x[1] - x1).abs() < 1e-14 && (x[2] - x2).abs() < 1e-14);
+        let mut eliminated = EliminatedSystem::new(&a, &[0, 3], &edges).unwrap();
+        let mut y = b.to_vec();
+        eliminated.solve(&mut y, &x_bar, 1);
+        assert!(x.iter().zip(&y).all(|(p, q)| (p - q).abs() < 1e-14));
     }
 }

@@ -15,10 +15,11 @@
 //! - Algorithm 3 has no velocity update: $v_{n+1} = (x_{n+1} - x_n)/dt$ after the loop, as in
 //!   Algorithm 4 line 2.11.
 //!
-//! Algorithm 3 does not say where the iteration starts. The first iterate is $x_n$: with it,
-//! one iteration reproduces the thesis's one-iteration rows (Tables 4-5), which starting from
-//! $y$ does not. With many iterations the step converges to the Backward Euler step of Eq (20)
-//! whatever the start.
+//! Algorithm 3 does not say where the iteration starts: an open point, resolved by
+//! [`FirstIterate`]. The default is $x_n$ ([`FirstIterate::Previous`]); Liu 2013's inertial
+//! prediction $y$ ([`FirstIterate::Inertial`]) is the other reading. The report runs both
+//! and says which published rows each reproduces (its "interpretation" evidence class). With
+//! many iterations the step converges to the Backward Euler step of Eq (20) whatever the start.
 
 use crate::error::{require_positive, Error, Result};
 use crate::projective::{
@@ -27,12 +28,23 @@ use crate::projective::{
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
 
+/// Where each step's local/global iteration starts, a point Algorithm 3 leaves open.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum FirstIterate {
+    /// $x^0 = x_n$, the previous positions (the default).
+    #[default]
+    Previous,
+    /// $x^0 = y = x_n + dt\,v_n$, Liu 2013's inertial prediction.
+    Inertial,
+}
+
 /// Liu 2013's solver with a fixed number of local/global iterations per step.
 #[derive(Debug, Clone)]
 pub struct FastMassSpring {
     system: MassSpringSystem,
     dt: f64,
     iterations: usize,
+    first_iterate: FirstIterate,
     /// $J$ of Eqs (26), (53), stored per spring.
     j: SpringIncidence,
     rest_lengths: Vec<f64>,
@@ -67,6 +79,7 @@ impl FastMassSpring {
             system: system.clone(),
             dt,
             iterations,
+            first_iterate: FirstIterate::default(),
             j: incidence_matrix(system),
             rest_lengths: system.springs().iter().map(|s| s.rest_length).collect(),
             a: GlobalSolve::new(system, dt, &k)?,
@@ -77,6 +90,12 @@ impl FastMassSpring {
             d: vec![Vec3::zeros(); system.springs().len()],
             scale: vec![0.0; system.springs().len()],
         })
+    }
+
+    /// The same solver starting each step's iteration at `first_iterate`.
+    pub fn with_first_iterate(mut self, first_iterate: FirstIterate) -> Self {
+        self.first_iterate = first_iterate;
+        self
     }
 
     /// Local/global iterations per step.
@@ -145,8 +164,19 @@ impl TimeStepper for FastMassSpring {
         to_columns(&state.x, &mut self.x_n);
         // 2.1: b (Eq 27).
         self.inertial_rhs(state);
-        // First iterate x_n (Algorithm 3 is silent; see the module doc).
-        self.x.copy_from_slice(&self.x_n);
+        // First iterate: Algorithm 3 is silent (see the module doc).
+        match self.first_iterate {
+            FirstIterate::Previous => self.x.copy_from_slice(&self.x_n),
+            FirstIterate::Inertial => {
+                let n = state.x.len();
+                for (i, (x, v)) in state.x.iter().zip(&state.v).enumerate() {
+                    let y = x + self.dt * v;
+                    for c in 0..3 {
+                        self.x[c * n + i] = y[c];
+                    }
+                }
+            }
+        }
         // 2.2-2.8
         for _ in 0..self.iterations {
             self.local_step();

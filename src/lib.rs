@@ -17,6 +17,7 @@ pub mod catenary;
 pub mod error;
 pub mod experiments;
 pub mod fast_mass_spring;
+pub mod forensics;
 pub mod linear;
 pub mod metrics;
 pub mod particles;

@@ -7,7 +7,8 @@
 //! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
 //! accept it with `INSTA_UPDATE=always cargo test --test report`.
 
-use mass_spring_solvers::experiments::{faithful_results, forensic_results, published_rows};
+use mass_spring_solvers::experiments::{faithful_results, published_rows};
+use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::format::sig4;
 use mass_spring_solvers::report::output::{write_report, OutputFile};
 use mass_spring_solvers::report::rest_state::Catenary;
@@ -64,7 +65,7 @@ fn reproduction_summary_matches_its_snapshot() {
     let text = format!(
         "{}\n{}",
         tables::summary(results).render(),
-        tables::explanations(results)
+        tables::explanations(results, data().forensics.as_ref())
     );
     snapshot("reproduction-summary", &text);
 }

@@ -5,8 +5,9 @@
 
 use clap::Parser;
 use mass_spring_solvers::experiments::{
-    published_rows, run_all, Configuration, Forensics, PublishedRow, SolverKind,
+    published_rows, run_all, Configuration, PublishedRow, SolverKind,
 };
+use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::report::output::{write_report, OutputFile, RunInfo};
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
@@ -90,8 +91,14 @@ fn run(args: Args) -> Result<String> {
     let mut files = render(&data)?;
     phases.push(("rendering (Markdown, SVG, CSV)".to_string(), t.elapsed()));
     let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
-    let [faithful, variant, noise, unexplained] =
-        data.forensics.as_ref().map_or([0; 4], |f| f.counts(None));
+    let classes = data.forensics.as_ref().map_or(String::new(), |f| {
+        let counts: Vec<String> = Evidence::ALL
+            .iter()
+            .zip(f.counts(None))
+            .map(|(e, n)| format!("{n} {}", e.id()))
+            .collect();
+        format!("; evidence: {}", counts.join(", "))
+    });
     let info = RunInfo {
         phases,
         rows_run: data.results.rows.len(),
@@ -99,8 +106,7 @@ fn run(args: Args) -> Result<String> {
     files.push(OutputFile::text("run-info.md", info.render(&root)));
     write_report(&out, &files)?;
     Ok(format!(
-        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced by the faithful configuration; \
-         status: {faithful} faithful, {variant} variant, {noise} noise-limited, {unexplained} unexplained",
+        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced by the faithful configuration{classes}",
         files.len(),
         out.display(),
         start.elapsed().as_secs_f64(),

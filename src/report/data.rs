@@ -1,10 +1,11 @@
 //! The machine-readable files of `report/data/`: the 56 results in the columns of
-//! `thesis_results.csv`, Table 1 alone, the exact catenary, the forensic reproduction (status
-//! per row, every named configuration's runs, the gravity-mismatch errors) and (written by
+//! `thesis_results.csv`, Table 1 alone, the exact catenary, the forensic reproduction (evidence
+//! class per row, every named configuration's runs, the gravity-mismatch errors) and (written by
 //! the figures) one CSV per figure. Numbers are written as the shortest decimal that
 //! round-trips the `f64`.
 
-use crate::experiments::{Forensics, Measured, PublishedRow, ResultSet, SolverKind};
+use crate::experiments::{better_time_convention, Measured, PublishedRow, ResultSet, SolverKind};
+use crate::forensics::Forensics;
 use crate::report::format::{full, full_opt};
 use crate::report::rest_state::Catenary;
 use crate::report::tables::half_period_deviation;
@@ -67,10 +68,9 @@ pub fn catenary_csv(catenary: &Catenary) -> Option<String> {
     any.then_some(out)
 }
 
-/// The header of `reproduction.csv` (issue 5): one row per published row with its status and
-/// the configuration that produced our numbers; `our_error` is the sum of absolute coordinate
-/// differences against our reference.
-pub const REPRODUCTION_HEADER: &str = "table,solver,dt_s,iterations,stiffness,status,configuration,published_peaks,our_peaks,published_half_period_s,our_half_period_s,half_period_rel_dev,published_error,our_error";
+/// The header of `reproduction.csv`: one row per published row with its evidence class, the
+/// configuration that produced our numbers and the free choices it spent.
+pub const REPRODUCTION_HEADER: &str = "table,solver,dt_s,iterations,stiffness,evidence,configuration,free_choices,published_peaks,our_peaks,published_half_period_s,our_half_period_s,half_period_rel_dev,marginal,better_time_convention,published_error,our_error";
 
 fn experiment(p: &PublishedRow) -> String {
     format!(
@@ -83,27 +83,42 @@ fn experiment(p: &PublishedRow) -> String {
     )
 }
 
-/// `reproduction.csv`: the status of every row run, in the thesis's order.
+/// `reproduction.csv`: the evidence class of every row run, in the thesis's order. `our_error`
+/// is the sum of per-node distances (convention 7); `better_time_convention` is the T/2
+/// convention of ours closer to the published value.
 pub fn reproduction_csv(forensics: &Forensics) -> String {
     let mut out = format!("{REPRODUCTION_HEADER}\n");
-    for s in &forensics.statuses {
-        let m = &s.measured;
+    for e in &forensics.evidence {
+        let m = &e.measured;
         let p = &m.published;
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             experiment(p),
-            s.status.id(),
-            s.configuration.id(),
+            e.evidence.id(),
+            e.configuration.id(),
+            csv_text(&e.free_choices),
             p.ke_peaks,
             m.peaks,
             full(p.half_period_s),
             full_opt(m.half_period_thesis),
             full_opt(half_period_deviation(m)),
+            m.marginal(),
+            better_time_convention(p, m.half_period_thesis, m.half_period_exact)
+                .map_or("", |c| c.id()),
             full_opt(p.error),
-            full_opt(m.error_l1)
+            full_opt(m.error_sum)
         );
     }
     out
+}
+
+/// A CSV field, quoted when it holds a comma or a quote.
+fn csv_text(s: &str) -> String {
+    if s.contains([',', '"']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
 }
 
 /// The header of `configurations.csv`: every run of a named configuration other than the
@@ -132,10 +147,10 @@ pub fn configurations_csv(forensics: &Forensics) -> String {
         }
         for (row, error) in &run.failed {
             out += &format!(
-                "{},{},\"{}\",,,,,,,,false\n",
+                "{},{},{},,,,,,,,false\n",
                 run.id.id(),
                 experiment(row),
-                error.replace('"', "\"\"")
+                csv_text(error)
             );
         }
     }
@@ -149,7 +164,7 @@ pub const GRAVITY_HEADER: &str = "table,solver,dt_s,iterations,stiffness,configu
 /// `gravity-mismatch.csv`: the gravity-mismatch hypothesis for every solver row.
 pub fn gravity_csv(forensics: &Forensics) -> String {
     let mut out = format!("{GRAVITY_HEADER}\n");
-    for g in &forensics.gravity {
+    for g in &forensics.gravity.rows {
         out += &format!(
             "{},{},{},{},{},{},{},{},{},{},{}\n",
             experiment(&g.published),

@@ -25,7 +25,8 @@ pub mod versions;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use crate::error::Result;
-use crate::experiments::{published_rows, Forensics, ResultSet, SolverKind, HALF_PERIOD_TOLERANCE};
+use crate::experiments::{published_rows, ResultSet, SolverKind, HALF_PERIOD_TOLERANCE};
+use crate::forensics::Forensics;
 use crate::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
 use crate::report::format::{short, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -248,17 +249,13 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
         );
     }
     if let Some(f) = &data.forensics {
-        let [faithful, variant, noise, unexplained] = f.counts(None);
-        md += &format!(
-            "**Reproduction status of the {} published rows** (section 6): {faithful} faithful, {variant} by a \
-             labelled variant, {noise} noise-limited, {unexplained} unexplained.\n\n",
-            f.statuses.len()
-        );
+        md += &forensics::headline(f);
+        md += "\n\n";
         md += &forensics::counts_table(f).render();
         md += "\n";
     }
     md += "Contents: 1 Mass-spring systems · 2 The test scene · 3 Measurements · 4 Results (Tables 1-7) · \
-           5 Reproduction summary · 6 Forensic reproduction · 7 Conclusions revisited (Tables 8-12, Figures \
+           5 Reproduction summary · 6 Forensic reproduction: evidence classes · 7 Conclusions revisited (Tables 8-12, Figures \
            5-15) · 8 Analytic catenary · 9 Errata · 10 Equation traceability · 11 Data files · 12 Versions\n\n";
 
     md += "## 1. Mass-spring systems (§2.1)\n\n";
@@ -314,7 +311,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
     md += "\nRows not reproduced, with the best explanation we have (the forensic findings are in \
            `docs/thesis-scene.md`; a faithful implementation is the default and is not tuned to the published \
            numbers):\n\n";
-    md += &tables::explanations(r);
+    md += &tables::explanations(r, data.forensics.as_ref());
     md += "\n";
 
     md += "## 6. Forensic reproduction: how each published number arose\n\n";
