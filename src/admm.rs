@@ -1,25 +1,25 @@
 //! ADMM ⊇ Projective Dynamics (Overby et al. 2017; thesis §2.3.2 and §3.5, Algorithm 4,
 //! Eqs 30-42 and 54-56).
 //!
-//! Eq (20) split as in Eqs (34)-(39): $f(x) = \frac{1}{2dt^2}|x - \tilde x|_M^2$,
-//! $g(z) = U_*(z)$ (the springs' Hooke energy), constraint $W(Dx - z) = 0$ with the reduction
-//! matrix $D$ (Eq 54) and the weights $W = \omega I$, $\omega_i = \sqrt{k_i}$ by default (the
+//! Eq (20) split as in Eqs (34)-(39): $`f(x) = \frac{1}{2dt^2}|x - \tilde x|_M^2`$,
+//! $`g(z) = U_*(z)`$ (the springs' Hooke energy), constraint $`W(Dx - z) = 0`$ with the reduction
+//! matrix $`D`$ (Eq 54) and the weights $`W = \omega I`$, $`\omega_i = \sqrt{k_i}`$ by default (the
 //! "usual" choice of §2.3.2, and the one §3.5 assumes). Each step starts from
-//! $x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ with the scaled dual $\bar u = 0$
-//! (lines 2.1-2.2), then iterates, in the order of Algorithm 4: the local step $z$ (Eq 41,
-//! solved by Eqs 55-56 for Hooke's energy), the dual update $\bar u$ (Eq 42), and the global
-//! step $x$ (Eq 40) with $A = M + dt^2 D^\top W^\top W D$ factored once per scene and time step
+//! $`x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ with the scaled dual $`\bar u = 0`$
+//! (lines 2.1-2.2), then iterates, in the order of Algorithm 4: the local step $`z`$ (Eq 41,
+//! solved by Eqs 55-56 for Hooke's energy), the dual update $`\bar u`$ (Eq 42), and the global
+//! step $`x`$ (Eq 40) with $`A = M + dt^2 D^\top W^\top W D`$ factored once per scene and time step
 //! ([`crate::projective`], shared with Liu 2013; fixed nodes by Eqs 43-47). The velocity is
-//! $(x - x_n)/dt$ (line 2.11).
+//! $`(x - x_n)/dt`$ (line 2.11).
 //!
 //! Errata implemented in consistent form (see `docs/thesis-errata.md`):
-//! - Eq (34): the inertial term is $(x - \tilde x)^\top M (x - \tilde x)$, as Eq (35) has it
-//!   (printed with $x^n - x^{n+1}$).
-//! - Eq (36): $g(z) = U_*(z)$ (printed $g(x)$).
-//! - Eq (40), last line: $D^\top W^\top W$ (printed $D^\top W W$; equal for a diagonal $W$).
+//! - Eq (34): the inertial term is $`(x - \tilde x)^\top M (x - \tilde x)`$, as Eq (35) has it
+//!   (printed with $`x^n - x^{n+1}`$).
+//! - Eq (36): $`g(z) = U_*(z)`$ (printed $`g(x)`$).
+//! - Eq (40), last line: $`D^\top W^\top W`$ (printed $`D^\top W W`$; equal for a diagonal $`W`$).
 //!
-//! Eq (56)'s simplified form $z = \frac12(p + D_i x + \bar u_i)$ holds only for
-//! $\omega_i^2 = k_i$; the general form is used so that other weights ([`AdmmPd::with_omega`])
+//! Eq (56)'s simplified form $`z = \frac12(p + D_i x + \bar u_i)`$ holds only for
+//! $`\omega_i^2 = k_i`$; the general form is used so that other weights ([`AdmmPd::with_omega`])
 //! stay correct.
 //!
 //! # Labelled variants (forensics of issue 5, never the default)
@@ -28,15 +28,15 @@
 //! [`AdmmVariant`]; [`AdmmVariant::FAITHFUL`] is Algorithm 4 as written and gives results
 //! bit-identical to [`AdmmPd::new`]. The departures are the candidates for what the thesis's
 //! code did at dt = 0.1 and 0.01 s (forensic finding 6 of `docs/thesis-scene.md`):
-//! - [`StartPoint`]: the first iterate $x^0$ (line 2.1): $\tilde x$ (faithful), $x_n + dt\,v_n$
-//!   (gravity left out of the first iterate only; the right-hand side keeps $M\tilde x$), or
-//!   $x_n$;
-//! - `carry_dual`: $\bar u$ kept from the previous step instead of reset (line 2.2);
-//! - [`Weights`]: $\omega_i = \sqrt{k_i}$ (faithful), $\omega_i = k_i$, or $\omega_i^2 = \sqrt{k_i}$;
+//! - [`StartPoint`]: the first iterate $`x^0`$ (line 2.1): $`\tilde x`$ (faithful), $`x_n + dt\,v_n`$
+//!   (gravity left out of the first iterate only; the right-hand side keeps $`M\tilde x`$), or
+//!   $`x_n`$;
+//! - `carry_dual`: $`\bar u`$ kept from the previous step instead of reset (line 2.2);
+//! - [`Weights`]: $`\omega_i = \sqrt{k_i}`$ (faithful), $`\omega_i = k_i`$, or $`\omega_i^2 = \sqrt{k_i}`$;
 //! - [`FixedNodes`]: the three ways of fixing nodes that thesis §3.2 weighs: Eqs 43-47
 //!   (faithful, the thesis's choice), overwriting the fixed positions after each solve of the
 //!   unconstrained system, or removing the fixed degrees of freedom;
-//! - `stale_rhs`: Eq (40)'s right-hand side, with the Eqs 45-47 correction $b - A u$, formed
+//! - `stale_rhs`: Eq (40)'s right-hand side, with the Eqs 45-47 correction $`b - A u`$, formed
 //!   once per step (after the first local step) and left stale in later iterations.
 
 use crate::error::{require_positive, Error, Result};
@@ -48,7 +48,7 @@ use crate::projective::{
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
 
-/// The default weights $\omega_i = \sqrt{k_i}$ (§2.3.2, Eqs 37-38: $A = WD$, $B = -W$).
+/// The default weights $`\omega_i = \sqrt{k_i}`$ (§2.3.2, Eqs 37-38: $`A = WD`$, $`B = -W`$).
 pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {
     system
         .springs()
@@ -57,19 +57,19 @@ pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {
         .collect()
 }
 
-/// The per-spring weights $\omega_i$ of a variant.
+/// The per-spring weights $`\omega_i`$ of a variant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Weights {
-    /// $\omega_i = \sqrt{k_i}$ (faithful, §2.3.2).
+    /// $`\omega_i = \sqrt{k_i}`$ (faithful, §2.3.2).
     SqrtStiffness,
-    /// Variant: $\omega_i = k_i$.
+    /// Variant: $`\omega_i = k_i`$.
     Stiffness,
-    /// Variant: $\omega_i^2 = \sqrt{k_i}$.
+    /// Variant: $`\omega_i^2 = \sqrt{k_i}`$.
     FourthRootStiffness,
 }
 
 impl Weights {
-    /// The weights $\omega_i$ for `system`.
+    /// The weights $`\omega_i`$ for `system`.
     pub fn omega(self, system: &MassSpringSystem) -> Vec<f64> {
         match self {
             Weights::SqrtStiffness => default_omega(system),
@@ -86,12 +86,12 @@ impl Weights {
 /// Where each step's iteration starts (Algorithm 4 line 2.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum StartPoint {
-    /// $x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ (faithful, line 2.1).
+    /// $`x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ (faithful, line 2.1).
     Prediction,
-    /// Variant: $x^0 = x_n + dt\,v_n$, gravity left out of the first iterate only (the
-    /// right-hand side of Eq 40 keeps $M\tilde x$).
+    /// Variant: $`x^0 = x_n + dt\,v_n`$, gravity left out of the first iterate only (the
+    /// right-hand side of Eq 40 keeps $`M\tilde x`$).
     Inertial,
-    /// Variant: $x^0 = x_n$.
+    /// Variant: $`x^0 = x_n`$.
     Previous,
 }
 
@@ -100,11 +100,11 @@ pub enum StartPoint {
 pub enum FixedNodes {
     /// Eqs 43-47 on the prefactored matrix (faithful, the thesis's choice).
     Imposed,
-    /// Variant: the unconstrained $A$ is solved with the fixed nodes free, and their positions
-    /// are overwritten with $x_n$ after each solve.
+    /// Variant: the unconstrained $`A`$ is solved with the fixed nodes free, and their positions
+    /// are overwritten with $`x_n`$ after each solve.
     Overwritten,
     /// Variant: the fixed degrees of freedom are removed; the free ones solve
-    /// $A_{ff}\,x_f = b_f - A_{fc}\,\bar x_c$ with a separately factored $A_{ff}$.
+    /// $`A_{ff}\,x_f = b_f - A_{fc}\,\bar x_c`$ with a separately factored $`A_{ff}`$.
     Eliminated,
 }
 
@@ -112,7 +112,7 @@ pub enum FixedNodes {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct AdmmVariant {
     pub start: StartPoint,
-    /// Keep $\bar u$ from the previous step instead of resetting it (line 2.2).
+    /// Keep $`\bar u`$ from the previous step instead of resetting it (line 2.2).
     pub carry_dual: bool,
     pub weights: Weights,
     pub fixed_nodes: FixedNodes,
@@ -180,7 +180,7 @@ enum GlobalMatrix {
     Eliminated {
         /// The free nodes, in order; the reduced unknowns are their indices here.
         free: Vec<usize>,
-        /// $(f, c, A_{fc})$ for reduced row $f$ and fixed node $c$.
+        /// $`(f, c, A_{fc})`$ for reduced row $`f`$ and fixed node $`c`$.
         coupling: Vec<(usize, usize, f64)>,
         factorization: Factorization,
         reduced: Vec<f64>,
@@ -188,7 +188,7 @@ enum GlobalMatrix {
 }
 
 impl GlobalMatrix {
-    /// $A = M + dt^2 \sum_i \omega_i^2 D_i^\top D_i$ for `system`, factored once.
+    /// $`A = M + dt^2 \sum_i \omega_i^2 D_i^\top D_i`$ for `system`, factored once.
     fn new(system: &MassSpringSystem, dt: f64, omega2: &[f64], how: FixedNodes) -> Result<Self> {
         let fixed: Vec<usize> = (0..system.len())
             .filter(|&i| system.nodes()[i].fixed)
@@ -233,7 +233,7 @@ impl GlobalMatrix {
         })
     }
 
-    /// Solves $A x = b$ for the three coordinates (column-major, `b` overwritten by $x$), the
+    /// Solves $`A x = b`$ for the three coordinates (column-major, `b` overwritten by $`x`$), the
     /// fixed nodes at their values in `x_n`.
     fn solve(&mut self, b: &mut [f64], x_n: &[f64]) {
         match self {
@@ -277,25 +277,25 @@ impl GlobalMatrix {
     }
 }
 
-/// Eq. (56): $z_i = \dfrac{k\,p_i + \omega_i^2\,(D_i x + \bar u_i)}{\omega_i^2 + k}$, the
-/// minimiser of Eq (41) for Hooke's energy given the projection $p_i$ of Eq (55);
-/// $\frac12(p_i + D_i x + \bar u_i)$ when $\omega_i^2 = k$.
+/// Eq. (56): $`z_i = \dfrac{k\,p_i + \omega_i^2\,(D_i x + \bar u_i)}{\omega_i^2 + k}`$, the
+/// minimiser of Eq (41) for Hooke's energy given the projection $`p_i`$ of Eq (55);
+/// $`\frac12(p_i + D_i x + \bar u_i)`$ when $`\omega_i^2 = k`$.
 #[inline]
 pub fn z_update(p: Vec3, q: Vec3, k: f64, omega: f64) -> Vec3 {
     let omega2 = omega * omega;
     (k * p + omega2 * q) / (omega2 + k)
 }
 
-/// Eq. (41): $z_i = \arg\min_{z_i} U_i(z_i) + \frac12|W_i(D_i x - z_i + \bar u_i)|^2$ for
-/// $U_i(z) = \frac12 k(|z| - l_0)^2$, with $q = D_i x + \bar u_i$: the minimiser lies on $q$'s
-/// ray, so it is Eq (56) applied to the projection $p_i = l_0\,q/|q|$ of Eq (55).
+/// Eq. (41): $`z_i = \arg\min_{z_i} U_i(z_i) + \frac12|W_i(D_i x - z_i + \bar u_i)|^2`$ for
+/// $`U_i(z) = \frac12 k(|z| - l_0)^2`$, with $`q = D_i x + \bar u_i`$: the minimiser lies on $`q`$'s
+/// ray, so it is Eq (56) applied to the projection $`p_i = l_0\,q/|q|`$ of Eq (55).
 #[inline]
 pub fn z_minimisation(q: Vec3, l0: f64, k: f64, omega: f64) -> Vec3 {
     let p = project_on_sphere(q, l0);
     z_update(p, q, k, omega)
 }
 
-/// Eq. (42): $\bar u_i \leftarrow \bar u_i + D_i x - z_i$.
+/// Eq. (42): $`\bar u_i \leftarrow \bar u_i + D_i x - z_i`$.
 #[inline]
 pub fn dual_update(u_bar: Vec3, d_x: Vec3, z: Vec3) -> Vec3 {
     u_bar + d_x - z
@@ -307,20 +307,20 @@ pub struct AdmmPd {
     system: MassSpringSystem,
     dt: f64,
     iterations: usize,
-    /// $D$ of Eq (54), stored per spring.
+    /// $`D`$ of Eq (54), stored per spring.
     d: SpringIncidence,
-    /// $\omega_i$, the diagonal of $W$.
+    /// $`\omega_i`$, the diagonal of $`W`$.
     omega: Vec<f64>,
     /// Departures from Algorithm 4 ([`AdmmVariant::FAITHFUL`] for none).
     variant: AdmmVariant,
-    /// $dt^2\,\omega_i^2$, the factor of $D_i^\top$ in Eq (40)'s right-hand side.
+    /// $`dt^2\,\omega_i^2`$, the factor of $`D_i^\top`$ in Eq (40)'s right-hand side.
     dt2_omega2: Vec<f64>,
-    /// $A = M + dt^2 D^\top W^\top W D$, factored once (line 1.5).
+    /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (line 1.5).
     a: GlobalMatrix,
     // Per-step buffers (column-major, 3n; one Vec3 per spring), so that a step allocates nothing.
     x_n: Vec<f64>,
     x_tilde: Vec<f64>,
-    /// $M\tilde x$.
+    /// $`M\tilde x`$.
     m_x_tilde: Vec<f64>,
     x: Vec<f64>,
     z: Vec<Vec3>,
@@ -330,15 +330,15 @@ pub struct AdmmPd {
 }
 
 impl AdmmPd {
-    /// The faithful solver: $\omega_i = \sqrt{k_i}$. Needs every stiffness > 0, `dt` > 0 and
+    /// The faithful solver: $`\omega_i = \sqrt{k_i}`$. Needs every stiffness > 0, `dt` > 0 and
     /// `iterations` >= 1.
     pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
         system.require_positive_stiffness()?;
         Self::with_omega(system, dt, iterations, default_omega(system))
     }
 
-    /// The solver with other per-spring weights $\omega_i$ (> 0), a variant of the faithful
-    /// $\omega_i = \sqrt{k_i}$. Algorithm 4, lines 1.1-1.5.
+    /// The solver with other per-spring weights $`\omega_i`$ (> 0), a variant of the faithful
+    /// $`\omega_i = \sqrt{k_i}`$. Algorithm 4, lines 1.1-1.5.
     pub fn with_omega(
         system: &MassSpringSystem,
         dt: f64,
@@ -417,13 +417,13 @@ impl AdmmPd {
         self.iterations
     }
 
-    /// The weights $\omega_i$.
+    /// The weights $`\omega_i`$.
     pub fn omega(&self) -> &[f64] {
         &self.omega
     }
 
-    /// Line 2.1: $\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ (Eq 35's $\tilde x$), and
-    /// $M\tilde x$ for Eq (40). Fixed nodes predict their own position: they never move.
+    /// Line 2.1: $`\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ (Eq 35's $`\tilde x`$), and
+    /// $`M\tilde x`$ for Eq (40). Fixed nodes predict their own position: they never move.
     fn predict(&mut self, state: &State) {
         let (n, dt) = (state.x.len(), self.dt);
         for (i, node) in self.system.nodes().iter().enumerate() {
@@ -439,7 +439,7 @@ impl AdmmPd {
         }
     }
 
-    /// Line 2.1's first iterate: $x^0 = \tilde x$, or a [`StartPoint`] variant.
+    /// Line 2.1's first iterate: $`x^0 = \tilde x`$, or a [`StartPoint`] variant.
     fn start(&mut self, state: &State) {
         match self.variant.start {
             StartPoint::Prediction => self.x.copy_from_slice(&self.x_tilde),
@@ -460,8 +460,8 @@ impl AdmmPd {
         }
     }
 
-    /// Lines 2.4-2.7: for every spring, $z_i$ (Eq 41 by Eqs 55-56), then $\bar u_i$ (Eq 42),
-    /// from the current iterate $x$.
+    /// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$ (Eq 42),
+    /// from the current iterate $`x`$.
     fn local_step(&mut self) {
         let springs = self.system.springs();
         for (i, ((z, u_bar), s)) in self
@@ -477,9 +477,9 @@ impl AdmmPd {
         }
     }
 
-    /// Eq. (40): $(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)$,
-    /// solved with the prefactored $A$ for the three coordinates at once; fixed nodes stay at
-    /// $x_n$. The `stale_rhs` variant reuses the first iteration's right-hand side.
+    /// Eq. (40): $`(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$,
+    /// solved with the prefactored $`A`$ for the three coordinates at once; fixed nodes stay at
+    /// $`x_n`$. The `stale_rhs` variant reuses the first iteration's right-hand side.
     fn global_step(&mut self, iteration: usize) {
         if self.variant.stale_rhs && iteration > 0 {
             self.x.copy_from_slice(&self.first_rhs);

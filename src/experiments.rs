@@ -157,7 +157,7 @@ pub fn reproduces(published: &PublishedRow, peaks: usize, half_period: Option<f6
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Configuration {
     pub stop: StoppingRule,
-    /// Velocity damping c, s⁻¹, applied after each step: $v \leftarrow v\,e^{-c\,dt}$.
+    /// Velocity damping c, s⁻¹, applied after each step: $`v \leftarrow v\,e^{-c\,dt}`$.
     pub velocity_damping: f64,
     /// Gravity of the reference runs (Backward Euler rows), m/s².
     pub reference_gravity: f64,
@@ -408,15 +408,15 @@ pub enum ConfigurationId {
     Faithful,
     /// Liu as published: first-peak exemption, 0.05 s⁻¹ damping, 1e-4 J threshold at k = 1e6.
     LiuAsPublished,
-    /// ADMM as published: $x^0 = x_n + dt\,v_n$.
+    /// ADMM as published: $`x^0 = x_n + dt\,v_n`$.
     AdmmStartInertial,
-    /// ADMM with $x^0 = x_n$.
+    /// ADMM with $`x^0 = x_n`$.
     AdmmStartPrevious,
-    /// ADMM with $\bar u$ carried across steps.
+    /// ADMM with $`\bar u`$ carried across steps.
     AdmmDualCarried,
-    /// ADMM with $\omega = k$.
+    /// ADMM with $`\omega = k`$.
     AdmmOmegaK,
-    /// ADMM with $\omega^2 = \sqrt k$.
+    /// ADMM with $`\omega^2 = \sqrt k`$.
     AdmmOmegaSquaredSqrtK,
     /// ADMM with the fixed nodes overwritten after each solve (§3.2, first way).
     AdmmFixedOverwritten,
