@@ -167,7 +167,7 @@ fn tex_problems(tex: &str) -> Vec<String> {
 
 /// A TeX command (`\frac`, `\,`, `\;`, `\!`) in text that is not math: Markdown keeps the
 /// letters and eats the punctuation, so the formula it belonged to is garbled.
-fn tex_in_text(source: &str) -> Option<&str> {
+fn tex_in_text(source: &str) -> Option<(usize, &str)> {
     source.match_indices('\\').find_map(|(at, _)| {
         let rest = &source[at + 1..];
         let letters = rest.len()
@@ -179,16 +179,27 @@ fn tex_in_text(source: &str) -> Option<&str> {
             ',' | ';' | ':' | '!' => 1,
             _ => return None,
         };
-        Some(&source[at..at + 1 + length])
+        Some((at, &source[at..at + 1 + length]))
     })
 }
 
 /// The inline content of the HTML as the browser holds it: adjacent text merges into one text
-/// node, any element boundary separates nodes.
+/// node (kept here as the parser's pieces, each with its source range), any element boundary
+/// separates nodes.
 enum Node {
-    Text(String, Range<usize>),
+    Text(Vec<(String, Range<usize>)>),
     Code(String, Range<usize>),
     Boundary(&'static str),
+}
+
+impl Node {
+    fn text_ends_with_dollar(&self) -> bool {
+        matches!(self, Node::Text(pieces) if pieces.last().is_some_and(|(t, _)| t.ends_with('$')))
+    }
+
+    fn text_starts_with_dollar(&self) -> bool {
+        matches!(self, Node::Text(pieces) if pieces.first().is_some_and(|(t, _)| t.starts_with('$')))
+    }
 }
 
 /// The text between a code span's backticks as CommonMark defines its content: line endings
@@ -250,17 +261,16 @@ fn check_doc_comment(document: &Document, problems: &mut Vec<String>) {
                 math_block.as_mut().expect("inside").0.push_str(&text);
             }
             _ if other_block => {}
-            Event::Text(text) => match nodes.last_mut() {
-                Some(Node::Text(merged, merged_range)) => {
-                    merged.push_str(&text);
-                    merged_range.end = range.end;
+            Event::Text(_) | Event::SoftBreak => {
+                let text = match event {
+                    Event::Text(text) => text.into_string(),
+                    _ => "\n".to_string(),
+                };
+                match nodes.last_mut() {
+                    Some(Node::Text(pieces)) => pieces.push((text, range)),
+                    _ => nodes.push(Node::Text(vec![(text, range)])),
                 }
-                _ => nodes.push(Node::Text(text.into_string(), range)),
-            },
-            Event::SoftBreak => match nodes.last_mut() {
-                Some(Node::Text(merged, _)) => merged.push('\n'),
-                _ => nodes.push(Node::Text("\n".to_string(), range)),
-            },
+            }
             Event::Code(code) => nodes.push(Node::Code(code.into_string(), range)),
             Event::Start(Tag::Emphasis) => nodes.push(Node::Boundary("<em>")),
             Event::End(TagEnd::Emphasis) => nodes.push(Node::Boundary("</em>")),
@@ -275,9 +285,8 @@ fn check_doc_comment(document: &Document, problems: &mut Vec<String>) {
         let Node::Code(tex, range) = node else {
             continue;
         };
-        let before =
-            matches!(nodes.get(i.wrapping_sub(1)), Some(Node::Text(t, _)) if t.ends_with('$'));
-        let after = matches!(nodes.get(i + 1), Some(Node::Text(t, _)) if t.starts_with('$'));
+        let before = i > 0 && nodes[i - 1].text_ends_with_dollar();
+        let after = nodes.get(i + 1).is_some_and(Node::text_starts_with_dollar);
         if !(before && after) {
             continue;
         }
@@ -298,44 +307,54 @@ fn check_doc_comment(document: &Document, problems: &mut Vec<String>) {
         }
     }
     for (i, node) in nodes.iter().enumerate() {
-        let Node::Text(text, range) = node else {
+        let Node::Text(pieces) = node else {
             continue;
         };
         let (first_used, last_used) = flank_used[i];
-        let stray = text
-            .char_indices()
-            .filter(|&(at, c)| c == '$' && !(first_used && at == 0))
-            .filter(|&(at, _)| !(last_used && at + 1 == text.len()))
-            .count();
-        if stray > 0 {
-            problems.push(format!(
-                "{}: `$` outside the math convention (inline math is $`...`$); rendered as «{}»",
-                document.location(range.start),
-                rendered_from(&nodes[i..])
-            ));
+        for (p, (text, range)) in pieces.iter().enumerate() {
+            let is_flank = |at: usize| {
+                (first_used && p == 0 && at == 0)
+                    || (last_used && p + 1 == pieces.len() && at + 1 == text.len())
+            };
+            if let Some(at) = text
+                .match_indices('$')
+                .map(|(at, _)| at)
+                .find(|&at| !is_flank(at))
+            {
+                problems.push(format!(
+                    "{}: `$` outside the math convention (inline math is $`...`$); rendered as «{}»",
+                    document.location(range.start),
+                    rendered_from(&text[at..], &pieces[p + 1..], &nodes[i + 1..])
+                ));
+            }
         }
-        if let Some(command) = tex_in_text(&markdown[range.clone()]) {
+        // An escape is a piece of its own whose range may skip the backslash: read the source
+        // of the whole node.
+        let start = pieces.first().map_or(0, |(_, range)| range.start);
+        let end = pieces.last().map_or(0, |(_, range)| range.end);
+        if let Some((at, command)) = tex_in_text(&markdown[start..end]) {
             problems.push(format!(
                 "{}: TeX `{command}` outside math, Markdown rewrites it",
-                document.location(range.start)
+                document.location(start + at)
             ));
         }
     }
 }
 
-/// The HTML text from a node on, for the message: shows what emphasis and escapes did.
-fn rendered_from(nodes: &[Node]) -> String {
-    let mut out = String::new();
+/// The HTML from a stray `$` on, for the message: shows what emphasis and escapes did.
+fn rendered_from(text: &str, pieces: &[(String, Range<usize>)], nodes: &[Node]) -> String {
+    let mut out = text.to_string();
+    pieces.iter().for_each(|(piece, _)| out.push_str(piece));
     for node in nodes {
+        if out.chars().count() > 160 {
+            break;
+        }
         match node {
-            Node::Text(text, _) => out.push_str(text),
+            Node::Text(pieces) => pieces.iter().for_each(|(piece, _)| out.push_str(piece)),
             Node::Code(code, _) => {
                 let _ = write!(out, "<code>{code}</code>");
             }
             Node::Boundary(tag) => out.push_str(tag),
-        }
-        if out.chars().count() > 160 {
-            break;
         }
     }
     out.replace('\n', " ").chars().take(160).collect()
@@ -370,7 +389,9 @@ fn check_report(document: &Document, problems: &mut Vec<String>) {
                         document.location(range.start)
                     ));
                 }
-                if let Some(command) = tex_in_text(&markdown[range.clone()]) {
+                // An escaped character's range starts after its backslash.
+                let from = range.start - usize::from(markdown[..range.start].ends_with('\\'));
+                if let Some((_, command)) = tex_in_text(&markdown[from..range.end]) {
                     problems.push(format!(
                         "{}: TeX `{command}` outside math",
                         document.location(range.start)
@@ -509,6 +530,7 @@ fn the_checker_catches_what_markdown_does_to_math() {
     for (source, expected) in [
         ("| a | b |\n|---|---|\n| $x|y$ | c |\n", "opens no math"),
         ("text \\frac12\n", "TeX `\\frac"),
+        ("dt\\,F without dollars\n", "TeX `\\,`"),
         ("$\\left( x$\n", "\\left"),
     ] {
         let problems = report_problems("bad.md", source);
