@@ -182,8 +182,8 @@ impl BackwardEuler {
     /// Eqs. (10), (12): one Newton-Raphson iteration, from the iterate $`v_k`$ to $`v_{k+1}`$.
     ///
     /// With $`F(x) \approx F(x_k) + K_k (x - x_k)`$ (Eq 10) at $`x = x_n + dt\,v`$,
-    /// $`(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)`$. For $`x_k = x_n`$ this
-    /// is Eq (12) as printed.
+    /// $`(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)`$. For $`x_k = x_n`$
+    /// this is Eq (12) as printed.
     fn newton_iteration(&mut self, state: &State) -> Result<()> {
         let dt = self.dt;
         for ((x_k, x_n), v_k) in self.x_k.iter_mut().zip(&state.x).zip(&self.v_k) {

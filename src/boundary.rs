@@ -14,8 +14,8 @@ use crate::linear::{Factorization, SymmetricMatrix};
 #[derive(Debug, Clone)]
 pub struct ConstrainedSystem {
     fixed: Vec<usize>,
-    /// The block $`A_2`$ of Eq (43): $`(i, j, A_{ij})`$ for free rows $`i`$ and fixed columns $`j`$,
-    /// saved before Eq (44) zeroes it, so that Eq (46) can form $`A u`$.
+    /// The block $`A_2`$ of Eq (43): $`(i, j, A_{ij})`$ for free rows $`i`$ and fixed columns
+    /// $`j`$, saved before Eq (44) zeroes it, so that Eq (46) can form $`A u`$.
     coupling: Vec<(usize, usize, f64)>,
     slots: ImpositionSlots,
     factorization: Factorization,
@@ -86,8 +86,8 @@ impl ConstrainedSystem {
         self.factorization.solve_in_place(b, ncols);
     }
 
-    /// Eqs. (45)-(47): with $`u = (0, \bar x)`$ (Eq 45), $`b \leftarrow b - A u`$ (Eqs 46-47) on the
-    /// free rows, and $`b_j = \bar x_j`$ on the fixed rows (step 4 of §3.2).
+    /// Eqs. (45)-(47): with $`u = (0, \bar x)`$ (Eq 45), $`b \leftarrow b - A u`$ (Eqs 46-47) on
+    /// the free rows, and $`b_j = \bar x_j`$ on the fixed rows (step 4 of §3.2).
     #[inline]
     pub fn impose_on_rhs(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
         let n = b.len() / ncols;

@@ -9,11 +9,11 @@
 //!
 //! # Discrete elastic chain ([`ElasticChain`] → [`ChainEquilibrium`])
 //!
-//! The exact static equilibrium of the simulated system itself, where a converged
-//! Backward-Euler run must come to rest. No load acts horizontally, so every spring carries the
-//! same horizontal tension $`H`$, while the vertical component grows by the weight of each free
-//! node: spring $`j`$ (joining nodes $`j`$ and $`j+1`$) carries $`V_j = V_0 + g\sum_{i=1}^{j} m_i`$. A
-//! linear spring under tension $`T_j = \sqrt{H^2 + V_j^2}`$ has length $`l_{0,j} + T_j/k_j`$ along
+//! The exact static equilibrium of the simulated system itself, where a converged Backward-Euler
+//! run must come to rest. No load acts horizontally, so every spring carries the same horizontal
+//! tension $`H`$, while the vertical component grows by the weight of each free node: spring $`j`$
+//! (joining nodes $`j`$ and $`j+1`$) carries $`V_j = V_0 + g\sum_{i=1}^{j} m_i`$. A linear spring
+//! under tension $`T_j = \sqrt{H^2 + V_j^2}`$ has length $`l_{0,j} + T_j/k_j`$ along
 //! $`(H, V_j)/T_j`$, so the equilibrium is the root $`(H, V_0)`$ of the closure condition
 //! ```math
 //! \sum_{j=0}^{N-2} \left(\frac{l_{0,j}}{T_j} + \frac{1}{k_j}\right)
@@ -35,11 +35,11 @@
 //! ```
 //!
 //! The thesis rope corresponds to $`L = 9`$ m, $`w = m g / l_0`$ and $`EA = k l_0`$. The chain with
-//! $`N`$ nodes, $`l_0 = L/(N-1)`$, $`k = EA/l_0`$ and free-node weight $`w l_0`$ is the midpoint-rule
-//! discretisation of the integrals above (with $`V_0`$ shifted by $`w l_0/2`$, each spring carries
-//! the exact tension of the cable at its midpoint), so its node $`i`$ converges to the cable
-//! point $`s_i = i\,l_0`$ at second order in $`l_0`$; [`ElasticCatenary::max_node_distance`]
-//! measures that gap.
+//! $`N`$ nodes, $`l_0 = L/(N-1)`$, $`k = EA/l_0`$ and free-node weight $`w l_0`$ is the
+//! midpoint-rule discretisation of the integrals above (with $`V_0`$ shifted by $`w l_0/2`$, each
+//! spring carries the exact tension of the cable at its midpoint), so its node $`i`$ converges to
+//! the cable point $`s_i = i\,l_0`$ at second order in $`l_0`$;
+//! [`ElasticCatenary::max_node_distance`] measures that gap.
 //!
 //! # Solving
 //!
@@ -168,7 +168,8 @@ impl std::error::Error for CatenaryError {}
 
 /// A mass-spring chain hanging under gravity $`-g\,\hat{y}`$ between two fixed end nodes.
 ///
-/// Node 0 sits at `anchor_a`, node $`N-1`$ at `anchor_b`; spring $`j`$ joins nodes $`j`$ and $`j+1`$.
+/// Node 0 sits at `anchor_a`, node $`N-1`$ at `anchor_b`; spring $`j`$ joins nodes $`j`$ and
+/// $`j+1`$.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElasticChain {
     /// Position of node 0 (m); z must be 0.
@@ -378,7 +379,8 @@ pub struct ElasticCatenary {
     pub EA: f64,
     /// Horizontal tension $`H`$ (N).
     pub H: f64,
-    /// Vertical tension $`V_0`$ at $`s = 0`$, positive when the cable leaves `anchor_a` upwards (N).
+    /// Vertical tension $`V_0`$ at $`s = 0`$, positive when the cable leaves `anchor_a` upwards
+    /// (N).
     pub V0: f64,
     /// Newton steps taken, on $`H`$ and $`V_0`$ together.
     pub newton_iterations: usize,
@@ -493,7 +495,8 @@ impl ElasticCatenary {
     }
 }
 
-/// How the tension direction and size change from $`(H, V_0)`$ to $`(H, V_0 + \Delta V)`$, $`H > 0`$.
+/// How the tension direction and size change from $`(H, V_0)`$ to $`(H, V_0 + \Delta V)`$,
+/// $`H > 0`$.
 struct TensionChange {
     /// $`\operatorname{asinh}(V/H) - \operatorname{asinh}(V_0/H)`$.
     asinh: f64,
@@ -580,9 +583,9 @@ fn validate_anchors(anchor_a: &Vector3<f64>, anchor_b: &Vector3<f64>) -> Result<
     Ok(())
 }
 
-/// Starting $`(H, V_0)`$ from a shallow (parabolic) elastic cable along the chord: its tension $`T`$
-/// makes the stretch $`C T`$ plus the sag's extra length $`W_\perp^2 D / (24 T^2)`$ cover the gap
-/// between the chord length $`D`$ and the unstretched length $`L`$, where $`C`$ is the total
+/// Starting $`(H, V_0)`$ from a shallow (parabolic) elastic cable along the chord: its tension
+/// $`T`$ makes the stretch $`C T`$ plus the sag's extra length $`W_\perp^2 D / (24 T^2)`$ cover the
+/// gap between the chord length $`D`$ and the unstretched length $`L`$, where $`C`$ is the total
 /// compliance and $`W_\perp`$ the weight component normal to the chord.
 fn shallow_cable_guess(chord: Vector2<f64>, L: f64, W: f64, C: f64) -> Vector2<f64> {
     let D = chord.norm();

@@ -95,8 +95,8 @@ impl SpringIncidence {
     }
 
     /// Adds row `i` transposed times `value` to the column-major `out` (length 3n):
-    /// $`out_{a_i} \mathrel{+}= w_i\,value`$, $`out_{b_i} \mathrel{-}= w_i\,value`$ (column $`i`$ of
-    /// $`J`$ times $`d_i`$; $`D_i^\top`$ times a per-spring vector).
+    /// $`out_{a_i} \mathrel{+}= w_i\,value`$, $`out_{b_i} \mathrel{-}= w_i\,value`$ (column $`i`$
+    /// of $`J`$ times $`d_i`$; $`D_i^\top`$ times a per-spring vector).
     #[inline]
     pub fn add_row_transposed(&self, i: usize, value: Vec3, out: &mut [f64]) {
         let (a, b) = self.ends[i];

@@ -45,9 +45,10 @@ pub fn force(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Vec3 {
 ///
 /// Erratum (sign convention): the thesis calls $`-\partial^2E/\partial x^2`$ "the Hessian"; it is
 /// the force Jacobian $`dF/dx`$ that Eq. (12) uses, the negative of the energy Hessian. Under
-/// compression ($`l < l_0`$) the transverse term is positive and the block is indefinite.
-/// The other blocks are $`\partial F_1/\partial x_2 = \partial F_2/\partial x_1 = -\partial F_1/\partial x_1`$
-/// and $`\partial F_2/\partial x_2 = \partial F_1/\partial x_1`$.
+/// compression ($`l < l_0`$) the transverse term is positive and the block is indefinite. The other
+/// blocks are
+/// $`\partial F_1/\partial x_2 = \partial F_2/\partial x_1 = -\partial F_1/\partial x_1`$ and
+/// $`\partial F_2/\partial x_2 = \partial F_1/\partial x_1`$.
 pub fn force_jacobian(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Matrix3<f64> {
     jacobian_with_transverse(x1, x2, l0, k, |t| t)
 }

@@ -27,21 +27,22 @@
 //! # What XPBD converges to
 //!
 //! Many iterations do *not* reach the Backward Euler step that minimises Eq 20 (the
-//! [`crate::backward_euler::converged_step`] oracle); they reach a nearby point. Macklin et
-//! al. (2016) write the discrete equations of motion as $`g(x,\lambda) = M(x - \tilde x) -
-//! \nabla C(x)^\top\lambda = 0`$ and $`h(x,\lambda) = C(x) + \tilde\alpha\lambda = 0`$ (their §3,
-//! the discretised Eq 16, [`residuals`]); a solution of both is exactly the minimiser of
-//! Eq 20. Their full Newton system needs the Hessian of the constraints in
+//! [`crate::backward_euler::converged_step`] oracle); they reach a nearby point. Macklin et al.
+//! (2016) write the discrete equations of motion as
+//! $`g(x,\lambda) = M(x - \tilde x) - \nabla C(x)^\top\lambda = 0`$ and
+//! $`h(x,\lambda) = C(x) + \tilde\alpha\lambda = 0`$ (their §3, the discretised Eq 16,
+//! [`residuals`]); a solution of both is exactly the minimiser of Eq 20. Their full Newton system
+//! needs the Hessian of the constraints in
 //! $`K = M - \sum_j \partial^2 C_j/\partial x^2\,\lambda_j`$ and the residual $`g`$ on the
 //! right-hand side. XPBD replaces $`K`$ by $`M`$ and assumes $`g = 0`$ (their simplified system),
-//! which holds at $`x_0 = \tilde x`$, $`\lambda_0 = 0`$ and stays true only while the constraint gradients do
-//! not change. With the simplification, the iteration keeps $`M(x - \tilde x) = \sum_i
-//! \nabla C(x_i)^\top\Delta\lambda_i`$, a sum of corrections along the gradients of the
-//! *iterates*, while $`g = 0`$ needs $`\nabla C(x)^\top\lambda`$ along the gradient of the *final*
-//! point. Its fixed point therefore satisfies $`h = 0`$ (each constraint's own equation, which
-//! Eq 18 solves) but not $`g = 0`$: the iterations converge, to a point that differs from the
-//! Backward Euler step by an amount of the order of the gradients' rotation during the step
-//! times the constraint impulses. More iterations cannot remove it. The test
+//! which holds at $`x_0 = \tilde x`$, $`\lambda_0 = 0`$ and stays true only while the constraint
+//! gradients do not change. With the simplification, the iteration keeps
+//! $`M(x - \tilde x) = \sum_i \nabla C(x_i)^\top\Delta\lambda_i`$, a sum of corrections along the
+//! gradients of the *iterates*, while $`g = 0`$ needs $`\nabla C(x)^\top\lambda`$ along the
+//! gradient of the *final* point. Its fixed point therefore satisfies $`h = 0`$ (each constraint's
+//! own equation, which Eq 18 solves) but not $`g = 0`$: the iterations converge, to a point that
+//! differs from the Backward Euler step by an amount of the order of the gradients' rotation during
+//! the step times the constraint impulses. More iterations cannot remove it. The test
 //! `xpbd_does_not_reach_the_converged_backward_euler_step` measures this gap on the thesis rope
 //! (k = 1e6, one step from a moving state): with 100 to 10000 iterations it stays at 2.4e-8 m at
 //! dt = 1e-3 (1.3e-5 of the step's displacement) and from 1000 iterations on at 1.4e-4 m at
@@ -66,16 +67,18 @@ pub fn alpha_tilde(alpha: f64, dt: f64) -> f64 {
     alpha / (dt * dt)
 }
 
-/// Eq. (50): $`\nabla C\,M^{-1}\nabla C^\top = w_1|\nabla_{x_1}C|^2 + w_2|\nabla_{x_2}C|^2 = w_1 + w_2`$
-/// for a distance constraint, whose gradient (Eq 49) is a unit vector for each node; $`w_i = 1/m_i`$,
+/// Eq. (50):
+/// $`\nabla C\,M^{-1}\nabla C^\top = w_1|\nabla_{x_1}C|^2 + w_2|\nabla_{x_2}C|^2 = w_1 + w_2`$ for
+/// a distance constraint, whose gradient (Eq 49) is a unit vector for each node; $`w_i = 1/m_i`$,
 /// and 0 for a fixed node.
 pub fn generalized_inverse_mass(w1: f64, w2: f64) -> f64 {
     w1 + w2
 }
 
-/// Eqs. (17), (18): $`\Delta\lambda = \dfrac{-C_j(x_i) - \tilde\alpha_j\lambda_{ij}}{\nabla C_j M^{-1}
-/// \nabla C_j^\top + \tilde\alpha_j}`$, Eq 17 solved for one constraint $`j`$ given its value `c`,
-/// its current multiplier `lambda` and `w` $`= \nabla C_j M^{-1}\nabla C_j^\top`$ (Eq 50).
+/// Eqs. (17), (18):
+/// $`\Delta\lambda = \dfrac{-C_j(x_i) - \tilde\alpha_j\lambda_{ij}}{\nabla C_j M^{-1} \nabla C_j^\top + \tilde\alpha_j}`$,
+/// Eq 17 solved for one constraint $`j`$ given its value `c`, its current multiplier `lambda` and
+/// `w` $`= \nabla C_j M^{-1}\nabla C_j^\top`$ (Eq 50).
 ///
 /// A constraint that nothing can move ($`w = 0`$: both ends fixed) and that has no compliance has
 /// a zero denominator; it gets $`\Delta\lambda = 0`$ and is left alone.
@@ -89,8 +92,9 @@ pub fn delta_lambda(c: f64, alpha_tilde: f64, lambda: f64, w: f64) -> f64 {
 }
 
 /// Eqs. (19), (51): $`\Delta x = M^{-1}\nabla C^\top\Delta\lambda`$, for a distance constraint
-/// $`\Delta x_1 = w_1\nabla_{x_1}C\,\Delta\lambda`$ and $`\Delta x_2 = w_2\nabla_{x_2}C\,\Delta\lambda
-/// = -w_2\nabla_{x_1}C\,\Delta\lambda`$, given `grad` $`= \nabla_{x_1}C`$ (Eq 49).
+/// $`\Delta x_1 = w_1\nabla_{x_1}C\,\Delta\lambda`$ and
+/// $`\Delta x_2 = w_2\nabla_{x_2}C\,\Delta\lambda = -w_2\nabla_{x_1}C\,\Delta\lambda`$, given
+/// `grad` $`= \nabla_{x_1}C`$ (Eq 49).
 pub fn delta_x(grad: &Vec3, w1: f64, w2: f64, delta_lambda: f64) -> (Vec3, Vec3) {
     (grad * (w1 * delta_lambda), -grad * (w2 * delta_lambda))
 }

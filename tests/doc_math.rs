@@ -105,7 +105,7 @@ fn tex_problems(tex: &str) -> Vec<String> {
     if tex.trim().is_empty() {
         problems.push("empty math".to_string());
     }
-    if let Some(c) = tex.chars().find(|c| c.is_control() && *c != '\n') {
+    if let Some((_, c)) = control_character(tex) {
         problems.push(format!("control character U+{:04X}", c as u32));
     }
     let mut depth = 0i32;
@@ -183,6 +183,13 @@ fn tex_in_text(source: &str) -> Option<(usize, &str)> {
     })
 }
 
+/// A character other than a line break or a tab that no renderer shows: a `\f` that went
+/// through a string escape became a form feed once.
+fn control_character(text: &str) -> Option<(usize, char)> {
+    text.char_indices()
+        .find(|(_, c)| c.is_control() && !matches!(c, '\n' | '\t'))
+}
+
 /// The inline content of the HTML as the browser holds it: adjacent text merges into one text
 /// node (kept here as the parser's pieces, each with its source range), any element boundary
 /// separates nodes.
@@ -225,10 +232,7 @@ fn code_span_source(source: &str) -> String {
 
 fn check_doc_comment(document: &Document, problems: &mut Vec<String>) {
     let markdown = &document.markdown;
-    if let Some((at, c)) = markdown
-        .char_indices()
-        .find(|(_, c)| c.is_control() && !matches!(c, '\n' | '\t'))
-    {
+    if let Some((at, c)) = control_character(markdown) {
         problems.push(format!(
             "{}: control character U+{:04X} in a doc comment",
             document.location(at),
@@ -362,6 +366,13 @@ fn rendered_from(text: &str, pieces: &[(String, Range<usize>)], nodes: &[Node]) 
 
 fn check_report(document: &Document, problems: &mut Vec<String>) {
     let markdown = &document.markdown;
+    if let Some((at, c)) = control_character(markdown) {
+        problems.push(format!(
+            "{}: control character U+{:04X}",
+            document.location(at),
+            c as u32
+        ));
+    }
     let mut in_code = false;
     for (event, range) in Parser::new_ext(markdown, report_options()).into_offset_iter() {
         match event {
@@ -532,6 +543,7 @@ fn the_checker_catches_what_markdown_does_to_math() {
         ("text \\frac12\n", "TeX `\\frac"),
         ("dt\\,F without dollars\n", "TeX `\\,`"),
         ("$\\left( x$\n", "\\left"),
+        ("a \u{c}orm feed\n", "U+000C"),
     ] {
         let problems = report_problems("bad.md", source);
         assert!(

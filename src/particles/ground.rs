@@ -39,10 +39,10 @@ impl Ground {
         self.restitution
     }
 
-    /// Collision response: a free particle below the plane is put back on it and, if it is
-    /// moving into the plane, its normal velocity is reversed and scaled by $`e`$,
-    /// $`v_y \leftarrow -e\,v_y`$ (a drop from $`h`$ rebounds to $`e^2 h`$). The tangential velocity
-    /// is kept (a frictionless floor). Anchored particles are left alone.
+    /// Collision response: a free particle below the plane is put back on it and, if it is moving
+    /// into the plane, its normal velocity is reversed and scaled by $`e`$,
+    /// $`v_y \leftarrow -e\,v_y`$ (a drop from $`h`$ rebounds to $`e^2 h`$). The tangential
+    /// velocity is kept (a frictionless floor). Anchored particles are left alone.
     pub fn resolve(&self, system: &MassSpringSystem, state: &mut State) {
         for ((node, x), v) in system.nodes().iter().zip(&mut state.x).zip(&mut state.v) {
             if node.fixed || x.y >= self.height {

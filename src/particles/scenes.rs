@@ -130,8 +130,9 @@ impl ClothParams {
     }
 
     /// The cloth in the vertical plane $`z = 0`$, top row at $`y = 0`$ from $`x = 0`$ to
-    /// $`x = (n_x - 1)\,s`$ with $`s`$ = `spacing`, rows below it, pinned at its two top corners and released at
-    /// rest with unstretched springs (like the thesis rope, it then falls and swings).
+    /// $`x = (n_x - 1)\,s`$ with $`s`$ = `spacing`, rows below it, pinned at its two top corners
+    /// and released at rest with unstretched springs (like the thesis rope, it then falls and
+    /// swings).
     pub fn hanging(&self) -> Result<MassSpringSystem> {
         self.validate()?;
         let last = self.nx - 1;
