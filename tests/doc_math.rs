@@ -4,10 +4,11 @@
 //! Doc comments are parsed as rustdoc parses them (pulldown-cmark 0.11, rustdoc's options,
 //! smart punctuation included) and read as `katex-header.html` reads the HTML: inline math is a
 //! code span flanked by `$` in the same text (`` $`...`$ ``), display math a ```` ```math ````
-//! block (README, "Contributing"). Any other `$`, or a TeX command in plain text, is math that
-//! Markdown rewrites before KaTeX sees it (`\,` loses its backslash, `U_*` opens an emphasis).
-//! REPORT.md is read as GitHub reads it, with pulldown-cmark's math extension (`$...$`, `$$...$$`).
-//! Set `REPORT_MD` to check another REPORT.md (one generated into /tmp, say).
+//! block (README, "Contributor notes: equations"). Any other `$`, or a TeX command in plain
+//! text, is math that Markdown rewrites before KaTeX sees it (`\,` loses its backslash, `U_*`
+//! opens an emphasis). REPORT.md is read as GitHub reads it, with pulldown-cmark's math
+//! extension (`$...$`, `$$...$$`). Set `REPORT_MD` to check another REPORT.md (one generated
+//! into /tmp, say).
 
 use std::fmt::Write as _;
 use std::ops::Range;
@@ -99,7 +100,8 @@ fn unindent(file: &str, lines: &[(usize, &str)]) -> Document {
     }
 }
 
-/// What KaTeX receives differs from what was written, or the TeX itself is malformed.
+/// What is wrong with a formula itself: empty, a control character, unbalanced braces,
+/// `\left`/`\right` or environments, or a `$` inside it.
 fn tex_problems(tex: &str) -> Vec<String> {
     let mut problems = Vec::new();
     if tex.trim().is_empty() {
@@ -112,7 +114,7 @@ fn tex_problems(tex: &str) -> Vec<String> {
     let mut environments = Vec::new();
     let mut lefts = 0;
     let mut rights = 0;
-    let mut chars = tex.char_indices().peekable();
+    let mut chars = tex.char_indices();
     while let Some((at, c)) = chars.next() {
         match c {
             '\\' => {
