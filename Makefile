@@ -1,7 +1,7 @@
 # One profile (dev, optimised in Cargo.toml) serves tests and the report, so each builds once.
 CARGO ?= cargo
 
-.PHONY: all test report bench lint fmt doc
+.PHONY: all test report bench lint fmt doc doc-offline
 
 all: test report
 
@@ -21,6 +21,15 @@ lint:
 fmt:
 	$(CARGO) fmt
 
-# API documentation with the thesis's equations rendered by KaTeX (as on docs.rs).
+# API documentation with the thesis's equations rendered by KaTeX from its CDN (as on docs.rs).
 doc:
 	RUSTDOCFLAGS="--html-in-header katex-header.html" $(CARGO) doc --no-deps
+
+# The same pages with a local KaTeX, for a machine without network, e.g. after
+# `npm install katex` in /tmp: make doc-offline KATEX_DIST=/tmp/node_modules/katex/dist
+doc-offline:
+	@test -f "$(KATEX_DIST)/katex.min.js" || { echo "KATEX_DIST must name a KaTeX dist/ directory holding katex.min.js (e.g. KATEX_DIST=/tmp/node_modules/katex/dist)" >&2; exit 2; }
+	mkdir -p target
+	sed -e 's#https://cdn.jsdelivr.net/npm/katex@[0-9.]*/dist#file://$(abspath $(KATEX_DIST))#' \
+	    -e 's# crossorigin="anonymous"##' katex-header.html > target/katex-header-offline.html
+	RUSTDOCFLAGS="--html-in-header $(CURDIR)/target/katex-header-offline.html" $(CARGO) doc --no-deps

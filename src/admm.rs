@@ -1,25 +1,25 @@
 //! ADMM ⊇ Projective Dynamics (Overby et al. 2017; thesis §2.3.2 and §3.5, Algorithm 4,
 //! Eqs 30-42 and 54-56).
 //!
-//! Eq (20) split as in Eqs (34)-(39): $f(x) = \frac{1}{2dt^2}|x - \tilde x|_M^2$,
-//! $g(z) = U_*(z)$ (the springs' Hooke energy), constraint $W(Dx - z) = 0$ with the reduction
-//! matrix $D$ (Eq 54) and the weights $W = \omega I$, $\omega_i = \sqrt{k_i}$ by default (the
+//! Eq (20) split as in Eqs (34)-(39): $`f(x) = \frac{1}{2dt^2}|x - \tilde x|_M^2`$,
+//! $`g(z) = U_*(z)`$ (the springs' Hooke energy), constraint $`W(Dx - z) = 0`$ with the reduction
+//! matrix $`D`$ (Eq 54) and the weights $`W = \omega I`$, $`\omega_i = \sqrt{k_i}`$ by default (the
 //! "usual" choice of §2.3.2, and the one §3.5 assumes). Each step starts from
-//! $x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ with the scaled dual $\bar u = 0$
-//! (lines 2.1-2.2), then iterates, in the order of Algorithm 4: the local step $z$ (Eq 41,
-//! solved by Eqs 55-56 for Hooke's energy), the dual update $\bar u$ (Eq 42), and the global
-//! step $x$ (Eq 40) with $A = M + dt^2 D^\top W^\top W D$ factored once per scene and time step
+//! $`x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ with the scaled dual $`\bar u = 0`$
+//! (lines 2.1-2.2), then iterates, in the order of Algorithm 4: the local step $`z`$ (Eq 41,
+//! solved by Eqs 55-56 for Hooke's energy), the dual update $`\bar u`$ (Eq 42), and the global
+//! step $`x`$ (Eq 40) with $`A = M + dt^2 D^\top W^\top W D`$ factored once per scene and time step
 //! ([`crate::projective`], shared with Liu 2013; fixed nodes by Eqs 43-47). The velocity is
-//! $(x - x_n)/dt$ (line 2.11).
+//! $`(x - x_n)/dt`$ (line 2.11).
 //!
 //! Errata implemented in consistent form (see `docs/thesis-errata.md`):
-//! - Eq (34): the inertial term is $(x - \tilde x)^\top M (x - \tilde x)$, as Eq (35) has it
-//!   (printed with $x^n - x^{n+1}$).
-//! - Eq (36): $g(z) = U_*(z)$ (printed $g(x)$).
-//! - Eq (40), last line: $D^\top W^\top W$ (printed $D^\top W W$; equal for a diagonal $W$).
+//! - Eq (34): the inertial term is $`(x - \tilde x)^\top M (x - \tilde x)`$, as Eq (35) has it
+//!   (printed with $`x^n - x^{n+1}`$).
+//! - Eq (36): $`g(z) = U_*(z)`$ (printed $`g(x)`$).
+//! - Eq (40), last line: $`D^\top W^\top W`$ (printed $`D^\top W W`$; equal for a diagonal $`W`$).
 //!
-//! Eq (56)'s simplified form $z = \frac12(p + D_i x + \bar u_i)$ holds only for
-//! $\omega_i^2 = k_i$; the general form is used so that any weights stay correct.
+//! Eq (56)'s simplified form $`z = \frac12(p + D_i x + \bar u_i)`$ holds only for
+//! $`\omega_i^2 = k_i`$; the general form is used so that any weights stay correct.
 //!
 //!
 //! The labelled departures that explain the published numbers (start points, carried dual,
@@ -33,7 +33,7 @@ use crate::projective::{
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
 
-/// The default weights $\omega_i = \sqrt{k_i}$ (§2.3.2, Eqs 37-38: $A = WD$, $B = -W$).
+/// The default weights $`\omega_i = \sqrt{k_i}`$ (§2.3.2, Eqs 37-38: $`A = WD`$, $`B = -W`$).
 pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {
     system
         .springs()
@@ -42,32 +42,32 @@ pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {
         .collect()
 }
 
-/// Eq. (56): $z_i = \dfrac{k\,p_i + \omega_i^2\,(D_i x + \bar u_i)}{\omega_i^2 + k}$, the
-/// minimiser of Eq (41) for Hooke's energy given the projection $p_i$ of Eq (55);
-/// $\frac12(p_i + D_i x + \bar u_i)$ when $\omega_i^2 = k$.
+/// Eq. (56): $`z_i = \dfrac{k\,p_i + \omega_i^2\,(D_i x + \bar u_i)}{\omega_i^2 + k}`$, the
+/// minimiser of Eq (41) for Hooke's energy given the projection $`p_i`$ of Eq (55);
+/// $`\frac12(p_i + D_i x + \bar u_i)`$ when $`\omega_i^2 = k`$.
 #[inline]
 pub fn z_update(p: Vec3, q: Vec3, k: f64, omega: f64) -> Vec3 {
     let omega2 = omega * omega;
     (k * p + omega2 * q) / (omega2 + k)
 }
 
-/// Eq. (41): $z_i = \arg\min_{z_i} U_i(z_i) + \frac12|W_i(D_i x - z_i + \bar u_i)|^2$ for
-/// $U_i(z) = \frac12 k(|z| - l_0)^2$, with $q = D_i x + \bar u_i$: the minimiser lies on $q$'s
-/// ray, so it is Eq (56) applied to the projection $p_i = l_0\,q/|q|$ of Eq (55).
+/// Eq. (41): $`z_i = \arg\min_{z_i} U_i(z_i) + \frac12|W_i(D_i x - z_i + \bar u_i)|^2`$ for
+/// $`U_i(z) = \frac12 k(|z| - l_0)^2`$, with $`q = D_i x + \bar u_i`$: the minimiser lies on $`q`$'s
+/// ray, so it is Eq (56) applied to the projection $`p_i = l_0\,q/|q|`$ of Eq (55).
 #[inline]
 pub fn z_minimisation(q: Vec3, l0: f64, k: f64, omega: f64) -> Vec3 {
     let p = project_on_sphere(q, l0);
     z_update(p, q, k, omega)
 }
 
-/// Eq. (42): $\bar u_i \leftarrow \bar u_i + D_i x - z_i$.
+/// Eq. (42): $`\bar u_i \leftarrow \bar u_i + D_i x - z_i`$.
 #[inline]
 pub fn dual_update(u_bar: Vec3, d_x: Vec3, z: Vec3) -> Vec3 {
     u_bar + d_x - z
 }
 
-/// Line 2.1: $\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ (Eq 35's $\tilde x$) into
-/// `x_tilde`, and $M\tilde x$ (for Eq 40) into `m_x_tilde`, both column-major. Fixed nodes
+/// Line 2.1: $`\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ (Eq 35's $`\tilde x`$) into
+/// `x_tilde`, and $`M\tilde x`$ (for Eq 40) into `m_x_tilde`, both column-major. Fixed nodes
 /// predict their own position: they never move.
 pub fn predict(
     system: &MassSpringSystem,
@@ -90,7 +90,7 @@ pub fn predict(
     }
 }
 
-/// Lines 2.4-2.7: for every spring, $z_i$ (Eq 41 by Eqs 55-56), then $\bar u_i$ (Eq 42), from
+/// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$ (Eq 42), from
 /// the current iterate `x` (column-major).
 pub fn local_step(
     system: &MassSpringSystem,
@@ -112,8 +112,8 @@ pub fn local_step(
     }
 }
 
-/// Eq. (40): $(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)$;
-/// forms the right-hand side into `rhs` (column-major), with `dt2_omega2` $= dt^2\,\omega_i^2$
+/// Eq. (40): $`(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$;
+/// forms the right-hand side into `rhs` (column-major), with `dt2_omega2` $`= dt^2\,\omega_i^2`$
 /// per spring, for the prefactored solve of the step.
 pub fn global_rhs(
     m_x_tilde: &[f64],
@@ -135,18 +135,18 @@ pub struct AdmmPd {
     system: MassSpringSystem,
     dt: f64,
     iterations: usize,
-    /// $D$ of Eq (54), stored per spring.
+    /// $`D`$ of Eq (54), stored per spring.
     d: SpringIncidence,
-    /// $\omega_i = \sqrt{k_i}$, the diagonal of $W$.
+    /// $`\omega_i = \sqrt{k_i}`$, the diagonal of $`W`$.
     omega: Vec<f64>,
-    /// $dt^2\,\omega_i^2$, the factor of $D_i^\top$ in Eq (40)'s right-hand side.
+    /// $`dt^2\,\omega_i^2`$, the factor of $`D_i^\top`$ in Eq (40)'s right-hand side.
     dt2_omega2: Vec<f64>,
-    /// $A = M + dt^2 D^\top W^\top W D$, factored once (line 1.5).
+    /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (line 1.5).
     a: GlobalSolve,
     // Per-step buffers (column-major, 3n; one Vec3 per spring), so that a step allocates nothing.
     x_n: Vec<f64>,
     x_tilde: Vec<f64>,
-    /// $M\tilde x$.
+    /// $`M\tilde x`$.
     m_x_tilde: Vec<f64>,
     x: Vec<f64>,
     z: Vec<Vec3>,
@@ -154,7 +154,7 @@ pub struct AdmmPd {
 }
 
 impl AdmmPd {
-    /// Algorithm 4, lines 1.1-1.5, with $\omega_i = \sqrt{k_i}$. Needs every stiffness > 0,
+    /// Algorithm 4, lines 1.1-1.5, with $`\omega_i = \sqrt{k_i}`$. Needs every stiffness > 0,
     /// `dt` > 0 and `iterations` >= 1.
     pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
         require_positive("dt", dt)?;
@@ -187,7 +187,7 @@ impl AdmmPd {
         self.iterations
     }
 
-    /// The weights $\omega_i$.
+    /// The weights $`\omega_i`$.
     pub fn omega(&self) -> &[f64] {
         &self.omega
     }

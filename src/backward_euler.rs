@@ -1,16 +1,18 @@
 //! Backward Euler solved by Newton-Raphson, the thesis's ground truth (§2.1, Eqs 5-12).
 //!
-//! Each step solves the implicit equations (8)-(9) for $v_{n+1}$. Newton's method on the
-//! residual $r(v) = M(v - v_n) - dt\,F(x_n + dt\,v)$ linearises the force about the current
-//! iterate $x_k = x_n + dt\,v_k$ (Eq 10) and solves
-//! $$(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k\,(x_n - x_k),\qquad K_k = \tfrac{dF}{dx}(x_k).$$
-//! Starting from $v_0 = 0$ ($x_0 = x_n$) the first iteration is Eq (12) exactly as printed;
-//! the later ones carry the term $dt\,K_k(x_n - x_k)$ that the printed equation, re-evaluated
-//! at $x_k$, drops (erratum: without it the iteration converges to a different, over-damped
+//! Each step solves the implicit equations (8)-(9) for $`v_{n+1}`$. Newton's method on the
+//! residual $`r(v) = M(v - v_n) - dt\,F(x_n + dt\,v)`$ linearises the force about the current
+//! iterate $`x_k = x_n + dt\,v_k`$ (Eq 10) and solves
+//! ```math
+//! (M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k\,(x_n - x_k),\qquad K_k = \tfrac{dF}{dx}(x_k).
+//! ```
+//! Starting from $`v_0 = 0`$ ($`x_0 = x_n`$) the first iteration is Eq (12) exactly as printed;
+//! the later ones carry the term $`dt\,K_k(x_n - x_k)`$ that the printed equation, re-evaluated
+//! at $`x_k`$, drops (erratum: without it the iteration converges to a different, over-damped
 //! scheme). The thesis's reference uses dt = 1e-3 and 5 iterations per step.
 //!
 //! [`converged_step`] is the same step solved to a tolerance, by projected Newton with a line
-//! search on the incremental potential of Eq (20): it converges at any $dt\sqrt{k/m}$ and is
+//! search on the incremental potential of Eq (20): it converges at any $`dt\sqrt{k/m}`$ and is
 //! the oracle the other solvers are tested against.
 
 use crate::boundary::{fixed_unknowns, ConstrainedSystem};
@@ -26,13 +28,13 @@ pub const REFERENCE_NEWTON_ITERATIONS: usize = 5;
 /// Time step of the thesis's reference, s (Table 1).
 pub const REFERENCE_DT: f64 = 1e-3;
 
-/// Eqs. (6), (9): $x(t+dt) = x(t) + v(t+dt)\,dt$.
+/// Eqs. (6), (9): $`x(t+dt) = x(t) + v(t+dt)\,dt`$.
 pub fn position_update(x_n: &Vec3, v_next: &Vec3, dt: f64) -> Vec3 {
     x_n + v_next * dt
 }
 
-/// Eqs. (7), (8): the residual of $v(t+dt) = v(t) + M^{-1}F(x(t+dt))\,dt$ multiplied by $M$,
-/// with Eq (9) for $x(t+dt)$: $r(v) = M(v - v_n) - dt\,F(x_n + dt\,v)$. Zero on fixed nodes.
+/// Eqs. (7), (8): the residual of $`v(t+dt) = v(t) + M^{-1}F(x(t+dt))\,dt`$ multiplied by $`M`$,
+/// with Eq (9) for $`x(t+dt)`$: $`r(v) = M(v - v_n) - dt\,F(x_n + dt\,v)`$. Zero on fixed nodes.
 pub fn velocity_residual(
     system: &MassSpringSystem,
     state: &State,
@@ -61,7 +63,7 @@ pub fn velocity_residual(
         .collect()
 }
 
-/// The sparse $3n\times3n$ matrix $M - dt^2 K$ with precomputed value slots for fast assembly.
+/// The sparse $`3n\times3n`$ matrix $`M - dt^2 K`$ with precomputed value slots for fast assembly.
 #[derive(Debug, Clone)]
 struct ImplicitMatrix {
     matrix: SymmetricMatrix,
@@ -100,7 +102,7 @@ impl ImplicitMatrix {
         }
     }
 
-    /// Eq. (12): the left-hand side $A = M - dt^2\,\frac{dF}{dx}$, from the springs' force
+    /// Eq. (12): the left-hand side $`A = M - dt^2\,\frac{dF}{dx}`$, from the springs' force
     /// Jacobians (Eq 4) given per spring.
     fn assemble(&mut self, system: &MassSpringSystem, dt: f64, jacobians: &[Matrix3<f64>]) {
         let values = self.matrix.values_mut();
@@ -177,11 +179,11 @@ impl BackwardEuler {
         Self::new(system, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS)
     }
 
-    /// Eqs. (10), (12): one Newton-Raphson iteration, from the iterate $v_k$ to $v_{k+1}$.
+    /// Eqs. (10), (12): one Newton-Raphson iteration, from the iterate $`v_k`$ to $`v_{k+1}`$.
     ///
-    /// With $F(x) \approx F(x_k) + K_k (x - x_k)$ (Eq 10) at $x = x_n + dt\,v$,
-    /// $(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)$. For $x_k = x_n$ this
-    /// is Eq (12) as printed.
+    /// With $`F(x) \approx F(x_k) + K_k (x - x_k)`$ (Eq 10) at $`x = x_n + dt\,v`$,
+    /// $`(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)`$. For $`x_k = x_n`$
+    /// this is Eq (12) as printed.
     fn newton_iteration(&mut self, state: &State) -> Result<()> {
         let dt = self.dt;
         for ((x_k, x_n), v_k) in self.x_k.iter_mut().zip(&state.x).zip(&self.v_k) {
@@ -276,8 +278,8 @@ impl Default for ConvergedStepOptions {
     }
 }
 
-/// The incremental potential of Eq (20): $\frac{1}{2dt^2}(x - y)^\top M (x - y) + E(x)$,
-/// with $E$ the springs' energy plus gravity's potential and $y = x_n + dt\,v_n$.
+/// The incremental potential of Eq (20): $`\frac{1}{2dt^2}(x - y)^\top M (x - y) + E(x)`$,
+/// with $`E`$ the springs' energy plus gravity's potential and $`y = x_n + dt\,v_n`$.
 pub fn incremental_potential(system: &MassSpringSystem, y: &[Vec3], x: &[Vec3], dt: f64) -> f64 {
     let inertia: f64 = system
         .nodes()
@@ -288,13 +290,13 @@ pub fn incremental_potential(system: &MassSpringSystem, y: &[Vec3], x: &[Vec3], 
     inertia / (dt * dt) + system.potential_energy(x)
 }
 
-/// Eq. (20): $x^{n+1} = \arg\min_x \frac{1}{2dt^2}(x - y)^\top M (x - y) + E(x)$, solved to
+/// Eq. (20): $`x^{n+1} = \arg\min_x \frac{1}{2dt^2}(x - y)^\top M (x - y) + E(x)`$, solved to
 /// `options.tolerance` by projected Newton with a backtracking line search; then
-/// $v^{n+1} = (x^{n+1} - x^n)/dt$.
+/// $`v^{n+1} = (x^{n+1} - x^n)/dt`$.
 ///
-/// Erratum: the thesis prints $(x^n - y)$ in the inertial term, which does not depend on $x$;
-/// the minimised variable is $x$. Gravity enters through $E$ (its potential), which is the
-/// same minimiser as putting $dt^2 M^{-1} f_{ext}$ into $y$. The Hessian uses the projected
+/// Erratum: the thesis prints $`(x^n - y)`$ in the inertial term, which does not depend on $`x`$;
+/// the minimised variable is $`x`$. Gravity enters through $`E`$ (its potential), which is the
+/// same minimiser as putting $`dt^2 M^{-1} f_{ext}`$ into $`y`$. The Hessian uses the projected
 /// spring Jacobian ([`spring::force_jacobian_definite`]) so every direction descends; at a
 /// stretched-rope solution it equals the exact one and convergence is quadratic.
 pub fn converged_step(
@@ -386,11 +388,11 @@ pub fn converged_step(
     Err(Error::invalid("max_iterations", 0, "an integer >= 1"))
 }
 
-/// The static equilibrium $F(x) = 0$ of a system, by a proximal-point iteration: converged
+/// The static equilibrium $`F(x) = 0`$ of a system, by a proximal-point iteration: converged
 /// steps of `dt_s` seconds from rest, repeated until the positions stop moving (`tolerance`, m).
 ///
-/// Each step minimises $\frac{1}{2dt^2}|x - x_k|^2_M + E(x)$, whose fixed points are exactly the
-/// minimisers of $E$; the inertial term regularises the start (a straight rope has no
+/// Each step minimises $`\frac{1}{2dt^2}|x - x_k|^2_M + E(x)`$, whose fixed points are exactly the
+/// minimisers of $`E`$; the inertial term regularises the start (a straight rope has no
 /// transverse stiffness). Used to check the analytic catenary.
 pub fn static_equilibrium(
     system: &MassSpringSystem,

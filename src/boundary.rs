@@ -2,20 +2,20 @@
 //!
 //! Of the three ways §3.2 weighs (overwriting positions after the solve, removing the fixed
 //! degrees of freedom, or modifying the system before the solve), the thesis adopts the
-//! third: the fixed rows and columns of $A$ become the identity and the right-hand side
-//! carries the fixed values, so the free unknowns feel the fixed ones through $b - A u$.
+//! third: the fixed rows and columns of $`A`$ become the identity and the right-hand side
+//! carries the fixed values, so the free unknowns feel the fixed ones through $`b - A u`$.
 //! This module is the one place that does it; Backward Euler (per Newton iteration),
 //! Liu 2013 and ADMM-PD (once per scene and time step) all solve through [`ConstrainedSystem`].
 
 use crate::error::Result;
 use crate::linear::{Factorization, SymmetricMatrix};
 
-/// A factored system $Ax = b$ whose fixed unknowns are imposed by Eqs 44-47.
+/// A factored system $`Ax = b`$ whose fixed unknowns are imposed by Eqs 44-47.
 #[derive(Debug, Clone)]
 pub struct ConstrainedSystem {
     fixed: Vec<usize>,
-    /// The block $A_2$ of Eq (43): $(i, j, A_{ij})$ for free rows $i$ and fixed columns $j$,
-    /// saved before Eq (44) zeroes it, so that Eq (46) can form $A u$.
+    /// The block $`A_2`$ of Eq (43): $`(i, j, A_{ij})`$ for free rows $`i`$ and fixed columns
+    /// $`j`$, saved before Eq (44) zeroes it, so that Eq (46) can form $`A u`$.
     coupling: Vec<(usize, usize, f64)>,
     slots: ImpositionSlots,
     factorization: Factorization,
@@ -25,7 +25,7 @@ pub struct ConstrainedSystem {
 /// refactorisation searches nothing.
 #[derive(Debug, Clone)]
 struct ImpositionSlots {
-    /// The slot of each entry of `coupling` (entry $(j, i)$, equal by symmetry).
+    /// The slot of each entry of `coupling` (entry $`(j, i)`$, equal by symmetry).
     coupling: Vec<usize>,
     /// The off-diagonal entries of the fixed rows and columns.
     zero: Vec<usize>,
@@ -34,7 +34,7 @@ struct ImpositionSlots {
 }
 
 impl ConstrainedSystem {
-    /// Eq. (44): $\begin{pmatrix}A_1 & 0\\ 0 & I\end{pmatrix}$ replaces the fixed rows and
+    /// Eq. (44): $`\begin{pmatrix}A_1 & 0\\ 0 & I\end{pmatrix}`$ replaces the fixed rows and
     /// columns of `a` (in place), then the result is factored once.
     pub fn new(a: &mut SymmetricMatrix, fixed: &[usize]) -> Result<Self> {
         let mut is_fixed = vec![false; a.dim()];
@@ -77,7 +77,7 @@ impl ConstrainedSystem {
         self.factorization.refactor(a)
     }
 
-    /// Eq. (43): solves $A x = b$ with $x_j = \bar x_j$ on the fixed unknowns, for `ncols`
+    /// Eq. (43): solves $`A x = b`$ with $`x_j = \bar x_j`$ on the fixed unknowns, for `ncols`
     /// right-hand sides stored column after column. `x_bar` has the layout of `b` and is
     /// read only at fixed unknowns. The solution overwrites `b`.
     #[inline]
@@ -86,8 +86,8 @@ impl ConstrainedSystem {
         self.factorization.solve_in_place(b, ncols);
     }
 
-    /// Eqs. (45)-(47): with $u = (0, \bar x)$ (Eq 45), $b \leftarrow b - A u$ (Eqs 46-47) on the
-    /// free rows, and $b_j = \bar x_j$ on the fixed rows (step 4 of §3.2).
+    /// Eqs. (45)-(47): with $`u = (0, \bar x)`$ (Eq 45), $`b \leftarrow b - A u`$ (Eqs 46-47) on
+    /// the free rows, and $`b_j = \bar x_j`$ on the fixed rows (step 4 of §3.2).
     #[inline]
     pub fn impose_on_rhs(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
         let n = b.len() / ncols;
@@ -103,7 +103,7 @@ impl ConstrainedSystem {
 }
 
 impl ImpositionSlots {
-    /// Saves the block $A_2$ (free rows, fixed columns) into `coupling`, then replaces the
+    /// Saves the block $`A_2`$ (free rows, fixed columns) into `coupling`, then replaces the
     /// fixed rows and columns by the identity.
     fn impose_on_matrix(&self, a: &mut SymmetricMatrix, coupling: &mut [(usize, usize, f64)]) {
         let values = a.values_mut();
@@ -127,14 +127,14 @@ pub fn fixed_unknowns(fixed_nodes: impl Iterator<Item = usize>, block: usize) ->
 }
 
 /// The second way of §3.2: the fixed unknowns are removed. The free ones solve
-/// $A_{ff}\,x_f = b_f - A_{fc}\,\bar x_c$ with a separately factored $A_{ff}$, so the fixed
+/// $`A_{ff}\,x_f = b_f - A_{fc}\,\bar x_c`$ with a separately factored $`A_{ff}`$, so the fixed
 /// values never enter the factorisation. The thesis weighs it and adopts Eqs 43-47 instead
 /// ([`ConstrainedSystem`]); the forensic variants of ADMM-PD use it.
 #[derive(Debug, Clone)]
 pub struct EliminatedSystem {
     /// The free unknowns, in order; the reduced unknowns are their indices here.
     free: Vec<usize>,
-    /// $(f, c, A_{fc})$ for reduced row $f$ and fixed unknown $c$.
+    /// $`(f, c, A_{fc})`$ for reduced row $`f`$ and fixed unknown $`c`$.
     coupling: Vec<(usize, usize, f64)>,
     factorization: Factorization,
     /// Scratch for the reduced right-hand sides.
@@ -142,7 +142,7 @@ pub struct EliminatedSystem {
 }
 
 impl EliminatedSystem {
-    /// $A_{ff}$ of `a` without the `fixed` unknowns, factored once; `edges` is the graph of
+    /// $`A_{ff}`$ of `a` without the `fixed` unknowns, factored once; `edges` is the graph of
     /// `a`'s off-diagonal entries (one unknown per node).
     pub fn new(a: &SymmetricMatrix, fixed: &[usize], edges: &[(usize, usize)]) -> Result<Self> {
         let n = a.dim();
@@ -173,7 +173,7 @@ impl EliminatedSystem {
         })
     }
 
-    /// Solves for `ncols` right-hand sides stored column-major in `b` (overwritten by $x$), the
+    /// Solves for `ncols` right-hand sides stored column-major in `b` (overwritten by $`x`$), the
     /// fixed unknowns at their values in `x_bar`.
     pub fn solve(&mut self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
         let (n, m) = (b.len() / ncols, self.free.len());

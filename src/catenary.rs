@@ -1,53 +1,59 @@
 //! Analytic reference solutions for the hanging rope of thesis section 3.1 (Figure 2).
 //!
 //! The thesis verifies its Backward-Euler mass-spring solver on a rope of 10 nodes of 1 kg
-//! joined by 9 springs of rest length $l_0 = 1$ m, node 0 fixed at $(0, 0)$ m, node 9 fixed at
-//! $(9, 0)$ m, gravity $g = 9.81\,\mathrm{m/s^2}$ along $-y$ and stiffness $k = 10^3$ or
-//! $10^6$ N/m. The rest length of the rope equals the anchor span, so the rope can only sag by
+//! joined by 9 springs of rest length $`l_0 = 1`$ m, node 0 fixed at $`(0, 0)`$ m, node 9 fixed at
+//! $`(9, 0)`$ m, gravity $`g = 9.81\,\mathrm{m/s^2}`$ along $`-y`$ and stiffness $`k = 10^3`$ or
+//! $`10^6`$ N/m. The rest length of the rope equals the anchor span, so the rope can only sag by
 //! stretching: an inextensible catenary has no solution there, and both references below are
 //! extensible.
 //!
 //! # Discrete elastic chain ([`ElasticChain`] → [`ChainEquilibrium`])
 //!
-//! The exact static equilibrium of the simulated system itself, where a converged
-//! Backward-Euler run must come to rest. No load acts horizontally, so every spring carries the
-//! same horizontal tension $H$, while the vertical component grows by the weight of each free
-//! node: spring $j$ (joining nodes $j$ and $j+1$) carries $V_j = V_0 + g\sum_{i=1}^{j} m_i$. A
-//! linear spring under tension $T_j = \sqrt{H^2 + V_j^2}$ has length $l_{0,j} + T_j/k_j$ along
-//! $(H, V_j)/T_j$, so the equilibrium is the root $(H, V_0)$ of the closure condition
-//! $$\sum_{j=0}^{N-2} \left(\frac{l_{0,j}}{T_j} + \frac{1}{k_j}\right)
-//! \begin{pmatrix} H \\\\ V_j \end{pmatrix} = B - A .$$
+//! The exact static equilibrium of the simulated system itself, where a converged Backward-Euler
+//! run must come to rest. No load acts horizontally, so every spring carries the same horizontal
+//! tension $`H`$, while the vertical component grows by the weight of each free node: spring $`j`$
+//! (joining nodes $`j`$ and $`j+1`$) carries $`V_j = V_0 + g\sum_{i=1}^{j} m_i`$. A linear spring
+//! under tension $`T_j = \sqrt{H^2 + V_j^2}`$ has length $`l_{0,j} + T_j/k_j`$ along
+//! $`(H, V_j)/T_j`$, so the equilibrium is the root $`(H, V_0)`$ of the closure condition
+//! ```math
+//! \sum_{j=0}^{N-2} \left(\frac{l_{0,j}}{T_j} + \frac{1}{k_j}\right)
+//! \begin{pmatrix} H \\ V_j \end{pmatrix} = B - A .
+//! ```
 //!
 //! # Continuous elastic catenary ([`ElasticCatenary`])
 //!
-//! Irvine's closed form for a cable of unstretched length $L$, weight $w$ per unit unstretched
-//! length and axial stiffness $EA$. In the Lagrangian coordinate $s \in [0, L]$ the tension is
-//! $(H, V(s))$ with $V(s) = V_0 + w s$, and
-//! $$x(s) = x_A + \frac{H s}{EA} + \frac{H}{w}\left[\operatorname{asinh}\frac{V(s)}{H} -
-//! \operatorname{asinh}\frac{V_0}{H}\right],$$
-//! $$y(s) = y_A + \frac{V_0 s + w s^2/2}{EA} + \frac{1}{w}\left[\sqrt{H^2 + V(s)^2} -
-//! \sqrt{H^2 + V_0^2}\right].$$
+//! Irvine's closed form for a cable of unstretched length $`L`$, weight $`w`$ per unit unstretched
+//! length and axial stiffness $`EA`$. In the Lagrangian coordinate $`s \in [0, L]`$ the tension is
+//! $`(H, V(s))`$ with $`V(s) = V_0 + w s`$, and
+//! ```math
+//! \begin{aligned}
+//! x(s) &= x_A + \frac{H s}{EA} + \frac{H}{w}\left[\operatorname{asinh}\frac{V(s)}{H} -
+//!   \operatorname{asinh}\frac{V_0}{H}\right],\\
+//! y(s) &= y_A + \frac{V_0 s + w s^2/2}{EA} + \frac{1}{w}\left[\sqrt{H^2 + V(s)^2} -
+//!   \sqrt{H^2 + V_0^2}\right].
+//! \end{aligned}
+//! ```
 //!
-//! The thesis rope corresponds to $L = 9$ m, $w = m g / l_0$ and $EA = k l_0$. The chain with
-//! $N$ nodes, $l_0 = L/(N-1)$, $k = EA/l_0$ and free-node weight $w l_0$ is the midpoint-rule
-//! discretisation of the integrals above (with $V_0$ shifted by $w l_0/2$, each spring carries
-//! the exact tension of the cable at its midpoint), so its node $i$ converges to the cable
-//! point $s_i = i\,l_0$ at second order in $l_0$; [`ElasticCatenary::max_node_distance`]
-//! measures that gap.
+//! The thesis rope corresponds to $`L = 9`$ m, $`w = m g / l_0`$ and $`EA = k l_0`$. The chain with
+//! $`N`$ nodes, $`l_0 = L/(N-1)`$, $`k = EA/l_0`$ and free-node weight $`w l_0`$ is the
+//! midpoint-rule discretisation of the integrals above (with $`V_0`$ shifted by $`w l_0/2`$, each
+//! spring carries the exact tension of the cable at its midpoint), so its node $`i`$ converges to
+//! the cable point $`s_i = i\,l_0`$ at second order in $`l_0`$;
+//! [`ElasticCatenary::max_node_distance`] measures that gap.
 //!
 //! # Solving
 //!
 //! Both closure conditions are the gradient of the strictly convex complementary energy
-//! $\Pi^*(H, V_0) = \sum_j \left(l_{0,j} T_j + T_j^2/(2k_j)\right) - H\,\Delta x - V_0\,\Delta y$
-//! (an integral over $s$ for the cable), so their 2×2 Jacobians are symmetric positive definite
+//! $`\Pi^*(H, V_0) = \sum_j \left(l_{0,j} T_j + T_j^2/(2k_j)\right) - H\,\Delta x - V_0\,\Delta y`$
+//! (an integral over $`s`$ for the cable), so their 2×2 Jacobians are symmetric positive definite
 //! and the root is unique. Newton's method uses those analytic Jacobians, starting from a
-//! shallow elastic cable. It is globalised by keeping $H$ on the curve where the horizontal
-//! closure holds (increasing and concave in $H$) and bracketing $V_0$, along which the vertical
-//! residual is monotone; a plain damped Newton step in $(H, V_0)$ can instead be drawn into the
-//! kink of $\Pi^*$ at $H = 0$ where a spring goes slack. The closure residual ends at most
-//! $10^{-13}$ of the stretched length, for stiffnesses from 1 N/m to $10^9$ N/m.
+//! shallow elastic cable. It is globalised by keeping $`H`$ on the curve where the horizontal
+//! closure holds (increasing and concave in $`H`$) and bracketing $`V_0`$, along which the vertical
+//! residual is monotone; a plain damped Newton step in $`(H, V_0)`$ can instead be drawn into the
+//! kink of $`\Pi^*`$ at $`H = 0`$ where a spring goes slack. The closure residual ends at most
+//! $`10^{-13}`$ of the stretched length, for stiffnesses from 1 N/m to $`10^9`$ N/m.
 //!
-//! The chain model assumes every spring is in tension. A spring can only go slack when $H = 0$,
+//! The chain model assumes every spring is in tension. A spring can only go slack when $`H = 0`$,
 //! with the rest of the chain hanging in two vertical strands, so this holds whenever the
 //! horizontal anchor span exceeds every rest length. When it fails, or when a nearly degenerate
 //! geometry leaves rounding above the tolerance, the solve returns
@@ -60,13 +66,13 @@ use std::fmt;
 
 use nalgebra::{Matrix2, Vector2, Vector3};
 
-/// Gravitational acceleration of the thesis experiments, $g = 9.81\,\mathrm{m/s^2}$ along $-y$.
+/// Gravitational acceleration of the thesis experiments, $`g = 9.81\,\mathrm{m/s^2}`$ along $`-y`$.
 pub const THESIS_GRAVITY: f64 = 9.81;
 
 /// Largest closure residual accepted, relative to the stretched cable length; a few ulps per
 /// spring is the best the closure sum can do.
 const RELATIVE_TOLERANCE: f64 = 1e-13;
-/// Budget of Newton steps, on $H$ and $V_0$ together; typical solves take under 30.
+/// Budget of Newton steps, on $`H`$ and $`V_0`$ together; typical solves take under 30.
 const MAX_NEWTON_ITERATIONS: usize = 500;
 /// Newton stops once its step is this small relative to the unknowns: a few ulps.
 const RESOLUTION: f64 = 4.0 * f64::EPSILON;
@@ -160,22 +166,23 @@ impl fmt::Display for CatenaryError {
 
 impl std::error::Error for CatenaryError {}
 
-/// A mass-spring chain hanging under gravity $-g\,\hat{y}$ between two fixed end nodes.
+/// A mass-spring chain hanging under gravity $`-g\,\hat{y}`$ between two fixed end nodes.
 ///
-/// Node 0 sits at `anchor_a`, node $N-1$ at `anchor_b`; spring $j$ joins nodes $j$ and $j+1$.
+/// Node 0 sits at `anchor_a`, node $`N-1`$ at `anchor_b`; spring $`j`$ joins nodes $`j`$ and
+/// $`j+1`$.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElasticChain {
     /// Position of node 0 (m); z must be 0.
     pub anchor_a: Vector3<f64>,
-    /// Position of node $N-1$ (m); z must be 0 and x must exceed `anchor_a.x`.
+    /// Position of node $`N-1`$ (m); z must be 0 and x must exceed `anchor_a.x`.
     pub anchor_b: Vector3<f64>,
-    /// Masses $m_1 \dots m_{N-2}$ of the free nodes (kg); entry $j$ belongs to node $j+1$.
+    /// Masses $`m_1 \dots m_{N-2}`$ of the free nodes (kg); entry $`j`$ belongs to node $`j+1`$.
     pub free_node_masses: Vec<f64>,
-    /// Rest lengths $l_{0,j}$ of the $N-1$ springs (m).
+    /// Rest lengths $`l_{0,j}`$ of the $`N-1`$ springs (m).
     pub rest_lengths: Vec<f64>,
-    /// Stiffnesses $k_j$ of the $N-1$ springs (N/m).
+    /// Stiffnesses $`k_j`$ of the $`N-1`$ springs (N/m).
     pub stiffnesses: Vec<f64>,
-    /// Gravitational acceleration $g$ (m/s²), acting along $-y$.
+    /// Gravitational acceleration $`g`$ (m/s²), acting along $`-y`$.
     pub gravity: f64,
 }
 
@@ -184,16 +191,16 @@ pub struct ElasticChain {
 pub struct ChainEquilibrium {
     /// Node positions (m), z = 0; the first and last are the anchors.
     pub positions: Vec<Vector3<f64>>,
-    /// Horizontal tension $H$ shared by every spring (N).
+    /// Horizontal tension $`H`$ shared by every spring (N).
     pub H: f64,
-    /// Vertical tension $V_0$ of spring 0, taken from node 0 towards node 1: negative when the
+    /// Vertical tension $`V_0`$ of spring 0, taken from node 0 towards node 1: negative when the
     /// rope leaves `anchor_a` downwards (N).
     pub V0: f64,
-    /// Tension $T_j = \sqrt{H^2 + V_j^2}$ of each spring (N).
+    /// Tension $`T_j = \sqrt{H^2 + V_j^2}`$ of each spring (N).
     pub tensions: Vec<f64>,
-    /// Newton steps taken, on $H$ and $V_0$ together.
+    /// Newton steps taken, on $`H`$ and $`V_0`$ together.
     pub newton_iterations: usize,
-    /// Final closure residual $\lvert \sum_j d_j - (B - A) \rvert$ over the stretched length.
+    /// Final closure residual $`\lvert \sum_j d_j - (B - A) \rvert`$ over the stretched length.
     pub relative_residual: f64,
 }
 
@@ -227,8 +234,8 @@ impl ElasticChain {
         Ok(chain)
     }
 
-    /// The rope of thesis section 3.1: 10 nodes of 1 kg, $l_0 = 1$ m, anchors $(0, 0)$ and
-    /// $(9, 0)$ m, $g = 9.81\,\mathrm{m/s^2}$, spring stiffness `k` (N/m).
+    /// The rope of thesis section 3.1: 10 nodes of 1 kg, $`l_0 = 1`$ m, anchors $`(0, 0)`$ and
+    /// $`(9, 0)`$ m, $`g = 9.81\,\mathrm{m/s^2}`$, spring stiffness `k` (N/m).
     pub fn thesis_rope(k: f64) -> Result<Self, CatenaryError> {
         Self::uniform(
             10,
@@ -241,12 +248,12 @@ impl ElasticChain {
         )
     }
 
-    /// Number of nodes $N$, anchors included.
+    /// Number of nodes $`N`$, anchors included.
     pub fn node_count(&self) -> usize {
         self.rest_lengths.len() + 1
     }
 
-    /// Solves the closure condition for $(H, V_0)$ and lays the springs out from `anchor_a`.
+    /// Solves the closure condition for $`(H, V_0)`$ and lays the springs out from `anchor_a`.
     pub fn solve_equilibrium(&self) -> Result<ChainEquilibrium, CatenaryError> {
         self.validate()?;
         let chord = (self.anchor_b - self.anchor_a).xy();
@@ -360,28 +367,29 @@ impl ElasticChain {
 /// Irvine's elastic catenary, solved for its end tensions.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElasticCatenary {
-    /// End at $s = 0$ (m), z = 0.
+    /// End at $`s = 0`$ (m), z = 0.
     pub anchor_a: Vector3<f64>,
-    /// End at $s = L$ (m), z = 0.
+    /// End at $`s = L`$ (m), z = 0.
     pub anchor_b: Vector3<f64>,
-    /// Unstretched length $L$ (m).
+    /// Unstretched length $`L`$ (m).
     pub L: f64,
-    /// Weight per unit unstretched length $w$ (N/m).
+    /// Weight per unit unstretched length $`w`$ (N/m).
     pub w: f64,
-    /// Axial stiffness $EA$ (N).
+    /// Axial stiffness $`EA`$ (N).
     pub EA: f64,
-    /// Horizontal tension $H$ (N).
+    /// Horizontal tension $`H`$ (N).
     pub H: f64,
-    /// Vertical tension $V_0$ at $s = 0$, positive when the cable leaves `anchor_a` upwards (N).
+    /// Vertical tension $`V_0`$ at $`s = 0`$, positive when the cable leaves `anchor_a` upwards
+    /// (N).
     pub V0: f64,
-    /// Newton steps taken, on $H$ and $V_0$ together.
+    /// Newton steps taken, on $`H`$ and $`V_0`$ together.
     pub newton_iterations: usize,
-    /// Final end-condition residual $\lvert x(L) - B \rvert$ over the stretched length.
+    /// Final end-condition residual $`\lvert x(L) - B \rvert`$ over the stretched length.
     pub relative_residual: f64,
 }
 
 impl ElasticCatenary {
-    /// Solves $x(L) = x_B$, $y(L) = y_B$ for $(H, V_0)$.
+    /// Solves $`x(L) = x_B`$, $`y(L) = y_B`$ for $`(H, V_0)`$.
     pub fn solve(
         anchor_a: Vector3<f64>,
         anchor_b: Vector3<f64>,
@@ -431,8 +439,8 @@ impl ElasticCatenary {
         })
     }
 
-    /// Continuum limit of the thesis rope: $L = 9$ m, $w = m g / l_0 = 9.81$ N/m and
-    /// $EA = k l_0$ with $m = 1$ kg, $l_0 = 1$ m and spring stiffness `k` (N/m).
+    /// Continuum limit of the thesis rope: $`L = 9`$ m, $`w = m g / l_0 = 9.81`$ N/m and
+    /// $`EA = k l_0`$ with $`m = 1`$ kg, $`l_0 = 1`$ m and spring stiffness `k` (N/m).
     pub fn thesis_rope(k: f64) -> Result<Self, CatenaryError> {
         require_positive("k", None, k)?;
         Self::solve(
@@ -444,7 +452,7 @@ impl ElasticCatenary {
         )
     }
 
-    /// Cable point at unstretched arc length `s`; outside $[0, L]$ the same analytic
+    /// Cable point at unstretched arc length `s`; outside $`[0, L]`$ the same analytic
     /// expression continues the curve.
     pub fn position(&self, s: f64) -> Vector3<f64> {
         let (H, V0, w, EA) = (self.H, self.V0, self.w, self.EA);
@@ -454,9 +462,9 @@ impl ElasticCatenary {
         self.anchor_a + Vector3::new(x, y, 0.0)
     }
 
-    /// The `node_count`-node chain that discretises this cable: $l_0 = L/(N-1)$,
-    /// $k = EA/l_0$ and free-node weight $w\,l_0$ (masses $w l_0 / g$ with
-    /// [`THESIS_GRAVITY`]; $g$ cancels from the equilibrium).
+    /// The `node_count`-node chain that discretises this cable: $`l_0 = L/(N-1)`$,
+    /// $`k = EA/l_0`$ and free-node weight $`w\,l_0`$ (masses $`w l_0 / g`$ with
+    /// [`THESIS_GRAVITY`]; $`g`$ cancels from the equilibrium).
     pub fn discrete_member(&self, node_count: usize) -> Result<ElasticChain, CatenaryError> {
         if node_count < 3 {
             return Err(CatenaryError::TooFewNodes { node_count });
@@ -473,8 +481,8 @@ impl ElasticCatenary {
         )
     }
 
-    /// Largest distance (m) between node $i$ of the equilibrium of
-    /// [`discrete_member`](Self::discrete_member) and the cable point $s_i = i\,l_0$.
+    /// Largest distance (m) between node $`i`$ of the equilibrium of
+    /// [`discrete_member`](Self::discrete_member) and the cable point $`s_i = i\,l_0`$.
     pub fn max_node_distance(&self, node_count: usize) -> Result<f64, CatenaryError> {
         let equilibrium = self.discrete_member(node_count)?.solve_equilibrium()?;
         let l0 = self.L / (node_count - 1) as f64;
@@ -487,21 +495,22 @@ impl ElasticCatenary {
     }
 }
 
-/// How the tension direction and size change from $(H, V_0)$ to $(H, V_0 + \Delta V)$, $H > 0$.
+/// How the tension direction and size change from $`(H, V_0)`$ to $`(H, V_0 + \Delta V)`$,
+/// $`H > 0`$.
 struct TensionChange {
-    /// $\operatorname{asinh}(V/H) - \operatorname{asinh}(V_0/H)$.
+    /// $`\operatorname{asinh}(V/H) - \operatorname{asinh}(V_0/H)`$.
     asinh: f64,
-    /// $V/T - V_0/T_0$.
+    /// $`V/T - V_0/T_0`$.
     sine: f64,
-    /// $T - T_0$.
+    /// $`T - T_0`$.
     magnitude: f64,
 }
 
-/// A taut cable barely turns, so $V/H$ and $V_0/H$ are large and close; the naive differences
-/// would then lose most of their digits. With $V$ and $V_0$ of equal sign the cross term
-/// $V T_0 - V_0 T = H^2 \Delta V (V + V_0) / (V T_0 + V_0 T)$ and
-/// $\operatorname{asinh} a - \operatorname{asinh} b
-/// = \operatorname{asinh}\left(a\sqrt{1 + b^2} - b\sqrt{1 + a^2}\right)$ avoid the cancellation;
+/// A taut cable barely turns, so $`V/H`$ and $`V_0/H`$ are large and close; the naive differences
+/// would then lose most of their digits. With $`V`$ and $`V_0`$ of equal sign the cross term
+/// $`V T_0 - V_0 T = H^2 \Delta V (V + V_0) / (V T_0 + V_0 T)`$ and
+/// $`\operatorname{asinh} a - \operatorname{asinh} b
+/// = \operatorname{asinh}\left(a\sqrt{1 + b^2} - b\sqrt{1 + a^2}\right)`$ avoid the cancellation;
 /// with opposite signs the direct differences add and are already accurate.
 fn tension_change(H: f64, V0: f64, delta_V: f64) -> TensionChange {
     let V = V0 + delta_V;
@@ -574,10 +583,10 @@ fn validate_anchors(anchor_a: &Vector3<f64>, anchor_b: &Vector3<f64>) -> Result<
     Ok(())
 }
 
-/// Starting $(H, V_0)$ from a shallow (parabolic) elastic cable along the chord: its tension $T$
-/// makes the stretch $C T$ plus the sag's extra length $W_\perp^2 D / (24 T^2)$ cover the gap
-/// between the chord length $D$ and the unstretched length $L$, where $C$ is the total
-/// compliance and $W_\perp$ the weight component normal to the chord.
+/// Starting $`(H, V_0)`$ from a shallow (parabolic) elastic cable along the chord: its tension
+/// $`T`$ makes the stretch $`C T`$ plus the sag's extra length $`W_\perp^2 D / (24 T^2)`$ cover the
+/// gap between the chord length $`D`$ and the unstretched length $`L`$, where $`C`$ is the total
+/// compliance and $`W_\perp`$ the weight component normal to the chord.
 fn shallow_cable_guess(chord: Vector2<f64>, L: f64, W: f64, C: f64) -> Vector2<f64> {
     let D = chord.norm();
     let W_normal = W * chord.x / D;
@@ -609,7 +618,7 @@ fn shallow_cable_guess(chord: Vector2<f64>, L: f64, W: f64, C: f64) -> Vector2<f
     Vector2::new(T * chord.x / D, T * chord.y / D - W / 2.0)
 }
 
-/// Closure residual $r = \sum_j d_j - (B - A)$ and its Jacobian at one $(H, V_0)$.
+/// Closure residual $`r = \sum_j d_j - (B - A)`$ and its Jacobian at one $`(H, V_0)`$.
 struct Evaluation {
     residual: Vector2<f64>,
     jacobian: Matrix2<f64>,
@@ -623,15 +632,15 @@ struct NewtonSolution {
     relative_residual: f64,
 }
 
-/// Solves the closure $r(H, V_0) = 0$ by Newton's method on $V_0$ along the curve where the
-/// horizontal closure $r_x = 0$ holds, with $H$ kept on that curve by
+/// Solves the closure $`r(H, V_0) = 0`$ by Newton's method on $`V_0`$ along the curve where the
+/// horizontal closure $`r_x = 0`$ holds, with $`H`$ kept on that curve by
 /// [`balance_horizontal_tension`].
 ///
-/// A plain damped Newton step in $(H, V_0)$ can be drawn into a point $H = 0$,
-/// $V_0 = -g\sum_{i \le j} m_i$ where spring $j$ would be slack, because the complementary
-/// energy has a cone-shaped kink there. On the curve $H > 0$, so no spring is ever slack, and
-/// the vertical residual increases with $V_0$ at the rate
-/// $\partial_{V_0} r_y - (\partial_{V_0} r_x)^2 / \partial_H r_x$ (the Schur complement of the
+/// A plain damped Newton step in $`(H, V_0)`$ can be drawn into a point $`H = 0`$,
+/// $`V_0 = -g\sum_{i \le j} m_i`$ where spring $`j`$ would be slack, because the complementary
+/// energy has a cone-shaped kink there. On the curve $`H > 0`$, so no spring is ever slack, and
+/// the vertical residual increases with $`V_0`$ at the rate
+/// $`\partial_{V_0} r_y - (\partial_{V_0} r_x)^2 / \partial_H r_x`$ (the Schur complement of the
 /// symmetric positive definite Jacobian), so the root can be bracketed and Newton falls back to
 /// bisection whenever it would leave the bracket.
 fn solve_closure(
@@ -697,12 +706,12 @@ fn solve_closure(
     }
 }
 
-/// Solves the horizontal closure $r_x(H) = 0$ at fixed $V_0$ by Newton's method from `H`,
+/// Solves the horizontal closure $`r_x(H) = 0`$ at fixed $`V_0`$ by Newton's method from `H`,
 /// returning the root, the evaluation there and the number of steps.
 ///
-/// $r_x$ is increasing and concave in $H$ and starts at $r_x(0^+) = -\Delta x < 0$, so a
+/// $`r_x`$ is increasing and concave in $`H`$ and starts at $`r_x(0^+) = -\Delta x < 0`$, so a
 /// Newton step from left of the root stays left and climbs to it monotonically, while a step
-/// from the right lands left of it, or is replaced by halving $H$ if it would cross zero.
+/// from the right lands left of it, or is replaced by halving $`H`$ if it would cross zero.
 fn balance_horizontal_tension(
     evaluate: &impl Fn(f64, f64) -> Evaluation,
     mut H: f64,

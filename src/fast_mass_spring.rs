@@ -3,21 +3,21 @@
 //!
 //! Block coordinate descent on Eq (20) with the spring energy rewritten by Eqs (21)-(23):
 //! a local step projects every spring onto its rest length (Eq 28), a global step solves the
-//! prefactored system $(M + dt^2 L)\,x = M y + dt^2 f_{ext} + dt^2 J d$ (Eq 29). The matrices
-//! $M$, $L$, $J$ (Eqs 24-26, 52-53) and the factorisation of $A = M + dt^2 L$ are built once
+//! prefactored system $`(M + dt^2 L)\,x = M y + dt^2 f_{ext} + dt^2 J d`$ (Eq 29). The matrices
+//! $`M`$, $`L`$, $`J`$ (Eqs 24-26, 52-53) and the factorisation of $`A = M + dt^2 L`$ are built once
 //! per scene and time step ([`crate::projective`], shared with ADMM-PD); fixed nodes enter the
 //! factorisation by Eqs 43-47.
 //!
 //! Errata implemented in consistent form (see `docs/thesis-errata.md`):
-//! - Eqs (27), (29): as printed, $b = M x + dt^2 f_{ext}$ and $(M + dt^2 L)x = dt^2 J d - b$
+//! - Eqs (27), (29): as printed, $`b = M x + dt^2 f_{ext}`$ and $`(M + dt^2 L)x = dt^2 J d - b`$
 //!   give the inertia the wrong sign and no velocity. Liu 2013 uses the prediction
-//!   $y = x_n + dt\,v_n$: the right-hand side is $M y + dt^2 f_{ext} + dt^2 J d$.
-//! - Algorithm 3 has no velocity update: $v_{n+1} = (x_{n+1} - x_n)/dt$ after the loop, as in
+//!   $`y = x_n + dt\,v_n`$: the right-hand side is $`M y + dt^2 f_{ext} + dt^2 J d`$.
+//! - Algorithm 3 has no velocity update: $`v_{n+1} = (x_{n+1} - x_n)/dt`$ after the loop, as in
 //!   Algorithm 4 line 2.11.
 //!
 //! Algorithm 3 does not say where the iteration starts: an open point, resolved by
-//! [`FirstIterate`]. The default is $x_n$ ([`FirstIterate::Previous`]); Liu 2013's inertial
-//! prediction $y$ ([`FirstIterate::Inertial`]) is the other reading. The report runs both
+//! [`FirstIterate`]. The default is $`x_n`$ ([`FirstIterate::Previous`]); Liu 2013's inertial
+//! prediction $`y`$ ([`FirstIterate::Inertial`]) is the other reading. The report runs both
 //! and says which published rows each reproduces (its "interpretation" evidence class). With
 //! many iterations the step converges to the Backward Euler step of Eq (20) whatever the start.
 
@@ -31,10 +31,10 @@ use crate::system::{MassSpringSystem, State, Vec3};
 /// Where each step's local/global iteration starts, a point Algorithm 3 leaves open.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum FirstIterate {
-    /// $x^0 = x_n$, the previous positions (the default).
+    /// $`x^0 = x_n`$, the previous positions (the default).
     #[default]
     Previous,
-    /// $x^0 = y = x_n + dt\,v_n$, Liu 2013's inertial prediction.
+    /// $`x^0 = y = x_n + dt\,v_n`$, Liu 2013's inertial prediction.
     Inertial,
 }
 
@@ -45,18 +45,18 @@ pub struct FastMassSpring {
     dt: f64,
     iterations: usize,
     first_iterate: FirstIterate,
-    /// $J$ of Eqs (26), (53), stored per spring.
+    /// $`J`$ of Eqs (26), (53), stored per spring.
     j: SpringIncidence,
     rest_lengths: Vec<f64>,
-    /// $A = M + dt^2 L$, factored once (Algorithm 3 line 1.4).
+    /// $`A = M + dt^2 L`$, factored once (Algorithm 3 line 1.4).
     a: GlobalSolve,
-    /// $dt^2 f_{ext}$, column-major.
+    /// $`dt^2 f_{ext}`$, column-major.
     dt2_f_ext: Vec<f64>,
     // Per-step buffers (column-major, 3n), so that a step allocates nothing.
     x_n: Vec<f64>,
     b: Vec<f64>,
     x: Vec<f64>,
-    /// One $d_i$ per spring.
+    /// One $`d_i`$ per spring.
     d: Vec<Vec3>,
     /// Scratch of the local step, one entry per spring.
     scale: Vec<f64>,
@@ -103,8 +103,8 @@ impl FastMassSpring {
         self.iterations
     }
 
-    /// Eq. (27): consistent form $b = M y + dt^2 f_{ext}$ with $y = x_n + dt\,v_n$
-    /// (printed: $b = M x + f_{ext}\,dt^2$, subtracted in Eq 29).
+    /// Eq. (27): consistent form $`b = M y + dt^2 f_{ext}`$ with $`y = x_n + dt\,v_n`$
+    /// (printed: $`b = M x + f_{ext}\,dt^2`$, subtracted in Eq 29).
     fn inertial_rhs(&mut self, state: &State) {
         let n = state.x.len();
         for (i, ((x, v), node)) in state
@@ -121,7 +121,7 @@ impl FastMassSpring {
         }
     }
 
-    /// Eq. (28): $d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|$ for every spring, at the current
+    /// Eq. (28): $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for every spring, at the current
     /// iterate (the local step, lines 2.3-2.5).
     fn local_step(&mut self) {
         for (i, d) in self.d.iter_mut().enumerate() {
@@ -130,8 +130,8 @@ impl FastMassSpring {
         project_on_spheres(&mut self.d, &self.rest_lengths, &mut self.scale);
     }
 
-    /// Eq. (29): consistent form $(M + dt^2 L)\,x = b + dt^2 J d$, solved with the
-    /// prefactored $A$ for the three coordinates at once; fixed nodes stay at $x_n$.
+    /// Eq. (29): consistent form $`(M + dt^2 L)\,x = b + dt^2 J d`$, solved with the
+    /// prefactored $`A`$ for the three coordinates at once; fixed nodes stay at $`x_n`$.
     fn global_step(&mut self) {
         let dt2 = self.dt * self.dt;
         self.x.copy_from_slice(&self.b);

@@ -3,8 +3,8 @@
 //! scene and time step, Algorithm 3 line 1.4 and Algorithm 4 line 1.5).
 //!
 //! Three factorisations sit behind [`Factorization`], chosen by the matrix's half-bandwidth:
-//! a twisted tridiagonal $LDL^\top$ for 1 (a chain with one unknown per node: Liu's and ADMM's
-//! per-coordinate matrix of the rope), a banded $LDL^\top$ up to
+//! a twisted tridiagonal $`LDL^\top`$ for 1 (a chain with one unknown per node: Liu's and ADMM's
+//! per-coordinate matrix of the rope), a banded $`LDL^\top`$ up to
 //! [`BANDED_MAX_BANDWIDTH`] (5 for Backward Euler's 3n×3n matrix of the rope), and faer's
 //! sparse supernodal Cholesky with a fill-reducing ordering for everything else (a cloth).
 //! The pattern is analysed once; refactoring with new values reuses it. The solves of the
@@ -122,7 +122,7 @@ impl SymmetricMatrix {
         )
     }
 
-    /// $y = A x$.
+    /// $`y = A x`$.
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         for (i, yi) in y.iter_mut().enumerate() {
             *yi = self.row(i).map(|(j, a)| a * x[j]).sum();
@@ -145,7 +145,7 @@ impl SymmetricMatrix {
 /// Matrices with a half-bandwidth up to this use the banded factorisation.
 pub const BANDED_MAX_BANDWIDTH: usize = 16;
 
-/// A factorisation of a symmetric positive definite matrix ($LDL^\top$ or $LL^\top$),
+/// A factorisation of a symmetric positive definite matrix ($`LDL^\top`$ or $`LL^\top`$),
 /// analysed once for its pattern.
 #[derive(Debug, Clone)]
 pub enum Factorization {
@@ -176,7 +176,7 @@ impl Factorization {
         }
     }
 
-    /// Solves $A x = b$ in place for `ncols` right-hand sides stored one after another
+    /// Solves $`A x = b`$ in place for `ncols` right-hand sides stored one after another
     /// (column-major, each of length n).
     #[inline]
     pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
@@ -206,8 +206,8 @@ fn inverse_pivot(row: usize, d: f64) -> Result<f64> {
 }
 
 /// A symmetric tridiagonal matrix factored from both ends toward a middle row k (a twisted
-/// factorisation): $LDL^\top$ down rows $0..k$, its mirror image $UEU^\top$ up rows
-/// $n-1..k$, and the pivot $\gamma_k$ where the two meet.
+/// factorisation): $`LDL^\top`$ down rows $`0..k`$, its mirror image $`UEU^\top`$ up rows
+/// $`n-1..k`$, and the pivot $`\gamma_k`$ where the two meet.
 ///
 /// A substitution is a chain in which every row waits for its neighbour; starting from both
 /// ends halves the chain, the two halves running side by side. This is the solve Liu 2013
@@ -218,14 +218,14 @@ pub struct TwistedTridiagonal {
     n: usize,
     /// The middle row.
     k: usize,
-    /// Slots of $a_{ii}$, and of $a_{i,i+1}$ where stored, in the matrix's values.
+    /// Slots of $`a_{ii}`$, and of $`a_{i,i+1}`$ where stored, in the matrix's values.
     diagonal_slots: Vec<usize>,
     off_diagonal_slots: Vec<Option<usize>>,
-    /// $L_{i,i-1}$ for $1 \le i \le k$, zero elsewhere.
+    /// $`L_{i,i-1}`$ for $`1 \le i \le k`$, zero elsewhere.
     lower: Vec<f64>,
-    /// $U_{i,i+1}$ for $k \le i < n-1$, zero elsewhere.
+    /// $`U_{i,i+1}`$ for $`k \le i < n-1`$, zero elsewhere.
     upper: Vec<f64>,
-    /// $1/d_i$ above k, $1/\gamma_k$ at k, $1/e_i$ below k.
+    /// $`1/d_i`$ above k, $`1/\gamma_k`$ at k, $`1/e_i`$ below k.
     inverse_pivot: Vec<f64>,
 }
 
@@ -256,8 +256,8 @@ impl TwistedTridiagonal {
     }
 
     /// Factors new values of a matrix with the pattern of the one this was built from:
-    /// $L_{i,i-1} = a_{i,i-1}/d_{i-1}$, $d_i = a_{ii} - a_{i,i-1}L_{i,i-1}$ down to k, the
-    /// mirror image up to k, and $\gamma_k = a_{kk} - a_{k,k-1}L_{k,k-1} - a_{k,k+1}U_{k,k+1}$.
+    /// $`L_{i,i-1} = a_{i,i-1}/d_{i-1}`$, $`d_i = a_{ii} - a_{i,i-1}L_{i,i-1}`$ down to k, the
+    /// mirror image up to k, and $`\gamma_k = a_{kk} - a_{k,k-1}L_{k,k-1} - a_{k,k+1}U_{k,k+1}`$.
     pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
         let (n, k) = (self.n, self.k);
         if n == 0 {
@@ -321,9 +321,9 @@ impl TwistedTridiagonal {
         }
     }
 
-    /// $y_i = b_i - L_{i,i-1}y_{i-1}$ down to k and $y_i = b_i - U_{i,i+1}y_{i+1}$ up to k,
-    /// $x_k = (b_k - L_{k,k-1}y_{k-1} - U_{k,k+1}y_{k+1})/\gamma_k$, then outward
-    /// $x_i = y_i/d_i - L_{i+1,i}x_{i+1}$ and $x_i = y_i/e_i - U_{i-1,i}x_{i-1}$.
+    /// $`y_i = b_i - L_{i,i-1}y_{i-1}`$ down to k and $`y_i = b_i - U_{i,i+1}y_{i+1}`$ up to k,
+    /// $`x_k = (b_k - L_{k,k-1}y_{k-1} - U_{k,k+1}y_{k+1})/\gamma_k`$, then outward
+    /// $`x_i = y_i/d_i - L_{i+1,i}x_{i+1}`$ and $`x_i = y_i/e_i - U_{i-1,i}x_{i-1}`$.
     #[inline]
     fn solve_together<const C: usize>(&self, mut cols: [&mut [f64]; C]) {
         let (n, k) = (self.n, self.k);
@@ -364,11 +364,11 @@ impl TwistedTridiagonal {
     }
 }
 
-/// Banded $LDL^\top$ (square-root-free Cholesky): $L$ unit lower triangular with
-/// half-bandwidth p, $D$ diagonal.
+/// Banded $`LDL^\top`$ (square-root-free Cholesky): $`L`$ unit lower triangular with
+/// half-bandwidth p, $`D`$ diagonal.
 ///
 /// Both the factorisation and the substitutions are latency-bound: each row waits for the
-/// one before. $LDL^\top$ keeps the square root off that chain ($LL^\top$ has a square root
+/// one before. $`LDL^\top`$ keeps the square root off that chain ($`LL^\top`$ has a square root
 /// and a division per row on it; here a division, and none in the substitutions), the
 /// substitutions add the newest unknown last, and several right-hand sides are swept
 /// together, row by row, so that their independent chains overlap. Half-bandwidth 5, that of
@@ -382,10 +382,10 @@ pub struct BandedLdlt {
     /// diagonal, so that refactoring copies without searching.
     lower: Vec<(usize, usize)>,
     /// Row i of the matrix is row i + p here (p zero rows first, so that every row has p
-    /// entries left of its diagonal): $L_{i,i-p}, \dots, L_{i,i-1}, d_i$, zero left of
+    /// entries left of its diagonal): $`L_{i,i-p}, \dots, L_{i,i-1}, d_i`$, zero left of
     /// column 0.
     band: Vec<f64>,
-    /// $1/d_i$ at i + p (zero before): the substitutions multiply, a division per row would
+    /// $`1/d_i`$ at i + p (zero before): the substitutions multiply, a division per row would
     /// lengthen their chain.
     inverse_diagonal: Vec<f64>,
 }
@@ -434,8 +434,8 @@ impl BandedLdlt {
         }
     }
 
-    /// Row by row: $t_j = a_{ij} - \sum_{k<j} t_k L_{jk}$ (so $t_k = L_{ik} d_k$),
-    /// $L_{ij} = t_j / d_j$, $d_i = a_{ii} - \sum_{k<i} t_k L_{ik}$. The zero rows and
+    /// Row by row: $`t_j = a_{ij} - \sum_{k<j} t_k L_{jk}`$ (so $`t_k = L_{ik} d_k`$),
+    /// $`L_{ij} = t_j / d_j`$, $`d_i = a_{ii} - \sum_{k<i} t_k L_{ik}`$. The zero rows and
     /// columns before the matrix give every row the same p steps, adding exact zeros.
     #[inline(always)]
     fn factor(&mut self, p: usize) -> Result<()> {
@@ -466,7 +466,7 @@ impl BandedLdlt {
         Ok(())
     }
 
-    /// $L y = b$, $D z = y$, $L^\top x = z$ for `ncols` right-hand sides.
+    /// $`L y = b`$, $`D z = y`$, $`L^\top x = z`$ for `ncols` right-hand sides.
     pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
         let b = &mut b[..self.n * ncols];
         match ncols {
@@ -487,7 +487,7 @@ impl BandedLdlt {
         }
     }
 
-    /// Row i of $L$ holds columns i-p..i-1; column i of $L^\top$ is read down the rows below
+    /// Row i of $`L`$ holds columns i-p..i-1; column i of $`L^\top`$ is read down the rows below
     /// i, farthest first.
     #[inline(always)]
     fn solve_banded<const C: usize>(&self, cols: &mut [&mut [f64]; C], p: usize) {
@@ -522,7 +522,7 @@ impl BandedLdlt {
     }
 }
 
-/// faer's sparse $LL^\top$.
+/// faer's sparse $`LL^\top`$.
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
     n: usize,

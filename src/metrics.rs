@@ -5,9 +5,9 @@
 //! Two conventions for the half-period:
 //! - **thesis** (the default for every comparison with published numbers): a peak is stamped
 //!   with the time of the step at which it is detected, one step after the peak sample, with
-//!   simulated time accumulated in single precision (`t += dt` in f32); $T/2$ = last stamp /
+//!   simulated time accumulated in single precision (`t += dt` in f32); $`T/2`$ = last stamp /
 //!   number of peaks, measured from t = 0;
-//! - **exact**: each peak stamped at its own sample, time in f64; $T/2$ = mean interval between
+//! - **exact**: each peak stamped at its own sample, time in f64; $`T/2`$ = mean interval between
 //!   consecutive peaks.
 
 use crate::error::{require_positive, Result};
@@ -48,7 +48,7 @@ impl StoppingRule {
     }
 }
 
-/// A kinetic-energy maximum: sample $i$ with $KE_{i-1} < KE_i \ge KE_{i+1}$ (convention 2).
+/// A kinetic-energy maximum: sample $`i`$ with $`KE_{i-1} < KE_i \ge KE_{i+1}`$ (convention 2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Peak {
     /// Index of the peak sample (sample 0 is t = 0).
@@ -118,17 +118,18 @@ pub fn half_period_exact(peaks: &[Peak]) -> Option<f64> {
     }
 }
 
-/// "error relat. T medio" (convention 6): $|T/2 - T/2_{ref}| / T/2_{ref}$.
+/// "error relat. T medio" (convention 6): $`|T/2 - T/2_{ref}| / T/2_{ref}`$.
 pub fn relative_period_error(half_period: f64, reference: f64) -> f64 {
     (half_period - reference).abs() / reference
 }
 
-/// Rest-state error as the thesis's "error" (convention 7): $\sum_i |x_i - x^{ref}_i|$.
+/// Rest-state error as the thesis's "error" (convention 7): $`\sum_i |x_i - x^{ref}_i|`$.
 pub fn rest_error_sum(x: &[Vec3], reference: &[Vec3]) -> f64 {
     x.iter().zip(reference).map(|(a, b)| (a - b).norm()).sum()
 }
 
-/// Rest-state error as the sum of absolute coordinate differences, $\sum_i \|x_i - x^{ref}_i\|_1$.
+/// Rest-state error as the sum of absolute coordinate differences,
+/// $`\sum_i \|x_i - x^{ref}_i\|_1`$.
 ///
 /// Forensic finding: the thesis's published "error" matches this norm (within 0.98-1.01 on every
 /// XPBD row whose error exceeds 0.1) better than the sum of Euclidean distances (0.77-0.98).
@@ -139,7 +140,7 @@ pub fn rest_error_l1(x: &[Vec3], reference: &[Vec3]) -> f64 {
         .sum()
 }
 
-/// Rest-state error in the L2 norm: $\sqrt{\sum_i |x_i - x^{ref}_i|^2}$.
+/// Rest-state error in the L2 norm: $`\sqrt{\sum_i |x_i - x^{ref}_i|^2}`$.
 pub fn rest_error_l2(x: &[Vec3], reference: &[Vec3]) -> f64 {
     x.iter()
         .zip(reference)
@@ -148,7 +149,7 @@ pub fn rest_error_l2(x: &[Vec3], reference: &[Vec3]) -> f64 {
         .sqrt()
 }
 
-/// Rest-state error in the max norm: $\max_i |x_i - x^{ref}_i|$.
+/// Rest-state error in the max norm: $`\max_i |x_i - x^{ref}_i|`$.
 pub fn rest_error_max(x: &[Vec3], reference: &[Vec3]) -> f64 {
     x.iter()
         .zip(reference)

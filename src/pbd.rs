@@ -1,21 +1,21 @@
 //! Position-Based Dynamics, PBD (thesis §2.2, Algorithm 1, Eqs 13-14; Müller et al. 2007).
 //!
-//! Each spring is a distance constraint $C_j = |x_1 - x_2| - l_0$ (Eq 48, the deformation of
-//! Eq 1), projected on its own by nonlinear Gauss-Seidel in index order: the scaling $s_j$ of
-//! Eq 13 ([`s`]) and the correction $\Delta x = s_j M^{-1}\nabla C_j$ of Eq 14 ([`delta_x`]).
-//! PBD has no physical stiffness: the springs' $k$ (N/m) is ignored. Each constraint instead
-//! carries a dimensionless **stiffness factor** in $[0, 1]$ that multiplies its correction, as
-//! the thesis describes after Eq 14 (Müller 2007: "multiply $\Delta x$ by $k$"); it is not the
-//! spring stiffness $k$ in N/m, and its effect depends on the time step and the iteration count
-//! (§2.2). Müller's iteration-independent variant $1 - (1 - k)^{1/n}$ is not used: the thesis
+//! Each spring is a distance constraint $`C_j = |x_1 - x_2| - l_0`$ (Eq 48, the deformation of
+//! Eq 1), projected on its own by nonlinear Gauss-Seidel in index order: the scaling $`s_j`$ of
+//! Eq 13 ([`s`]) and the correction $`\Delta x = s_j M^{-1}\nabla C_j`$ of Eq 14 ([`delta_x`]).
+//! PBD has no physical stiffness: the springs' $`k`$ (N/m) is ignored. Each constraint instead
+//! carries a dimensionless **stiffness factor** in $`[0, 1]`$ that multiplies its correction, as
+//! the thesis describes after Eq 14 (Müller 2007: "multiply $`\Delta x`$ by $`k`$"); it is not the
+//! spring stiffness $`k`$ in N/m, and its effect depends on the time step and the iteration count
+//! (§2.2). Müller's iteration-independent variant $`1 - (1 - k)^{1/n}`$ is not used: the thesis
 //! does not adopt it.
 //!
-//! Erratum (Algorithm 1, line 6): as printed, the projection updates $x$ ("$x_{i+1} = x_i +
-//! \Delta x$", $i$ doubling as node and iteration index) and the predicted positions $p$ never
+//! Erratum (Algorithm 1, line 6): as printed, the projection updates $`x`$ ("$`x_{i+1} = x_i +
+//! \Delta x`$", $`i`$ doubling as node and iteration index) and the predicted positions $`p`$ never
 //! change, so lines 10-11 would undo the solve. The consistent form, Müller's, is used: the
-//! projection updates $p$, then line 10 sets $v = (p - x)/dt$ and line 11 sets $x = p$.
+//! projection updates $`p`$, then line 10 sets $`v = (p - x)/dt`$ and line 11 sets $`x = p`$.
 //!
-//! Fixed nodes have inverse mass $w = 0$ (thesis §3.3, after Müller 2007), so Eq 14 never moves
+//! Fixed nodes have inverse mass $`w = 0`$ (thesis §3.3, after Müller 2007), so Eq 14 never moves
 //! them; they are also left out of lines 1-2. With every stiffness factor equal to 1 the method
 //! is XPBD with zero compliance (§2.2.1), bit for bit: [`crate::xpbd::Xpbd::with_compliance`].
 
@@ -25,9 +25,9 @@ use crate::spring;
 use crate::system::{MassSpringSystem, State, Vec3};
 use crate::xpbd::generalized_inverse_mass;
 
-/// Eq. (13): $s_j = \dfrac{-C_j(x_i)}{\nabla C_j M^{-1}\nabla C_j^\top}$, given the constraint's
-/// value `c` and `w` $= \nabla C_j M^{-1}\nabla C_j^\top$ (Eq 50). A constraint that nothing can
-/// move ($w = 0$: both ends fixed) gets $s_j = 0$.
+/// Eq. (13): $`s_j = \dfrac{-C_j(x_i)}{\nabla C_j M^{-1}\nabla C_j^\top}`$, given the constraint's
+/// value `c` and `w` $`= \nabla C_j M^{-1}\nabla C_j^\top`$ (Eq 50). A constraint that nothing can
+/// move ($`w = 0`$: both ends fixed) gets $`s_j = 0`$.
 pub fn s(c: f64, w: f64) -> f64 {
     if w > 0.0 {
         -c / w
@@ -36,9 +36,9 @@ pub fn s(c: f64, w: f64) -> f64 {
     }
 }
 
-/// Eq. (14): $\Delta x = s_j M^{-1}\nabla C_j(x_i)$ scaled by the constraint's stiffness factor;
-/// for a distance constraint $\Delta x_1 = w_1\nabla_{x_1}C\,s_j$ and
-/// $\Delta x_2 = -w_2\nabla_{x_1}C\,s_j$, given `grad` $= \nabla_{x_1}C$ (Eq 49).
+/// Eq. (14): $`\Delta x = s_j M^{-1}\nabla C_j(x_i)`$ scaled by the constraint's stiffness factor;
+/// for a distance constraint $`\Delta x_1 = w_1\nabla_{x_1}C\,s_j`$ and
+/// $`\Delta x_2 = -w_2\nabla_{x_1}C\,s_j`$, given `grad` $`= \nabla_{x_1}C`$ (Eq 49).
 pub fn delta_x(grad: &Vec3, w1: f64, w2: f64, s: f64, stiffness_factor: f64) -> (Vec3, Vec3) {
     let s = stiffness_factor * s;
     (grad * (w1 * s), -grad * (w2 * s))
@@ -52,11 +52,11 @@ pub struct Pbd {
     iterations: usize,
     /// Dimensionless factor in [0, 1] per spring (not the stiffness in N/m).
     stiffness_factors: Vec<f64>,
-    /// Inverse masses $w_i$, 0 for fixed nodes.
+    /// Inverse masses $`w_i`$, 0 for fixed nodes.
     w: Vec<f64>,
-    /// $w_i f_{ext}$ per node, m/s² (0 for fixed nodes).
+    /// $`w_i f_{ext}`$ per node, m/s² (0 for fixed nodes).
     external_acceleration: Vec<Vec3>,
-    /// Predicted positions $p$, the iterate of lines 3-9.
+    /// Predicted positions $`p`$, the iterate of lines 3-9.
     p: Vec<Vec3>,
 }
 
@@ -152,7 +152,7 @@ impl TimeStepper for Pbd {
         &self.system
     }
 
-    /// Algorithm 1 with its erratum: the projection moves $p$.
+    /// Algorithm 1 with its erratum: the projection moves $`p`$.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let dt = self.dt;

@@ -5,13 +5,15 @@
 //!
 //! Both methods minimise Eq (20) by alternating a local step per spring with a linear solve
 //! whose matrix does not depend on the positions:
-//! $$A = M + dt^2 \sum_i w_i\,D_i^\top D_i,$$
-//! with $w_i = k_i$ Liu's $M + dt^2 L$ (Algorithm 3 line 1.4) and with $w_i = \omega_i^2$
-//! ADMM's $M + dt^2 D^\top W^\top W D$ (Algorithm 4 line 1.5). Here $D_i = (e_{a_i} -
-//! e_{b_i})^\top$ is spring $i$'s row of the reduction matrix (Eq 54; Eq 25 writes the same
+//! ```math
+//! A = M + dt^2 \sum_i w_i\,D_i^\top D_i,
+//! ```
+//! with $`w_i = k_i`$ Liu's $`M + dt^2 L`$ (Algorithm 3 line 1.4) and with $`w_i = \omega_i^2`$
+//! ADMM's $`M + dt^2 D^\top W^\top W D`$ (Algorithm 4 line 1.5). Here $`D_i = (e_{a_i} -
+//! e_{b_i})^\top`$ is spring $`i`$'s row of the reduction matrix (Eq 54; Eq 25 writes the same
 //! incidence vector as a column).
 //!
-//! Every matrix acts per coordinate ($L = \hat L \otimes I$, Eq 25), so the n×n matrix is
+//! Every matrix acts per coordinate ($`L = \hat L \otimes I`$, Eq 25), so the n×n matrix is
 //! factored and the three coordinates are solved together as three right-hand sides. The
 //! solvers therefore keep positions column-major: all x-coordinates, then all y, then all z
 //! ([`to_columns`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
@@ -24,10 +26,10 @@ use crate::system::{MassSpringSystem, State, Vec3};
 
 /// Spring-node incidence of a spring graph, stored per spring (never as a dense matrix).
 ///
-/// As an s×n matrix (s springs, n nodes) its row $i$ is $w_i\,(e_{a_i} - e_{b_i})^\top$, so
-/// that row $i$ applied to the positions is $w_i\,(x_{a_i} - x_{b_i})$. With unit weights it
-/// is the reduction matrix $D$ of Eq (54); with $w_i = k_i$ it is the transpose of the
-/// incidence matrix $J$ of Eqs (26), (53).
+/// As an s×n matrix (s springs, n nodes) its row $`i`$ is $`w_i\,(e_{a_i} - e_{b_i})^\top`$, so
+/// that row $`i`$ applied to the positions is $`w_i\,(x_{a_i} - x_{b_i})`$. With unit weights it
+/// is the reduction matrix $`D`$ of Eq (54); with $`w_i = k_i`$ it is the transpose of the
+/// incidence matrix $`J`$ of Eqs (26), (53).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpringIncidence {
     nodes: usize,
@@ -54,17 +56,17 @@ impl SpringIncidence {
         self.nodes
     }
 
-    /// The nodes $(a_i, b_i)$ of spring `i`.
+    /// The nodes $`(a_i, b_i)`$ of spring `i`.
     pub fn ends(&self, i: usize) -> (usize, usize) {
         self.ends[i]
     }
 
-    /// The weight $w_i$ of spring `i`.
+    /// The weight $`w_i`$ of spring `i`.
     pub fn weight(&self, i: usize) -> f64 {
         self.weights[i]
     }
 
-    /// Entry (`spring`, `node`) of the s×n matrix: $D_{ij}$ of Eq (54), $J_{ji}$ of Eq (53).
+    /// Entry (`spring`, `node`) of the s×n matrix: $`D_{ij}`$ of Eq (54), $`J_{ji}`$ of Eq (53).
     pub fn entry(&self, spring: usize, node: usize) -> f64 {
         let (a, b) = self.ends[spring];
         if node == a {
@@ -76,15 +78,15 @@ impl SpringIncidence {
         }
     }
 
-    /// Row `i` applied to column-major positions `x` (length 3n): $w_i\,(x_{a_i} - x_{b_i})$
-    /// ($D_i x$ for the reduction matrix).
+    /// Row `i` applied to column-major positions `x` (length 3n): $`w_i\,(x_{a_i} - x_{b_i})`$
+    /// ($`D_i x`$ for the reduction matrix).
     #[inline]
     pub fn apply_row(&self, i: usize, x: &[f64]) -> Vec3 {
         self.weights[i] * self.difference(i, x)
     }
 
-    /// The unweighted difference $x_{a_i} - x_{b_i}$ of spring `i`'s ends in column-major
-    /// positions `x` ($x_1 - x_2$ of Eqs 21-28).
+    /// The unweighted difference $`x_{a_i} - x_{b_i}`$ of spring `i`'s ends in column-major
+    /// positions `x` ($`x_1 - x_2`$ of Eqs 21-28).
     #[inline]
     pub fn difference(&self, i: usize, x: &[f64]) -> Vec3 {
         let (a, b) = self.ends[i];
@@ -93,8 +95,8 @@ impl SpringIncidence {
     }
 
     /// Adds row `i` transposed times `value` to the column-major `out` (length 3n):
-    /// $out_{a_i} \mathrel{+}= w_i\,value$, $out_{b_i} \mathrel{-}= w_i\,value$ (column $i$ of
-    /// $J$ times $d_i$; $D_i^\top$ times a per-spring vector).
+    /// $`out_{a_i} \mathrel{+}= w_i\,value`$, $`out_{b_i} \mathrel{-}= w_i\,value`$ (column $`i`$
+    /// of $`J`$ times $`d_i`$; $`D_i^\top`$ times a per-spring vector).
     #[inline]
     pub fn add_row_transposed(&self, i: usize, value: Vec3, out: &mut [f64]) {
         let (a, b) = self.ends[i];
@@ -161,23 +163,23 @@ fn check_weights(system: &MassSpringSystem, weights: &[f64]) -> Result<()> {
     Ok(())
 }
 
-/// Eq. (24): $M = \mathrm{diag}(m_1, \dots, m_n) \otimes I$, stored per coordinate (n×n).
+/// Eq. (24): $`M = \mathrm{diag}(m_1, \dots, m_n) \otimes I`$, stored per coordinate (n×n).
 pub fn mass_matrix(system: &MassSpringSystem) -> SymmetricMatrix {
     let mut m = spring_graph_pattern(system);
     add_mass(&mut m, system);
     m
 }
 
-/// Eqs. (25), (52): $L = \left(\sum_i k_i D_i D_i^\top\right) \otimes I$, the
+/// Eqs. (25), (52): $`L = \left(\sum_i k_i D_i D_i^\top\right) \otimes I`$, the
 /// stiffness-weighted Laplacian of the spring graph, stored per coordinate (n×n). For the
-/// thesis rope it is $k\,\mathrm{tridiag}(-1, 2, -1)$ with 1 at both ends (Eq 52).
+/// thesis rope it is $`k\,\mathrm{tridiag}(-1, 2, -1)`$ with 1 at both ends (Eq 52).
 pub fn stiffness_laplacian(system: &MassSpringSystem) -> SymmetricMatrix {
     let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
     weighted_laplacian(system, &k).expect("a validated system has one stiffness >= 0 per spring")
 }
 
-/// Algorithm 4 line 1.4: $D^\top W^\top W D = \sum_i w_i\,D_i^\top D_i$ for per-spring weights
-/// $w_i = \omega_i^2$ (n×n per coordinate); with $w_i = k_i$ this is $L$ of Eq (25).
+/// Algorithm 4 line 1.4: $`D^\top W^\top W D = \sum_i w_i\,D_i^\top D_i`$ for per-spring weights
+/// $`w_i = \omega_i^2`$ (n×n per coordinate); with $`w_i = k_i`$ this is $`L`$ of Eq (25).
 pub fn weighted_laplacian(system: &MassSpringSystem, weights: &[f64]) -> Result<SymmetricMatrix> {
     check_weights(system, weights)?;
     let mut l = spring_graph_pattern(system);
@@ -185,9 +187,9 @@ pub fn weighted_laplacian(system: &MassSpringSystem, weights: &[f64]) -> Result<
     Ok(l)
 }
 
-/// Eqs. (26), (53): $J = \left(\sum_i k_i D_i S_i^\top\right) \otimes I$, the n×s
-/// stiffness-weighted incidence matrix (per coordinate), stored as its transpose: column $i$
-/// of $J$ is $k_i\,(e_{a_i} - e_{b_i})$.
+/// Eqs. (26), (53): $`J = \left(\sum_i k_i D_i S_i^\top\right) \otimes I`$, the n×s
+/// stiffness-weighted incidence matrix (per coordinate), stored as its transpose: column $`i`$
+/// of $`J`$ is $`k_i\,(e_{a_i} - e_{b_i})`$.
 pub fn incidence_matrix(system: &MassSpringSystem) -> SpringIncidence {
     SpringIncidence::new(
         system,
@@ -195,13 +197,13 @@ pub fn incidence_matrix(system: &MassSpringSystem) -> SpringIncidence {
     )
 }
 
-/// Eq. (54): $D$, the s×n reduction matrix (per coordinate), unweighted: $D_i x = x_{a_i} -
-/// x_{b_i}$, so that $D = J^\top$ without the stiffness (§3.5).
+/// Eq. (54): $`D`$, the s×n reduction matrix (per coordinate), unweighted: $`D_i x = x_{a_i} -
+/// x_{b_i}`$, so that $`D = J^\top`$ without the stiffness (§3.5).
 pub fn reduction_matrix(system: &MassSpringSystem) -> SpringIncidence {
     SpringIncidence::new(system, vec![1.0; system.springs().len()])
 }
 
-/// Algorithm 3 line 1.4 and Algorithm 4 line 1.5: $A = M + dt^2 \sum_i w_i D_i^\top D_i$
+/// Algorithm 3 line 1.4 and Algorithm 4 line 1.5: $`A = M + dt^2 \sum_i w_i D_i^\top D_i`$
 /// (n×n per coordinate), before the fixed nodes are imposed.
 pub fn system_matrix(
     system: &MassSpringSystem,
@@ -216,11 +218,11 @@ pub fn system_matrix(
     Ok(a)
 }
 
-/// Eqs. (28), (55): the projection of $q$ onto the sphere of radius $l_0$,
-/// $l_0\,q/|q|$ (Liu's spring direction $d_i$ with $q = x_1 - x_2$; ADMM's $p_i$ with
-/// $q = D_i x + \bar u_i$).
+/// Eqs. (28), (55): the projection of $`q`$ onto the sphere of radius $`l_0`$,
+/// $`l_0\,q/|q|`$ (Liu's spring direction $`d_i`$ with $`q = x_1 - x_2`$; ADMM's $`p_i`$ with
+/// $`q = D_i x + \bar u_i`$).
 ///
-/// A zero $q$ has no direction (every point of the sphere is then a minimiser); the zero
+/// A zero $`q`$ has no direction (every point of the sphere is then a minimiser); the zero
 /// vector is returned, as [`crate::spring::constraint_gradient`] does, so that a degenerate
 /// spring pushes its nodes in no arbitrary direction instead of producing NaN.
 #[inline]
@@ -228,7 +230,7 @@ pub fn project_on_sphere(q: Vec3, l0: f64) -> Vec3 {
     q * sphere_scale(q.norm_squared(), l0)
 }
 
-/// Eqs. (28), (55): $q_i \leftarrow l_{0,i}\,q_i/|q_i|$ for every spring at once, with the
+/// Eqs. (28), (55): $`q_i \leftarrow l_{0,i}\,q_i/|q_i|`$ for every spring at once, with the
 /// arithmetic of [`project_on_sphere`]. A square root and a division per spring are most of a
 /// local step's cost; gathered in one loop over `scale` (scratch, one entry per spring) they
 /// run several at a time in SIMD registers.
@@ -244,7 +246,7 @@ pub fn project_on_spheres(q: &mut [Vec3], l0: &[f64], scale: &mut [f64]) {
     }
 }
 
-/// $l_0/|q|$ from $|q|^2$, and 0 for $q = 0$: the factor that takes $q$ onto the sphere.
+/// $`l_0/|q|`$ from $`|q|^2`$, and 0 for $`q = 0`$: the factor that takes $`q`$ onto the sphere.
 #[inline]
 fn sphere_scale(length_squared: f64, l0: f64) -> f64 {
     if length_squared > 0.0 {
@@ -254,7 +256,7 @@ fn sphere_scale(length_squared: f64, l0: f64) -> f64 {
     }
 }
 
-/// The global step's linear system, prefactored: $A$ of [`system_matrix`] with the fixed
+/// The global step's linear system, prefactored: $`A`$ of [`system_matrix`] with the fixed
 /// nodes imposed by Eqs 43-47 and factored once (one per scene and time step).
 #[derive(Debug, Clone)]
 pub struct GlobalSolve {
@@ -263,7 +265,7 @@ pub struct GlobalSolve {
 }
 
 impl GlobalSolve {
-    /// Builds and factors $A = M + dt^2 \sum_i w_i D_i^\top D_i$ for `system` (per-spring
+    /// Builds and factors $`A = M + dt^2 \sum_i w_i D_i^\top D_i`$ for `system` (per-spring
     /// `weights` >= 0, `dt` > 0).
     pub fn new(system: &MassSpringSystem, dt: f64, weights: &[f64]) -> Result<Self> {
         let mut a = system_matrix(system, dt, weights)?;
@@ -280,8 +282,8 @@ impl GlobalSolve {
         })
     }
 
-    /// Solves $A x = b$ for the three coordinates at once. `b` (column-major, length 3n) is
-    /// overwritten by $x$; the fixed nodes take their values from `x_bar` (same layout), so
+    /// Solves $`A x = b`$ for the three coordinates at once. `b` (column-major, length 3n) is
+    /// overwritten by $`x`$; the fixed nodes take their values from `x_bar` (same layout), so
     /// that they come out bitwise equal to them (Eqs 45-47).
     #[inline]
     pub fn solve(&self, b: &mut [f64], x_bar: &[f64]) {
@@ -307,7 +309,7 @@ pub fn node_of_columns(columns: &[f64], n: usize, i: usize) -> Vec3 {
 }
 
 /// Algorithm 4 line 2.11 (and the velocity update Algorithm 3 omits):
-/// $v_{n+1} = (x_{n+1} - x_n)/dt$, then $x_n \leftarrow x_{n+1}$, from the column-major
+/// $`v_{n+1} = (x_{n+1} - x_n)/dt`$, then $`x_n \leftarrow x_{n+1}`$, from the column-major
 /// solution `x_next`.
 pub fn finish_step(state: &mut State, x_next: &[f64], dt: f64) {
     let n = state.x.len();

@@ -55,7 +55,7 @@ pub struct SceneFile {
 /// The tutorial's forces beyond springs and gravity.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Forces {
-    /// Viscous drag coefficient $k_f$ in N·s/m, >= 0: $f_i = -k_f\,v_i$ on every node.
+    /// Viscous drag coefficient $`k_f`$ in N·s/m, >= 0: $`f_i = -k_f\,v_i`$ on every node.
     pub drag: f64,
     /// A ground plane the nodes bounce on, if any.
     pub ground: Option<Ground>,

@@ -36,7 +36,7 @@ pub struct Recording {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RunOptions {
     pub stop: StoppingRule,
-    /// Variant, 0 in the faithful runs: after each step $v \leftarrow v\,e^{-c\,dt}$, s⁻¹.
+    /// Variant, 0 in the faithful runs: after each step $`v \leftarrow v\,e^{-c\,dt}`$, s⁻¹.
     pub velocity_damping: f64,
     pub recording: Recording,
 }
@@ -83,7 +83,7 @@ impl Run {
 
 /// The energy that a diverging run exceeds by [`DIVERGENCE_FACTOR`]: the largest of the initial
 /// kinetic energy, the initial potential energy's magnitude, the work gravity does over the
-/// system's extent and the springs' energy at twice their rest length ($\sum rac12 k l_0^2$),
+/// system's extent and the springs' energy at twice their rest length ($`\sum \frac12 k l_0^2`$),
 /// so that a system starting at rest, with or without gravity, still has a scale.
 fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
     let (lo, hi) = state

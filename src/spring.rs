@@ -3,20 +3,20 @@
 //!
 //! Following the phys-sim-book layout: one file for the one energy, exposing its value,
 //! gradient (as the force) and Hessian (as the force Jacobian). All functions take the two
-//! end points $x_1, x_2$; the quantities for $x_2$ follow by symmetry
-//! ($F_2 = -F_1$, $\partial F_1/\partial x_2 = -\partial F_1/\partial x_1$).
+//! end points $`x_1, x_2`$; the quantities for $`x_2`$ follow by symmetry
+//! ($`F_2 = -F_1`$, $`\partial F_1/\partial x_2 = -\partial F_1/\partial x_1`$).
 
 use crate::system::Vec3;
 use nalgebra::Matrix3;
 
-/// Eqs. (1), (48): $C = |x_1 - x_2| - l_0$, the spring's deformation, and the distance
+/// Eqs. (1), (48): $`C = |x_1 - x_2| - l_0`$, the spring's deformation, and the distance
 /// constraint that XPBD drives to zero.
 pub fn constraint(x1: &Vec3, x2: &Vec3, l0: f64) -> f64 {
     (x1 - x2).norm() - l0
 }
 
-/// Eq. (49): $\nabla_{x_1} C = (x_1 - x_2)/|x_1 - x_2|$, the unit vector along the spring
-/// ($\nabla_{x_2} C$ is its negative). A zero-length spring has no direction; the zero
+/// Eq. (49): $`\nabla_{x_1} C = (x_1 - x_2)/|x_1 - x_2|`$, the unit vector along the spring
+/// ($`\nabla_{x_2} C`$ is its negative). A zero-length spring has no direction; the zero
 /// vector is returned so that a projection leaves it alone.
 pub fn constraint_gradient(x1: &Vec3, x2: &Vec3) -> Vec3 {
     let d = x1 - x2;
@@ -28,32 +28,33 @@ pub fn constraint_gradient(x1: &Vec3, x2: &Vec3) -> Vec3 {
     }
 }
 
-/// Eq. (2): $E = \frac12 k\,C^\top C$, Hooke's energy.
+/// Eq. (2): $`E = \frac12 k\,C^\top C`$, Hooke's energy.
 pub fn energy(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> f64 {
     let c = constraint(x1, x2, l0);
     0.5 * k * c * c
 }
 
-/// Eq. (3): $F_1 = -\partial E/\partial x_1 = -k\,C\,\nabla_{x_1}C$, the force on $x_1$
-/// (the force on $x_2$ is $-F_1$).
+/// Eq. (3): $`F_1 = -\partial E/\partial x_1 = -k\,C\,\nabla_{x_1}C`$, the force on $`x_1`$
+/// (the force on $`x_2`$ is $`-F_1`$).
 pub fn force(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Vec3 {
     -k * constraint(x1, x2, l0) * constraint_gradient(x1, x2)
 }
 
-/// Eq. (4): $\partial F_1/\partial x_1 = -\partial^2 E/\partial x_1^2
-/// = -k\left[\hat n\hat n^\top + (1 - l_0/l)(I - \hat n\hat n^\top)\right]$.
+/// Eq. (4): $`\partial F_1/\partial x_1 = -\partial^2 E/\partial x_1^2
+/// = -k\left[\hat n\hat n^\top + (1 - l_0/l)(I - \hat n\hat n^\top)\right]`$.
 ///
-/// Erratum (sign convention): the thesis calls $-\partial^2E/\partial x^2$ "the Hessian"; it is
-/// the force Jacobian $dF/dx$ that Eq. (12) uses, the negative of the energy Hessian. Under
-/// compression ($l < l_0$) the transverse term is positive and the block is indefinite.
-/// The other blocks are $\partial F_1/\partial x_2 = \partial F_2/\partial x_1 = -\partial F_1/\partial x_1$
-/// and $\partial F_2/\partial x_2 = \partial F_1/\partial x_1$.
+/// Erratum (sign convention): the thesis calls $`-\partial^2E/\partial x^2`$ "the Hessian"; it is
+/// the force Jacobian $`dF/dx`$ that Eq. (12) uses, the negative of the energy Hessian. Under
+/// compression ($`l < l_0`$) the transverse term is positive and the block is indefinite. The other
+/// blocks are
+/// $`\partial F_1/\partial x_2 = \partial F_2/\partial x_1 = -\partial F_1/\partial x_1`$ and
+/// $`\partial F_2/\partial x_2 = \partial F_1/\partial x_1`$.
 pub fn force_jacobian(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Matrix3<f64> {
     jacobian_with_transverse(x1, x2, l0, k, |t| t)
 }
 
 /// Eq. (4) projected to the negative semidefinite cone: the transverse factor
-/// $1 - l_0/l$ is clamped at 0, so $-\partial F/\partial x$ is positive semidefinite even under
+/// $`1 - l_0/l`$ is clamped at 0, so $`-\partial F/\partial x`$ is positive semidefinite even under
 /// compression (projected Newton, used by the converged step's descent direction).
 pub fn force_jacobian_definite(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Matrix3<f64> {
     jacobian_with_transverse(x1, x2, l0, k, |t| t.max(0.0))

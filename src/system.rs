@@ -31,11 +31,11 @@ pub struct Node {
 pub struct Spring {
     pub a: usize,
     pub b: usize,
-    /// Rest length $l_0$ in m, > 0.
+    /// Rest length $`l_0`$ in m, > 0.
     pub rest_length: f64,
-    /// Stiffness $k$ in N/m, >= 0.
+    /// Stiffness $`k`$ in N/m, >= 0.
     pub stiffness: f64,
-    /// Axial damping $k_d$ in N·s/m, >= 0 (used by the tutorial's force model only).
+    /// Axial damping $`k_d`$ in N·s/m, >= 0 (used by the tutorial's force model only).
     pub damping: f64,
 }
 
@@ -55,7 +55,7 @@ pub struct State {
 }
 
 impl State {
-    /// Kinetic energy $\frac12\sum_i m_i |v_i|^2$ (thesis §4.2, convention 1).
+    /// Kinetic energy $`\frac12\sum_i m_i |v_i|^2`$ (thesis §4.2, convention 1).
     pub fn kinetic_energy(&self, system: &MassSpringSystem) -> f64 {
         system
             .nodes
@@ -155,7 +155,7 @@ impl MassSpringSystem {
         }
     }
 
-    /// Inverse masses $w_i = 1/m_i$, and $w_i = 0$ for fixed nodes (thesis §3.3, Müller 2007).
+    /// Inverse masses $`w_i = 1/m_i`$, and $`w_i = 0`$ for fixed nodes (thesis §3.3, Müller 2007).
     pub fn inverse_masses(&self) -> Vec<f64> {
         self.nodes
             .iter()
@@ -177,8 +177,8 @@ impl MassSpringSystem {
         Self::new(self.nodes.clone(), self.springs.clone(), gravity)
     }
 
-    /// Rejects solvers that divide by the stiffness (XPBD's compliance $\alpha = 1/k$,
-    /// ADMM's weight $\omega = \sqrt{k}$) when a spring has $k = 0$.
+    /// Rejects solvers that divide by the stiffness (XPBD's compliance $`\alpha = 1/k`$,
+    /// ADMM's weight $`\omega = \sqrt{k}`$) when a spring has $`k = 0`$.
     pub fn require_positive_stiffness(&self) -> Result<()> {
         for (j, s) in self.springs.iter().enumerate() {
             require_positive(format!("springs[{j}].stiffness"), s.stiffness)?;
@@ -186,7 +186,7 @@ impl MassSpringSystem {
         Ok(())
     }
 
-    /// External force on every node: gravity $m_i g$ (zero on fixed nodes, which never move).
+    /// External force on every node: gravity $`m_i g`$ (zero on fixed nodes, which never move).
     pub fn external_force(&self, i: usize) -> Vec3 {
         let node = &self.nodes[i];
         if node.fixed {
@@ -212,8 +212,8 @@ impl MassSpringSystem {
         }
     }
 
-    /// The force Jacobian $dF/dx$ of every spring (Eq. 4) assembled densely, $3n\times3n$ with
-    /// unknown $3i + c$ for coordinate $c$ of node $i$; fixed nodes are included. For
+    /// The force Jacobian $`dF/dx`$ of every spring (Eq. 4) assembled densely, $`3n\times3n`$ with
+    /// unknown $`3i + c`$ for coordinate $`c`$ of node $`i`$; fixed nodes are included. For
     /// analysis (modes, stability) and as an independent check of the solvers' sparse assembly.
     pub fn force_jacobian_dense(&self, x: &[Vec3]) -> nalgebra::DMatrix<f64> {
         let n = 3 * self.nodes.len();
@@ -234,7 +234,7 @@ impl MassSpringSystem {
         k
     }
 
-    /// Potential energy: springs (Eq. 2) plus gravity, $\sum E_j - \sum_i m_i\,g\cdot x_i$.
+    /// Potential energy: springs (Eq. 2) plus gravity, $`\sum E_j - \sum_i m_i\,g\cdot x_i`$.
     pub fn potential_energy(&self, x: &[Vec3]) -> f64 {
         let elastic: f64 = self
             .springs

@@ -1,24 +1,24 @@
 //! Extended Position-Based Dynamics, XPBD (thesis §2.2.1, Algorithm 2, Eqs 15-19; the rope's
 //! distance constraints of §3.3, Eqs 48-51; Macklin, Müller & Chentanez 2016).
 //!
-//! Each spring $j$ is a compliant distance constraint $C_j = |x_1 - x_2| - l_0$ (Eq 48, the
-//! spring's deformation of Eq 1) with compliance $\alpha_j = 1/k_j$ (the inverse of the
+//! Each spring $`j`$ is a compliant distance constraint $`C_j = |x_1 - x_2| - l_0`$ (Eq 48, the
+//! spring's deformation of Eq 1) with compliance $`\alpha_j = 1/k_j`$ (the inverse of the
 //! spring's stiffness in N/m). The compliant constraint force of Eq 15,
-//! $\lambda = -\alpha^{-1}C(x)$, turns the equations of motion into Eq 16,
-//! $M a - \nabla C^\top\lambda = 0$, $C(x) + \alpha\lambda = 0$. Discretised with the
-//! time-step-scaled compliance $\tilde\alpha = \alpha/dt^2$ and solved by a simplified Newton
+//! $`\lambda = -\alpha^{-1}C(x)`$, turns the equations of motion into Eq 16,
+//! $`M a - \nabla C^\top\lambda = 0`$, $`C(x) + \alpha\lambda = 0`$. Discretised with the
+//! time-step-scaled compliance $`\tilde\alpha = \alpha/dt^2`$ and solved by a simplified Newton
 //! method, one constraint at a time, they give the linear system of Eq 17 and its solution for
 //! a single constraint, Eq 18 ([`delta_lambda`]), and the position update of Eq 19
 //! ([`delta_x`]). For the rope's distance constraint the gradient is the unit vector of Eq 49
-//! ([`spring::constraint_gradient`]), so $\nabla C M^{-1}\nabla C^\top = w_1 + w_2$ (Eq 50,
+//! ([`spring::constraint_gradient`]), so $`\nabla C M^{-1}\nabla C^\top = w_1 + w_2`$ (Eq 50,
 //! [`generalized_inverse_mass`]) and Eq 19 becomes Eq 51.
 //!
-//! [`Xpbd::step`] is Algorithm 2 line for line: predict $\tilde x$ (line 1), start from it
-//! (line 2) with $\lambda = 0$ (line 3, every step), sweep the springs Gauss-Seidel style in
-//! index order $0 \to 8$ for a fixed number of iterations (lines 4-12), and take the velocity
+//! [`Xpbd::step`] is Algorithm 2 line for line: predict $`\tilde x`$ (line 1), start from it
+//! (line 2) with $`\lambda = 0`$ (line 3, every step), sweep the springs Gauss-Seidel style in
+//! index order $`0 \to 8`$ for a fixed number of iterations (lines 4-12), and take the velocity
 //! from the position change (line 14). The sweep order is part of the method: each projection
 //! sees the positions its predecessors in the sweep have already moved. Fixed nodes have inverse
-//! mass $w = 0$ (thesis §3.3, after Müller 2007), so Eq 51 never moves them; they are also left
+//! mass $`w = 0`$ (thesis §3.3, after Müller 2007), so Eq 51 never moves them; they are also left
 //! out of the prediction, so they stay exactly where they are even if a velocity was given.
 //!
 //! With zero compliance ([`Xpbd::with_compliance`] and `alpha = 0`) Eq 18 is PBD's Eq 13 and
@@ -27,25 +27,26 @@
 //! # What XPBD converges to
 //!
 //! Many iterations do *not* reach the Backward Euler step that minimises Eq 20 (the
-//! [`crate::backward_euler::converged_step`] oracle); they reach a nearby point. Macklin et
-//! al. (2016) write the discrete equations of motion as $g(x,\lambda) = M(x - \tilde x) -
-//! \nabla C(x)^\top\lambda = 0$ and $h(x,\lambda) = C(x) + \tilde\alpha\lambda = 0$ (their §3,
-//! the discretised Eq 16, [`residuals`]); a solution of both is exactly the minimiser of
-//! Eq 20. Their full Newton system needs the Hessian of the constraints in
-//! $K = M - \sum_j \partial^2 C_j/\partial x^2\,\lambda_j$ and the residual $g$ on the
-//! right-hand side. XPBD replaces $K$ by $M$ and assumes $g = 0$ (their simplified system),
-//! which holds at $x_0 = \tilde x$, $\lambda_0 = 0$ and stays true only while the constraint gradients do
-//! not change. With the simplification, the iteration keeps $M(x - \tilde x) = \sum_i
-//! \nabla C(x_i)^\top\Delta\lambda_i$, a sum of corrections along the gradients of the
-//! *iterates*, while $g = 0$ needs $\nabla C(x)^\top\lambda$ along the gradient of the *final*
-//! point. Its fixed point therefore satisfies $h = 0$ (each constraint's own equation, which
-//! Eq 18 solves) but not $g = 0$: the iterations converge, to a point that differs from the
-//! Backward Euler step by an amount of the order of the gradients' rotation during the step
-//! times the constraint impulses. More iterations cannot remove it. The test
+//! [`crate::backward_euler::converged_step`] oracle); they reach a nearby point. Macklin et al.
+//! (2016) write the discrete equations of motion as
+//! $`g(x,\lambda) = M(x - \tilde x) - \nabla C(x)^\top\lambda = 0`$ and
+//! $`h(x,\lambda) = C(x) + \tilde\alpha\lambda = 0`$ (their §3, the discretised Eq 16,
+//! [`residuals`]); a solution of both is exactly the minimiser of Eq 20. Their full Newton system
+//! needs the Hessian of the constraints in
+//! $`K = M - \sum_j \partial^2 C_j/\partial x^2\,\lambda_j`$ and the residual $`g`$ on the
+//! right-hand side. XPBD replaces $`K`$ by $`M`$ and assumes $`g = 0`$ (their simplified system),
+//! which holds at $`x_0 = \tilde x`$, $`\lambda_0 = 0`$ and stays true only while the constraint
+//! gradients do not change. With the simplification, the iteration keeps
+//! $`M(x - \tilde x) = \sum_i \nabla C(x_i)^\top\Delta\lambda_i`$, a sum of corrections along the
+//! gradients of the *iterates*, while $`g = 0`$ needs $`\nabla C(x)^\top\lambda`$ along the
+//! gradient of the *final* point. Its fixed point therefore satisfies $`h = 0`$ (each constraint's
+//! own equation, which Eq 18 solves) but not $`g = 0`$: the iterations converge, to a point that
+//! differs from the Backward Euler step by an amount of the order of the gradients' rotation during
+//! the step times the constraint impulses. More iterations cannot remove it. The test
 //! `xpbd_does_not_reach_the_converged_backward_euler_step` measures this gap on the thesis rope
 //! (k = 1e6, one step from a moving state): with 100 to 10000 iterations it stays at 2.4e-8 m at
 //! dt = 1e-3 (1.3e-5 of the step's displacement) and from 1000 iterations on at 1.4e-4 m at
-//! dt = 1e-2 (0.8 %), while $h$ falls to round-off and $g$ does not.
+//! dt = 1e-2 (0.8 %), while $`h`$ falls to round-off and $`g`$ does not.
 //!
 //! # Symmetry
 //!
@@ -60,25 +61,27 @@ use crate::solver::TimeStepper;
 use crate::spring;
 use crate::system::{MassSpringSystem, State, Vec3};
 
-/// Eq. (18): $\tilde\alpha = \alpha/dt^2$, the time-step-scaled compliance that Eqs 17-18
-/// use (defined under Eq 18); with $\alpha$ in m/N it is in 1/kg, the units of $w = 1/m$.
+/// Eq. (18): $`\tilde\alpha = \alpha/dt^2`$, the time-step-scaled compliance that Eqs 17-18
+/// use (defined under Eq 18); with $`\alpha`$ in m/N it is in 1/kg, the units of $`w = 1/m`$.
 pub fn alpha_tilde(alpha: f64, dt: f64) -> f64 {
     alpha / (dt * dt)
 }
 
-/// Eq. (50): $\nabla C\,M^{-1}\nabla C^\top = w_1|\nabla_{x_1}C|^2 + w_2|\nabla_{x_2}C|^2 = w_1 + w_2$
-/// for a distance constraint, whose gradient (Eq 49) is a unit vector for each node; $w_i = 1/m_i$,
+/// Eq. (50):
+/// $`\nabla C\,M^{-1}\nabla C^\top = w_1|\nabla_{x_1}C|^2 + w_2|\nabla_{x_2}C|^2 = w_1 + w_2`$ for
+/// a distance constraint, whose gradient (Eq 49) is a unit vector for each node; $`w_i = 1/m_i`$,
 /// and 0 for a fixed node.
 pub fn generalized_inverse_mass(w1: f64, w2: f64) -> f64 {
     w1 + w2
 }
 
-/// Eqs. (17), (18): $\Delta\lambda = \dfrac{-C_j(x_i) - \tilde\alpha_j\lambda_{ij}}{\nabla C_j M^{-1}
-/// \nabla C_j^\top + \tilde\alpha_j}$, Eq 17 solved for one constraint $j$ given its value `c`,
-/// its current multiplier `lambda` and `w` $= \nabla C_j M^{-1}\nabla C_j^\top$ (Eq 50).
+/// Eqs. (17), (18):
+/// $`\Delta\lambda = \dfrac{-C_j(x_i) - \tilde\alpha_j\lambda_{ij}}{\nabla C_j M^{-1} \nabla C_j^\top + \tilde\alpha_j}`$,
+/// Eq 17 solved for one constraint $`j`$ given its value `c`, its current multiplier `lambda` and
+/// `w` $`= \nabla C_j M^{-1}\nabla C_j^\top`$ (Eq 50).
 ///
-/// A constraint that nothing can move ($w = 0$: both ends fixed) and that has no compliance has
-/// a zero denominator; it gets $\Delta\lambda = 0$ and is left alone.
+/// A constraint that nothing can move ($`w = 0`$: both ends fixed) and that has no compliance has
+/// a zero denominator; it gets $`\Delta\lambda = 0`$ and is left alone.
 pub fn delta_lambda(c: f64, alpha_tilde: f64, lambda: f64, w: f64) -> f64 {
     let denominator = w + alpha_tilde;
     if denominator > 0.0 {
@@ -88,9 +91,10 @@ pub fn delta_lambda(c: f64, alpha_tilde: f64, lambda: f64, w: f64) -> f64 {
     }
 }
 
-/// Eqs. (19), (51): $\Delta x = M^{-1}\nabla C^\top\Delta\lambda$, for a distance constraint
-/// $\Delta x_1 = w_1\nabla_{x_1}C\,\Delta\lambda$ and $\Delta x_2 = w_2\nabla_{x_2}C\,\Delta\lambda
-/// = -w_2\nabla_{x_1}C\,\Delta\lambda$, given `grad` $= \nabla_{x_1}C$ (Eq 49).
+/// Eqs. (19), (51): $`\Delta x = M^{-1}\nabla C^\top\Delta\lambda`$, for a distance constraint
+/// $`\Delta x_1 = w_1\nabla_{x_1}C\,\Delta\lambda`$ and
+/// $`\Delta x_2 = w_2\nabla_{x_2}C\,\Delta\lambda = -w_2\nabla_{x_1}C\,\Delta\lambda`$, given
+/// `grad` $`= \nabla_{x_1}C`$ (Eq 49).
 pub fn delta_x(grad: &Vec3, w1: f64, w2: f64, delta_lambda: f64) -> (Vec3, Vec3) {
     (grad * (w1 * delta_lambda), -grad * (w2 * delta_lambda))
 }
@@ -98,18 +102,18 @@ pub fn delta_x(grad: &Vec3, w1: f64, w2: f64, delta_lambda: f64) -> (Vec3, Vec3)
 /// The residuals of the discretised Eq 16 at an iterate, in Macklin et al. (2016)'s form.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Residuals {
-    /// $g_i = m_i(x_i - \tilde x_i) - \sum_j \nabla_{x_i}C_j(x)\,\lambda_j$ per free node (0 on
+    /// $`g_i = m_i(x_i - \tilde x_i) - \sum_j \nabla_{x_i}C_j(x)\,\lambda_j`$ per free node (0 on
     /// fixed nodes, whose equation of motion is replaced by the constraint that fixes them), N·s².
     pub g: Vec<Vec3>,
-    /// $h_j = C_j(x) + \tilde\alpha_j\lambda_j$ per spring, m.
+    /// $`h_j = C_j(x) + \tilde\alpha_j\lambda_j`$ per spring, m.
     pub h: Vec<f64>,
 }
 
-/// Eq. (16): $M a - \nabla C^\top\lambda = 0$, $C(x) + \alpha\lambda = 0$, discretised with
-/// $a = (x - \tilde x)/dt^2$ and the multiplier in impulse units as
-/// $g = M(x - \tilde x) - \nabla C(x)^\top\lambda$ and $h = C(x) + \tilde\alpha\lambda$
+/// Eq. (16): $`M a - \nabla C^\top\lambda = 0`$, $`C(x) + \alpha\lambda = 0`$, discretised with
+/// $`a = (x - \tilde x)/dt^2`$ and the multiplier in impulse units as
+/// $`g = M(x - \tilde x) - \nabla C(x)^\top\lambda`$ and $`h = C(x) + \tilde\alpha\lambda`$
 /// (Macklin et al. 2016, §3). Both vanish exactly at the minimiser of Eq 20; XPBD drives
-/// $h$ to zero but not $g$ (see the module documentation).
+/// $`h`$ to zero but not $`g`$ (see the module documentation).
 pub fn residuals(
     system: &MassSpringSystem,
     x: &[Vec3],
@@ -145,9 +149,9 @@ pub fn residuals(
 /// How the compliance of each spring is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Compliance {
-    /// $\alpha_j = 1/k_j$ from the springs (the thesis's method).
+    /// $`\alpha_j = 1/k_j`$ from the springs (the thesis's method).
     FromStiffness,
-    /// The same $\alpha$ for every spring, the springs' stiffness ignored.
+    /// The same $`\alpha`$ for every spring, the springs' stiffness ignored.
     Uniform(f64),
 }
 
@@ -158,24 +162,24 @@ pub struct Xpbd {
     dt: f64,
     iterations: usize,
     compliance: Compliance,
-    /// $\tilde\alpha_j = \alpha_j/dt^2$ per spring.
+    /// $`\tilde\alpha_j = \alpha_j/dt^2`$ per spring.
     alpha_tilde: Vec<f64>,
-    /// Inverse masses $w_i$, 0 for fixed nodes.
+    /// Inverse masses $`w_i`$, 0 for fixed nodes.
     w: Vec<f64>,
-    /// $M^{-1}f_{ext}$ per node, m/s² (0 for fixed nodes).
+    /// $`M^{-1}f_{ext}`$ per node, m/s² (0 for fixed nodes).
     external_acceleration: Vec<Vec3>,
-    /// Multipliers $\lambda_j$ of the current step.
+    /// Multipliers $`\lambda_j`$ of the current step.
     lambda: Vec<f64>,
-    /// $x^n$, kept for line 14.
+    /// $`x^n`$, kept for line 14.
     x_n: Vec<Vec3>,
-    /// $\tilde x$ of the current step, kept for [`residuals`].
+    /// $`\tilde x`$ of the current step, kept for [`residuals`].
     x_tilde: Vec<Vec3>,
 }
 
 impl Xpbd {
     /// The thesis's XPBD for `system` with time step `dt` (s, > 0) and `iterations` (>= 1)
-    /// solver iterations per step; every spring's compliance is $\alpha_j = 1/k_j$, so every
-    /// spring needs $k_j > 0$.
+    /// solver iterations per step; every spring's compliance is $`\alpha_j = 1/k_j`$, so every
+    /// spring needs $`k_j > 0`$.
     pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
         system.require_positive_stiffness()?;
         Self::build(system, dt, iterations, Compliance::FromStiffness)
@@ -239,17 +243,17 @@ impl Xpbd {
         self.iterations
     }
 
-    /// $\tilde\alpha_j$ per spring.
+    /// $`\tilde\alpha_j`$ per spring.
     pub fn alpha_tilde(&self) -> &[f64] {
         &self.alpha_tilde
     }
 
-    /// The multipliers $\lambda_j$ at the end of the last step.
+    /// The multipliers $`\lambda_j`$ at the end of the last step.
     pub fn lambda(&self) -> &[f64] {
         &self.lambda
     }
 
-    /// The prediction $\tilde x$ of the last step.
+    /// The prediction $`\tilde x`$ of the last step.
     pub fn prediction(&self) -> &[Vec3] {
         &self.x_tilde
     }
@@ -276,7 +280,7 @@ impl TimeStepper for Xpbd {
         &self.system
     }
 
-    /// Algorithm 2. The iterate $x_i$ lives in `state.x`.
+    /// Algorithm 2. The iterate $`x_i`$ lives in `state.x`.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let dt = self.dt;

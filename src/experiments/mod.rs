@@ -35,7 +35,7 @@ use std::sync::OnceLock;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Configuration {
     pub stop: StoppingRule,
-    /// Velocity damping c, s⁻¹, applied after each step: $v \leftarrow v\,e^{-c\,dt}$.
+    /// Velocity damping c, s⁻¹, applied after each step: $`v \leftarrow v\,e^{-c\,dt}`$.
     pub velocity_damping: f64,
     /// Gravity of the reference runs (Backward Euler rows), m/s².
     pub reference_gravity: f64,

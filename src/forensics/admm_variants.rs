@@ -3,15 +3,15 @@
 //!
 //! They are the candidates for what the thesis's code did at dt = 0.1 and 0.01 s (forensic
 //! finding 6 of `docs/thesis-scene.md`), each tried on the 18 published ADMM rows:
-//! - [`StartPoint`]: the first iterate $x^0$ (line 2.1 prints $\tilde x$): $x_n + dt\,v_n$
-//!   (gravity left out of the first iterate only; the right-hand side keeps $M\tilde x$), or
-//!   $x_n$;
-//! - `carry_dual`: $\bar u$ kept from the previous step instead of reset (line 2.2);
-//! - [`Weights`]: $\omega_i = k_i$ or $\omega_i^2 = \sqrt{k_i}$ instead of $\sqrt{k_i}$;
+//! - [`StartPoint`]: the first iterate $`x^0`$ (line 2.1 prints $`\tilde x`$): $`x_n + dt\,v_n`$
+//!   (gravity left out of the first iterate only; the right-hand side keeps $`M\tilde x`$), or
+//!   $`x_n`$;
+//! - `carry_dual`: $`\bar u`$ kept from the previous step instead of reset (line 2.2);
+//! - [`Weights`]: $`\omega_i = k_i`$ or $`\omega_i^2 = \sqrt{k_i}`$ instead of $`\sqrt{k_i}`$;
 //! - [`FixedNodes`]: the two other ways of fixing nodes that thesis §3.2 weighs: overwriting
 //!   the fixed positions after each solve of the unconstrained system, or removing the fixed
 //!   degrees of freedom ([`EliminatedSystem`]);
-//! - `stale_rhs`: Eq (40)'s right-hand side, with the Eqs 45-47 correction $b - A u$, formed
+//! - `stale_rhs`: Eq (40)'s right-hand side, with the Eqs 45-47 correction $`b - A u`$, formed
 //!   once per step (after the first local step) and left stale in later iterations.
 //!
 //! [`AdmmVariant::PRINTED`] is Algorithm 4 as printed, bit for bit [`AdmmPd`](crate::admm::AdmmPd)
@@ -27,19 +27,19 @@ use crate::projective::{
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
 
-/// The per-spring weights $\omega_i$ of a variant.
+/// The per-spring weights $`\omega_i`$ of a variant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Weights {
-    /// $\omega_i = \sqrt{k_i}$ (as printed, §2.3.2).
+    /// $`\omega_i = \sqrt{k_i}`$ (as printed, §2.3.2).
     SqrtStiffness,
-    /// $\omega_i = k_i$.
+    /// $`\omega_i = k_i`$.
     Stiffness,
-    /// $\omega_i^2 = \sqrt{k_i}$.
+    /// $`\omega_i^2 = \sqrt{k_i}`$.
     FourthRootStiffness,
 }
 
 impl Weights {
-    /// The weights $\omega_i$ for `system`.
+    /// The weights $`\omega_i`$ for `system`.
     pub fn omega(self, system: &MassSpringSystem) -> Vec<f64> {
         match self {
             Weights::SqrtStiffness => default_omega(system),
@@ -56,12 +56,12 @@ impl Weights {
 /// Where each step's iteration starts (Algorithm 4 line 2.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum StartPoint {
-    /// $x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}$ (as printed, line 2.1).
+    /// $`x^0 = \tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ (as printed, line 2.1).
     Prediction,
-    /// $x^0 = x_n + dt\,v_n$, gravity left out of the first iterate only (the right-hand side
-    /// of Eq 40 keeps $M\tilde x$).
+    /// $`x^0 = x_n + dt\,v_n`$, gravity left out of the first iterate only (the right-hand side
+    /// of Eq 40 keeps $`M\tilde x`$).
     Inertial,
-    /// $x^0 = x_n$.
+    /// $`x^0 = x_n`$.
     Previous,
 }
 
@@ -70,8 +70,8 @@ pub enum StartPoint {
 pub enum FixedNodes {
     /// Eqs 43-47 on the prefactored matrix (as printed, the thesis's choice).
     Imposed,
-    /// The unconstrained $A$ is solved with the fixed nodes free, and their positions are
-    /// overwritten with $x_n$ after each solve.
+    /// The unconstrained $`A`$ is solved with the fixed nodes free, and their positions are
+    /// overwritten with $`x_n`$ after each solve.
     Overwritten,
     /// The fixed degrees of freedom are removed ([`EliminatedSystem`]).
     Eliminated,
@@ -81,7 +81,7 @@ pub enum FixedNodes {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct AdmmVariant {
     pub start: StartPoint,
-    /// Keep $\bar u$ from the previous step instead of resetting it (line 2.2).
+    /// Keep $`\bar u`$ from the previous step instead of resetting it (line 2.2).
     pub carry_dual: bool,
     pub weights: Weights,
     pub fixed_nodes: FixedNodes,
@@ -139,7 +139,7 @@ enum GlobalMatrix {
 }
 
 impl GlobalMatrix {
-    /// $A = M + dt^2 \sum_i \omega_i^2 D_i^\top D_i$ for `system`, factored once.
+    /// $`A = M + dt^2 \sum_i \omega_i^2 D_i^\top D_i`$ for `system`, factored once.
     fn new(system: &MassSpringSystem, dt: f64, omega2: &[f64], how: FixedNodes) -> Result<Self> {
         let fixed: Vec<usize> = (0..system.len())
             .filter(|&i| system.nodes()[i].fixed)
@@ -159,7 +159,7 @@ impl GlobalMatrix {
         })
     }
 
-    /// Solves $A x = b$ for the three coordinates (column-major, `b` overwritten by $x$), the
+    /// Solves $`A x = b`$ for the three coordinates (column-major, `b` overwritten by $`x`$), the
     /// fixed nodes at their values in `x_n`.
     fn solve(&mut self, b: &mut [f64], x_n: &[f64]) {
         match self {

@@ -103,9 +103,9 @@ impl LiuHypothesis {
 /// A named configuration: the faithful method or a labelled departure from it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ConfigurationId {
-    /// The thesis's methods as printed (every solver), Liu started at $x_n$.
+    /// The thesis's methods as printed (every solver), Liu started at $`x_n`$.
     Faithful,
-    /// Liu 2013 started at $y = x_n + dt\,v_n$: the other reading of Algorithm 3's open point.
+    /// Liu 2013 started at $`y = x_n + dt\,v_n`$: the other reading of Algorithm 3's open point.
     LiuStartInertial,
     /// A point of the Liu hypothesis's grid.
     Liu(LiuHypothesis),

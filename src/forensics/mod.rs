@@ -44,7 +44,7 @@ pub const NOISE_PEAK_J: f64 = 1e-15;
 /// How the solver of a row is built.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SolverChoice {
-    /// The printed algorithm (Liu started at $x_n$, the default reading of its open point).
+    /// The printed algorithm (Liu started at $`x_n`$, the default reading of its open point).
     Printed,
     /// Liu 2013 started at another first iterate (ignored by the other solvers' rows).
     LiuFirstIterate(FirstIterate),

@@ -7,7 +7,7 @@ use crate::error::{require_finite, require_non_negative, Result};
 use crate::spring;
 use crate::system::{MassSpringSystem, Spring, State, Vec3};
 
-/// Gravity on a set of particles: $f_i = m_i\,g$. A system may hold several, each on its own
+/// Gravity on a set of particles: $`f_i = m_i\,g`$. A system may hold several, each on its own
 /// set of particles.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gravity {
@@ -35,10 +35,10 @@ impl Force for Gravity {
     }
 }
 
-/// The tutorial's ideal viscous drag ("fricción") on a set of particles: $f_i = -k_f\,v_i$.
+/// The tutorial's ideal viscous drag ("fricción") on a set of particles: $`f_i = -k_f\,v_i`$.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drag {
-    /// Drag coefficient $k_f$, N·s/m (>= 0).
+    /// Drag coefficient $`k_f`$, N·s/m (>= 0).
     pub k_f: f64,
     pub particles: Particles,
 }
@@ -61,7 +61,7 @@ impl Force for Drag {
 }
 
 /// Every spring of the system as the tutorial's damped spring ([`damped_spring_force`]),
-/// with each spring's own rest length $r$, stiffness $k_s$ and damping $k_d$.
+/// with each spring's own rest length $`r`$, stiffness $`k_s`$ and damping $`k_d`$.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DampedSprings;
 
@@ -84,13 +84,13 @@ impl Force for DampedSprings {
     }
 }
 
-/// The tutorial's damped spring, force on particle $a$ (particle $b$ receives $f_b = -f_a$):
-/// $f_a = -\left[k_s(|l| - r) + k_d\,\frac{\dot l\cdot l}{|l|}\right]\frac{l}{|l|}$ with
-/// $l = x_a - x_b$, $\dot l = v_a - v_b$.
+/// The tutorial's damped spring, force on particle $`a`$ (particle $`b`$ receives $`f_b = -f_a`$):
+/// $`f_a = -\left[k_s(|l| - r) + k_d\,\frac{\dot l\cdot l}{|l|}\right]\frac{l}{|l|}`$ with
+/// $`l = x_a - x_b`$, $`\dot l = v_a - v_b`$.
 ///
 /// The elastic part is the thesis's Hooke force, Eq. (3) ([`spring::force`]); the damping part
 /// acts along the spring only, so it resists stretching and compression but not rotation. A
-/// collapsed spring ($|l| = 0$) has no axis and exerts no force.
+/// collapsed spring ($`|l| = 0`$) has no axis and exerts no force.
 pub fn damped_spring_force(s: &Spring, x: &[Vec3], v: &[Vec3]) -> Vec3 {
     let (x_a, x_b) = (&x[s.a], &x[s.b]);
     let n = spring::constraint_gradient(x_a, x_b);

@@ -4,7 +4,7 @@
 use crate::error::{require_finite, Error, Result};
 use crate::system::{MassSpringSystem, State};
 
-/// The plane $y = $ `height` with restitution `e` $\in [0, 1]$.
+/// The plane $`y = y_0`$, $`y_0`$ = `height`, with restitution `e` $`\in [0, 1]`$.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ground {
     height: f64,
@@ -34,15 +34,15 @@ impl Ground {
         self.height
     }
 
-    /// Restitution coefficient $e$.
+    /// Restitution coefficient $`e`$.
     pub fn restitution(&self) -> f64 {
         self.restitution
     }
 
-    /// Collision response: a free particle below the plane is put back on it and, if it is
-    /// moving into the plane, its normal velocity is reversed and scaled by $e$,
-    /// $v_y \leftarrow -e\,v_y$ (a drop from $h$ rebounds to $e^2 h$). The tangential velocity
-    /// is kept (a frictionless floor). Anchored particles are left alone.
+    /// Collision response: a free particle below the plane is put back on it and, if it is moving
+    /// into the plane, its normal velocity is reversed and scaled by $`e`$,
+    /// $`v_y \leftarrow -e\,v_y`$ (a drop from $`h`$ rebounds to $`e^2 h`$). The tangential
+    /// velocity is kept (a frictionless floor). Anchored particles are left alone.
     pub fn resolve(&self, system: &MassSpringSystem, state: &mut State) {
         for ((node, x), v) in system.nodes().iter().zip(&mut state.x).zip(&mut state.v) {
             if node.fixed || x.y >= self.height {

@@ -1,20 +1,20 @@
 //! The tutorial's numerical methods ("Método de Euler", "Método de Runge-Kutta, de orden 4")
-//! over the particle system's first-order state $y = (x, v)$, $y' = (v, f/m)$, plus the
+//! over the particle system's first-order state $`y = (x, v)`$, $`y' = (v, f/m)`$, plus the
 //! symplectic (semi-implicit) Euler of Baraff and Witkin's notes.
 //!
-//! | method | update | order | stable for an undamped mode $\omega$ |
+//! | method | update | order | stable for an undamped mode $`\omega`$ |
 //! |---|---|---|---|
-//! | explicit Euler | $y_{n+1} = y_n + h\,y'_n$ | 1 | never: each step multiplies its amplitude by $\sqrt{1 + \omega^2h^2}$ |
-//! | symplectic Euler | $v_{n+1} = v_n + h\,f(x_n, v_n)/m$, $x_{n+1} = x_n + h\,v_{n+1}$ | 1 | $\omega h < 2$ |
-//! | RK4 | $y_{n+1} = y_n + \frac h6(k_1 + 2k_2 + 2k_3 + k_4)$ | 4 | $\omega h < 2\sqrt2$ |
+//! | explicit Euler | $`y_{n+1} = y_n + h\,y'_n`$ | 1 | never: each step multiplies its amplitude by $`\sqrt{1 + \omega^2h^2}`$ |
+//! | symplectic Euler | $`v_{n+1} = v_n + h\,f(x_n, v_n)/m`$, $`x_{n+1} = x_n + h\,v_{n+1}`$ | 1 | $`\omega h < 2`$ |
+//! | RK4 | $`y_{n+1} = y_n + \frac h6(k_1 + 2k_2 + 2k_3 + k_4)`$ | 4 | $`\omega h < 2\sqrt2`$ |
 //!
 //! Erratum (tutorial): "Euler es un Runge-Kutta de orden 2" is wrong. Explicit Euler is the
-//! one-stage Runge-Kutta method and is first order: it keeps the Taylor series up to the $h$
-//! term, its local error is $O(h^2)$ and its global error at a fixed time $O(h)$ (the order-2
+//! one-stage Runge-Kutta method and is first order: it keeps the Taylor series up to the $`h`$
+//! term, its local error is $`O(h^2)`$ and its global error at a fixed time $`O(h)`$ (the order-2
 //! Runge-Kutta methods are midpoint and Heun). The tests measure slopes 1, 1 and 4.
 //!
 //! The ground, when present, is resolved after each complete step (after the four stages of
-//! RK4), so contacts are first order in $h$ whatever the method.
+//! RK4), so contacts are first order in $`h`$ whatever the method.
 
 use super::ParticleSystem;
 use crate::error::{require_positive, Error, Result};
@@ -82,7 +82,7 @@ impl std::fmt::Display for Integrator {
     }
 }
 
-/// A particle system advanced by one of the tutorial's integrators with a fixed step $h$.
+/// A particle system advanced by one of the tutorial's integrators with a fixed step $`h`$.
 #[derive(Debug)]
 pub struct ParticleStepper {
     particles: ParticleSystem,
@@ -90,7 +90,7 @@ pub struct ParticleStepper {
     h: f64,
     /// The force accumulator.
     f: Vec<Vec3>,
-    /// The stages' derivatives $k_1..k_4$ (explicit and symplectic Euler use $k_1$ only).
+    /// The stages' derivatives $`k_1..k_4`$ (explicit and symplectic Euler use $`k_1`$ only).
     k: [State; 4],
     /// The state at which RK4 evaluates its stages 2-4.
     stage: State,
@@ -125,14 +125,14 @@ impl ParticleStepper {
         self.integrator
     }
 
-    /// Explicit Euler: $x_{n+1} = x_n + h\,v_n$, $v_{n+1} = v_n + h\,f(x_n, v_n)/m$.
+    /// Explicit Euler: $`x_{n+1} = x_n + h\,v_n`$, $`v_{n+1} = v_n + h\,f(x_n, v_n)/m`$.
     fn explicit_euler(&mut self, y: &mut State) {
         let [k1, ..] = &mut self.k;
         self.particles.derivative(y, &mut self.f, k1);
         axpy(y, self.h, k1);
     }
 
-    /// Symplectic Euler: $v_{n+1} = v_n + h\,f(x_n, v_n)/m$, then $x_{n+1} = x_n + h\,v_{n+1}$
+    /// Symplectic Euler: $`v_{n+1} = v_n + h\,f(x_n, v_n)/m`$, then $`x_{n+1} = x_n + h\,v_{n+1}`$
     /// (the new velocity moves the particle; anchored particles have zero derivative and stay).
     fn symplectic_euler(&mut self, y: &mut State) {
         let [k1, ..] = &mut self.k;
@@ -145,9 +145,9 @@ impl ParticleStepper {
         }
     }
 
-    /// Classic RK4: $k_1 = F(y)$, $k_2 = F(y + \frac h2 k_1)$, $k_3 = F(y + \frac h2 k_2)$,
-    /// $k_4 = F(y + h\,k_3)$, $y_{n+1} = y_n + \frac h6(k_1 + 2k_2 + 2k_3 + k_4)$ (the forces
-    /// do not depend on $t$).
+    /// Classic RK4: $`k_1 = F(y)`$, $`k_2 = F(y + \frac h2 k_1)`$, $`k_3 = F(y + \frac h2 k_2)`$,
+    /// $`k_4 = F(y + h\,k_3)`$, $`y_{n+1} = y_n + \frac h6(k_1 + 2k_2 + 2k_3 + k_4)`$ (the forces
+    /// do not depend on $`t`$).
     fn rk4(&mut self, y: &mut State) {
         let h = self.h;
         self.particles.derivative(y, &mut self.f, &mut self.k[0]);
@@ -164,7 +164,7 @@ impl ParticleStepper {
     }
 }
 
-/// $y \leftarrow y + a\,d$ for a state and a derivative.
+/// $`y \leftarrow y + a\,d`$ for a state and a derivative.
 fn axpy(y: &mut State, a: f64, d: &State) {
     for (x, dx) in y.x.iter_mut().zip(&d.x) {
         *x += a * dx;

@@ -9,7 +9,7 @@
 //!
 //! - force objects applied to sets of particles ([`Force`]; [`forces::Gravity`],
 //!   [`forces::Drag`], [`forces::DampedSprings`]);
-//! - the first-order form $x' = v$, $v' = f/m$ ([`ParticleSystem::derivative`]), advanced by
+//! - the first-order form $`x' = v`$, $`v' = f/m`$ ([`ParticleSystem::derivative`]), advanced by
 //!   explicit Euler, symplectic Euler or RK4 ([`integrators`]), each a
 //!   [`crate::solver::TimeStepper`] driven by [`crate::solver::simulate`] like the thesis's
 //!   solvers;
@@ -159,8 +159,8 @@ impl ParticleSystem {
         }
     }
 
-    /// The first-order form of Newton's law, $x' = v$, $v' = f/m$, at `state`, written to
-    /// `derivative` (its `x` holds $x'$, its `v` holds $v'$); `f` is the accumulator's storage.
+    /// The first-order form of Newton's law, $`x' = v`$, $`v' = f/m`$, at `state`, written to
+    /// `derivative` (its `x` holds $`x'`$, its `v` holds $`v'`$); `f` is the accumulator's storage.
     /// Anchored particles have zero derivative, so they never move.
     pub fn derivative(&self, state: &State, f: &mut [Vec3], derivative: &mut State) {
         self.accumulate_forces(state, f);
@@ -182,7 +182,7 @@ impl ParticleSystem {
         }
     }
 
-    /// Total linear momentum $\sum_i m_i v_i$, kg·m/s.
+    /// Total linear momentum $`\sum_i m_i v_i`$, kg·m/s.
     pub fn momentum(&self, state: &State) -> Vec3 {
         self.system
             .nodes()

@@ -4,18 +4,18 @@
 //!
 //! The tutorial gives no numbers besides the 10 m drop; the defaults below are chosen so that
 //! the motion is visible and symplectic Euler and RK4 run well at `dt = 1e-3` s: the default
-//! cloth has $\omega_{max} \approx 257$ rad/s and the pendulum 96 rad/s at rest (limits
-//! $2/\omega_{max}$ and $2\sqrt2/\omega_{max}$, see [`super::integrators`]). Explicit Euler
-//! has no stable step for an undamped mode; with the springs' damping $k_d$ its axial modes
-//! are stable only for $dt < k_d/k_s$ (5e-4 s for the default cloth).
+//! cloth has $`\omega_{max} \approx 257`$ rad/s and the pendulum 96 rad/s at rest (limits
+//! $`2/\omega_{max}`$ and $`2\sqrt2/\omega_{max}`$, see [`super::integrators`]). Explicit Euler
+//! has no stable step for an undamped mode; with the springs' damping $`k_d`$ its axial modes
+//! are stable only for $`dt < k_d/k_s`$ (5e-4 s for the default cloth).
 
 use super::{Drag, Ground, ParticleSystem, Particles};
 use crate::error::{require_finite, require_non_negative, require_positive, Error, Result};
 use crate::system::{MassSpringSystem, Node, Spring, Vec3};
 
 /// A rectangular cloth of `nx` × `ny` particles as a triangle mesh: a spring on every edge of
-/// the grid (structural springs) and one diagonal per quad, from particle $(i, j)$ to
-/// $(i+1, j+1)$; every rest length is the initial distance.
+/// the grid (structural springs) and one diagonal per quad, from particle $`(i, j)`$ to
+/// $`(i+1, j+1)`$; every rest length is the initial distance.
 ///
 /// The single diagonal direction is the tutorial's "malla poligonal de triángulos"; it makes the
 /// cloth slightly anisotropic (it shears more easily along the other diagonal).
@@ -68,12 +68,12 @@ impl ClothParams {
         Ok(())
     }
 
-    /// Index of particle $(i, j)$, $i < n_x$, $j < n_y$.
+    /// Index of particle $`(i, j)`$, $`i < n_x`$, $`j < n_y`$.
     pub fn index(&self, i: usize, j: usize) -> usize {
         j * self.nx + i
     }
 
-    /// The springs: structural along $i$, structural along $j$, then the diagonals.
+    /// The springs: structural along $`i`$, structural along $`j`$, then the diagonals.
     fn springs(&self) -> Vec<Spring> {
         let (nx, ny) = (self.nx, self.ny);
         let spring = |a: usize, b: usize, rest_length: f64| Spring {
@@ -99,7 +99,7 @@ impl ClothParams {
             .collect()
     }
 
-    /// The cloth with particle $(i, j)$ at `origin + i·spacing·u + j·spacing·w`, at rest.
+    /// The cloth with particle $`(i, j)`$ at `origin + i·spacing·u + j·spacing·w`, at rest.
     fn build(
         &self,
         origin: Vec3,
@@ -120,7 +120,7 @@ impl ClothParams {
         MassSpringSystem::new(nodes, self.springs(), Vec3::new(0.0, -self.gravity, 0.0))
     }
 
-    /// The cloth lying flat in the horizontal plane $y$ = `height` (along $x$ and $z$), every
+    /// The cloth lying flat in the horizontal plane $`y`$ = `height` (along $`x`$ and $`z`$), every
     /// particle free.
     pub fn horizontal(&self, height: f64) -> Result<MassSpringSystem> {
         require_finite("cloth.height", height)?;
@@ -129,9 +129,10 @@ impl ClothParams {
         })
     }
 
-    /// The cloth in the vertical plane $z = 0$, top row at $y = 0$ from $x = 0$ to
-    /// $x = (n_x - 1)\,$spacing, rows below it, pinned at its two top corners and released at
-    /// rest with unstretched springs (like the thesis rope, it then falls and swings).
+    /// The cloth in the vertical plane $`z = 0`$, top row at $`y = 0`$ from $`x = 0`$ to
+    /// $`x = (n_x - 1)\,s`$ with $`s`$ = `spacing`, rows below it, pinned at its two top corners
+    /// and released at rest with unstretched springs (like the thesis rope, it then falls and
+    /// swings).
     pub fn hanging(&self) -> Result<MassSpringSystem> {
         self.validate()?;
         let last = self.nx - 1;
@@ -141,21 +142,21 @@ impl ClothParams {
     }
 }
 
-/// The tutorial's example: a cloth dropped flat from `height` onto the floor $y = 0$ under
+/// The tutorial's example: a cloth dropped flat from `height` onto the floor $`y = 0`$ under
 /// gravity, with a light viscous drag ("es recomendable aplicar una cierta fricción").
 #[derive(Debug, Clone, PartialEq)]
 pub struct ClothDropParams {
     pub cloth: ClothParams,
     /// Initial height of the cloth, m (> 0; the tutorial drops it from 10 m).
     pub height: f64,
-    /// Drag coefficient $k_f$ on every particle, N·s/m (>= 0).
+    /// Drag coefficient $`k_f`$ on every particle, N·s/m (>= 0).
     pub drag: f64,
     /// Restitution of the floor, in [0, 1].
     pub restitution: f64,
 }
 
 impl ClothDropParams {
-    /// The tutorial's drop: from 10 m, default cloth, $k_f$ = 1e-4 N·s/m, $e$ = 0.3.
+    /// The tutorial's drop: from 10 m, default cloth, $`k_f`$ = 1e-4 N·s/m, $`e`$ = 0.3.
     pub fn tutorial() -> Self {
         Self {
             cloth: ClothParams::default(),
@@ -182,7 +183,7 @@ impl ClothDropParams {
 
 /// The tutorial's pendulum: a chain of particles and damped springs hanging from an anchored
 /// pivot, released horizontal from rest. The chain is longer than the pivot is high, so it
-/// strikes the floor $y = 0$ and bounces, losing energy.
+/// strikes the floor $`y = 0`$ and bounces, losing energy.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PendulumParams {
     /// Free particles in the chain, >= 1.
@@ -197,7 +198,7 @@ pub struct PendulumParams {
     pub damping: f64,
     /// Height of the pivot above the floor, m (> 0).
     pub pivot_height: f64,
-    /// Drag coefficient $k_f$ on every particle, N·s/m (>= 0).
+    /// Drag coefficient $`k_f`$ on every particle, N·s/m (>= 0).
     pub drag: f64,
     /// Restitution of the floor, in [0, 1].
     pub restitution: f64,
@@ -221,7 +222,7 @@ impl PendulumParams {
         }
     }
 
-    /// The particle system: pivot (anchored) then the chain along $+x$, at rest.
+    /// The particle system: pivot (anchored) then the chain along $`+x`$, at rest.
     pub fn build(&self) -> Result<ParticleSystem> {
         if self.particles < 1 {
             return Err(Error::invalid(

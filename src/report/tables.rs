@@ -1,5 +1,5 @@
 //! Tables 1-12 of thesis §4.3-4.4, each published row beside ours, with the deviation, a
-//! status mark under the reproduction rule ([`crate::experiments::reproduces`]), $T/2$
+//! status mark under the reproduction rule ([`crate::experiments::reproduces`]), $`T/2`$
 //! under both conventions, and the reproduction summary with the best explanation of every
 //! row that is not reproduced.
 //!
@@ -219,7 +219,7 @@ pub fn results_table(results: &ResultSet, table: u8) -> MarkdownTable {
     t
 }
 
-/// The $i$-th iteration count (ascending) of a solver in the published tables.
+/// The $`i`$-th iteration count (ascending) of a solver in the published tables.
 pub fn iteration_count(solver: SolverKind, index: usize) -> Option<usize> {
     let mut counts: Vec<usize> = published_rows()
         .iter()
