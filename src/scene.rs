@@ -19,7 +19,8 @@ pub const THESIS_REST_LENGTH: f64 = 1.0;
 pub const THESIS_ANCHOR_LEFT: [f64; 3] = [0.0, 0.0, 0.0];
 /// Right anchor, m.
 pub const THESIS_ANCHOR_RIGHT: [f64; 3] = [9.0, 0.0, 0.0];
-/// Gravity along -y, m/s² (fitted; 9.8 gives the same peaks and T/2 within 0.04 %).
+/// Gravity along -y, m/s² (fitted on Table 1, `docs/thesis-scene.md`; the report's gravity
+/// study runs 9.8 beside it).
 pub const THESIS_GRAVITY: f64 = 9.81;
 /// The two stiffnesses of §4.3, N/m.
 pub const THESIS_STIFFNESSES: [f64; 2] = [1e3, 1e6];
