@@ -21,6 +21,7 @@ pub mod rest_state;
 pub mod runs;
 pub mod tables;
 pub mod traceability;
+pub mod tutorial;
 pub mod versions;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};

@@ -1,0 +1,3 @@
+//! The tutorial's chapter of the report.
+
+pub mod studies;
