@@ -12,6 +12,7 @@ use mass_spring_solvers::report::format::sig4;
 use mass_spring_solvers::report::output::{write_report, OutputFile};
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
+use mass_spring_solvers::report::tutorial::TutorialChapter;
 use mass_spring_solvers::report::{crate_root, render, solvers_in, tables, ReportData, Sources};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -30,6 +31,7 @@ fn data() -> &'static ReportData {
             forensics: Some(forensic_results().clone()),
             runs,
             catenary,
+            tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
             sources,
         }
     })

@@ -72,9 +72,9 @@ const ERROR_WEIGHTS: [f64; STAGES] = [
 ];
 
 /// Step-size controller: safety factor and bounds of the change per step.
-const SAFETY: f64 = 0.9;
-const MAX_GROWTH: f64 = 5.0;
-const MAX_SHRINK: f64 = 0.2;
+pub const SAFETY: f64 = 0.9;
+pub const MAX_GROWTH: f64 = 5.0;
+pub const MAX_SHRINK: f64 = 0.2;
 
 /// What the adaptive integrator did.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -258,17 +258,51 @@ fn legend_position(l: Legend) -> SeriesLabelPosition {
     }
 }
 
+/// The chart around a panel's plotting area: caption, margin and label areas.
+fn chart_builder<'a, 'b, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    panel: &'b Panel,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(&panel.title, (FONT, 19))
+        .margin(14)
+        .x_label_area_size(if panel.mesh { 48 } else { 0 })
+        .y_label_area_size(if panel.mesh { 78 } else { 0 });
+    builder
+}
+
+/// The height, px, at which `panel`, drawn `width` px wide, shows a metre as the same number
+/// of pixels along x and y (geometry drawn to scale). Both axes must be linear with fixed
+/// ranges.
+pub fn height_to_scale(panel: &Panel, width: u32) -> Result<u32> {
+    let (Some((x0, x1)), Some((y0, y1)), false, false) =
+        (panel.x.range, panel.y.range, panel.x.log, panel.y.log)
+    else {
+        return Err(Error::Input(format!(
+            "drawing \"{}\" to scale needs linear axes with fixed ranges",
+            panel.title
+        )));
+    };
+    // The plotting area of a square probe: the label areas and margins are fixed in pixels.
+    let mut scratch = String::new();
+    let root = SVGBackend::with_string(&mut scratch, (width, width)).into_drawing_area();
+    let chart = chart_builder(&root, panel)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(plot_error)?;
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    let (plot_width, plot_height) = (f64::from(px.end - px.start), py.end - py.start);
+    let overhead = width as i32 - plot_height;
+    Ok((overhead + (plot_width * (y1 - y0) / (x1 - x0)).round() as i32).max(1) as u32)
+}
+
 /// Draws one panel on `area`. A macro instead of a generic function because plotters'
 /// linear and logarithmic coordinates are different types with the same interface.
 macro_rules! draw_panel {
     ($area:expr, $panel:expr, $xr:expr, $yr:expr, $ranges:expr) => {{
         let panel: &Panel = $panel;
         let (x0, x1, y0, y1) = $ranges;
-        let mut chart = ChartBuilder::on($area)
-            .caption(&panel.title, (FONT, 19))
-            .margin(14)
-            .x_label_area_size(if panel.mesh { 48 } else { 0 })
-            .y_label_area_size(if panel.mesh { 78 } else { 0 })
+        let mut chart = chart_builder($area, panel)
             .build_cartesian_2d($xr, $yr)
             .map_err(plot_error)?;
         if panel.mesh {

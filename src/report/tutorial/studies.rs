@@ -18,7 +18,7 @@ use crate::system::{MassSpringSystem, Node, Spring, State, Vec3};
 
 /// One free particle of mass $m$ on a spring of stiffness $k$ and damping $k_d$ to an anchor
 /// at the origin, along x, without gravity: its stretch $u$ obeys $m\ddot u = -k u - k_d\dot u$
-/// exactly, since the spring never leaves the x axis.
+/// exactly while $|u|$ stays below the rest length (the spring never leaves the x axis).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Oscillator {
     pub mass: f64,
@@ -259,6 +259,8 @@ pub fn convergence() -> Result<Vec<ConvergenceSeries>> {
 /// A one-step map whose spectral radius exceeds 1 by more than this is unstable (the
 /// amplification matrix is measured to about 1e-13).
 pub const GROWTH_THRESHOLD: f64 = 1e-10;
+/// Halvings of the bisection interval.
+pub const BISECTION_STEPS: u32 = 60;
 /// Bisection interval of $h\omega$.
 pub const STABILITY_SEARCH: (f64, f64) = (0.0, 4.0);
 
@@ -324,13 +326,13 @@ pub fn expected_limit(integrator: Integrator) -> f64 {
     }
 }
 
-/// Study 2a: bisection (60 halvings) of the largest stable $h\omega$.
+/// Study 2a: bisection ([`BISECTION_STEPS`] halvings) of the largest stable $h\omega$.
 pub fn stability_limits() -> Result<Vec<StabilityLimit>> {
     Integrator::ALL
         .into_iter()
         .map(|integrator| {
             let (mut lo, mut hi) = STABILITY_SEARCH;
-            for _ in 0..60 {
+            for _ in 0..BISECTION_STEPS {
                 let mid = 0.5 * (lo + hi);
                 if spectral_radius(integrator, mid)? > 1.0 + GROWTH_THRESHOLD {
                     hi = mid;
@@ -358,7 +360,9 @@ pub struct EnergyRun {
 }
 
 pub const ENERGY_PERIODS: f64 = 20.0;
-pub const ENERGY_CAP: f64 = 1e12;
+pub const ENERGY_CAP: f64 = 1e8;
+/// Rest length of the energy runs' spring, m.
+pub const ENERGY_REST_LENGTH: f64 = 1e6;
 
 /// The $h\omega$ just below and just above each integrator's limit (explicit Euler, stable
 /// nowhere, at 0.1 and 0.2).
@@ -374,7 +378,12 @@ pub fn energy_h_omegas(integrator: Integrator) -> [f64; 2] {
 
 /// Study 2b: energy against time just below and above each limit.
 pub fn energy_runs() -> Result<Vec<EnergyRun>> {
-    let oscillator = Oscillator::standard(0.0);
+    // The spring is linear while the stretch stays below its rest length: a long spring keeps
+    // a growth to ENERGY_CAP (an amplitude 1e4 times the initial one) linear.
+    let oscillator = Oscillator {
+        rest_length: ENERGY_REST_LENGTH,
+        ..Oscillator::standard(0.0)
+    };
     let omega = oscillator.omega();
     let energy = |s: &State| {
         let u = s.x[1].x - oscillator.rest_length;
@@ -546,10 +555,14 @@ fn parabola_vertex(y0: f64, y1: f64, y2: f64) -> (f64, f64) {
     (offset, y1 - 0.25 * (y0 - y2) * offset)
 }
 
-/// Study 3b: the pair with RK4 at 1e-4 s for 5 s.
+/// Time step and length of the spring-pair run (RK4), s.
+pub const PAIR_DT: f64 = 1e-4;
+pub const PAIR_TIME: f64 = 5.0;
+
+/// Study 3b: the pair with RK4 at [`PAIR_DT`] for [`PAIR_TIME`].
 pub fn spring_pair() -> Result<SpringPairRun> {
     let p = PAIR;
-    let dt = 1e-4;
+    let dt = PAIR_DT;
     let system = MassSpringSystem::new(
         vec![
             particle(p.mass_a, Vec3::zeros(), Vec3::zeros()),
@@ -572,7 +585,7 @@ pub fn spring_pair() -> Result<SpringPairRun> {
     let mut stepper = ParticleStepper::new(particles, Integrator::Rk4, dt)?;
     let mut state = stepper.system().initial_state();
     let stretch = |s: &State| (s.x[1] - s.x[0]).norm() - p.rest_length;
-    let steps = (5.0 / dt).round() as usize;
+    let steps = (PAIR_TIME / dt).round() as usize;
     let mut series = vec![stretch(&state)];
     let mut samples = vec![(0.0, stretch(&state), p.stretch)];
     let (mut max_error, mut max_momentum): (f64, f64) = (0.0, 0.0);
