@@ -160,9 +160,26 @@ fn every_table_figure_and_data_file_is_there() {
     }
     let svgs: Vec<&OutputFile> = files()
         .iter()
-        .filter(|f| f.path.extension().is_some_and(|e| e == "svg"))
+        .filter(|f| {
+            f.path.extension().is_some_and(|e| e == "svg")
+                && f.path.to_string_lossy().starts_with("figures/fig")
+        })
         .collect();
     assert_eq!(svgs.len(), 15);
+    for f in files() {
+        let path = f.path.to_string_lossy();
+        if let Some(stem) = path
+            .strip_prefix("figures/tutorial_")
+            .and_then(|s| s.strip_suffix(".svg"))
+        {
+            assert!(
+                report.contains(&format!("figures/tutorial_{stem}.svg")),
+                "{path} not in REPORT.md"
+            );
+            file(&format!("data/tutorial_{stem}.csv"));
+        }
+    }
+    assert!(report.contains("## 9. The particle-system tutorial, verified"));
     for n in 1..=15 {
         let prefix = format!("figures/fig{n:02}-");
         let svg = svgs

@@ -522,4 +522,31 @@ mod tests {
         assert_eq!(a, b);
         assert!(a.contains("<text") && a.contains("dt (s)"));
     }
+
+    #[test]
+    fn geometry_to_scale_has_equal_pixels_per_unit() {
+        for (mesh, x_range, y_range) in [(true, 4.0, 1.0), (false, 2.0, 3.0)] {
+            let mut p = Panel::new(
+                "t",
+                Axis::linear("x (m)").range(0.0, x_range),
+                Axis::linear("y (m)").range(0.0, y_range),
+            );
+            p.mesh = mesh;
+            let height = height_to_scale(&p, 800).unwrap();
+            let mut out = String::new();
+            let root = SVGBackend::with_string(&mut out, (800, height)).into_drawing_area();
+            let chart = chart_builder(&root, &p)
+                .build_cartesian_2d(0.0..x_range, 0.0..y_range)
+                .unwrap();
+            let (px, py) = chart.plotting_area().get_pixel_range();
+            let per_x = f64::from(px.end - px.start) / x_range;
+            let per_y = f64::from(py.end - py.start) / y_range;
+            assert!(
+                (per_x - per_y).abs() <= 1.0 / y_range,
+                "{per_x} vs {per_y} px/m"
+            );
+        }
+        let log = Panel::new("t", Axis::log("x").range(1.0, 10.0), Axis::linear("y"));
+        assert!(height_to_scale(&log, 800).is_err());
+    }
 }
