@@ -265,7 +265,8 @@ impl AdaptiveStepper {
                 });
             }
             let err = self.attempt(state, h);
-            if !(err <= 1.0) {
+            // A NaN estimate (a non-finite state) is rejected like a too-large one.
+            if err.is_nan() || err > 1.0 {
                 self.stats.rejected_error += 1;
                 let factor = if err.is_finite() {
                     (SAFETY * err.powf(-0.2)).max(MAX_SHRINK)

@@ -733,6 +733,10 @@ impl std::fmt::Display for Scheme {
 
 /// A particle system advanced under a [`Scheme`], one sample interval at a time (fixed steps
 /// are repeated `interval / h` times per sample).
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one sampler per run, never in a collection"
+)]
 enum Sampler {
     Fixed(ParticleStepper, usize),
     Adaptive(AdaptiveStepper),
