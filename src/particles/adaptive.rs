@@ -19,6 +19,7 @@
 //! $T/|v_y|$ and the rebound height to within about $T\,(1 + e^2)$; a particle resting on the
 //! floor limits the step to about $\sqrt{2T/g}$.
 
+use super::integrators::axpy;
 use super::ParticleSystem;
 use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;
@@ -290,16 +291,6 @@ impl AdaptiveStepper {
             }
         }
         Ok(())
-    }
-}
-
-/// $y \leftarrow y + a\,d$ for a state and a derivative.
-fn axpy(y: &mut State, a: f64, d: &State) {
-    for (x, dx) in y.x.iter_mut().zip(&d.x) {
-        *x += a * dx;
-    }
-    for (v, dv) in y.v.iter_mut().zip(&d.v) {
-        *v += a * dv;
     }
 }
 
