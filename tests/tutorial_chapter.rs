@@ -395,6 +395,15 @@ fn the_section_shows_every_figure_and_data_file() {
     assert!(md.contains("step rejection"));
 }
 
+#[test]
+fn the_chapter_is_deterministic() {
+    let again = TutorialChapter::compute().unwrap();
+    assert!(&again == chapter());
+    let (a, b) = (again.figures().unwrap(), chapter().figures().unwrap());
+    assert_eq!(again.section(9, &a), chapter().section(9, &b));
+    assert_eq!(again.files(&a), chapter().files(&b));
+}
+
 fn mss(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_mss"))
         .args(args)

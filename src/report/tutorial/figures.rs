@@ -107,7 +107,7 @@ pub fn stability_energy(runs: &[EnergyRun]) -> Result<TutorialFigure> {
             };
             panel.series.push(
                 Series::line(
-                    format!("hω = {}", sig4(run.h_omega)),
+                    format!("hω = {}", sig_short(run.h_omega)),
                     run.points.clone(),
                     color,
                 )
@@ -318,7 +318,7 @@ pub fn pendulum_energy(run: &PendulumRun) -> Result<TutorialFigure> {
         Axis::linear("E = kinetic + gravitational + elastic (J)"),
     );
     panel.series.push(Series::line(
-        format!("RK4, h = {} s", sig_short(run.dt)),
+        format!("RK4, h = {} s", short(run.dt)),
         run.energy.clone(),
         BLACK,
     ));

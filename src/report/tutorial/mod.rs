@@ -579,7 +579,7 @@ impl TutorialChapter {
                 .iter()
                 .map(|(h, evaluations, error)| format!(
                     "h = {} s, {evaluations} evaluations, error {} m",
-                    sig_short(*h),
+                    short(*h),
                     sig(*error, 2)
                 ))
                 .collect::<Vec<_>>()
