@@ -13,6 +13,7 @@ use mass_spring_solvers::report::format::sig4;
 use mass_spring_solvers::report::output::{write_report, OutputFile};
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
+use mass_spring_solvers::report::tutorial::TutorialChapter;
 use mass_spring_solvers::report::{crate_root, render, solvers_in, tables, ReportData, Sources};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -31,6 +32,7 @@ fn data() -> &'static ReportData {
             forensics: Some(forensic_results().clone()),
             runs,
             catenary,
+            tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
             sources,
         }
     })
@@ -159,9 +161,26 @@ fn every_table_figure_and_data_file_is_there() {
     }
     let svgs: Vec<&OutputFile> = files()
         .iter()
-        .filter(|f| f.path.extension().is_some_and(|e| e == "svg"))
+        .filter(|f| {
+            f.path.extension().is_some_and(|e| e == "svg")
+                && f.path.to_string_lossy().starts_with("figures/fig")
+        })
         .collect();
     assert_eq!(svgs.len(), 15);
+    for f in files() {
+        let path = f.path.to_string_lossy();
+        if let Some(stem) = path
+            .strip_prefix("figures/tutorial_")
+            .and_then(|s| s.strip_suffix(".svg"))
+        {
+            assert!(
+                report.contains(&format!("figures/tutorial_{stem}.svg")),
+                "{path} not in REPORT.md"
+            );
+            file(&format!("data/tutorial_{stem}.csv"));
+        }
+    }
+    assert!(report.contains("## 9. The particle-system tutorial, verified"));
     for n in 1..=15 {
         let prefix = format!("figures/fig{n:02}-");
         let svg = svgs

@@ -18,7 +18,9 @@ use mass_spring_solvers::metrics::{
     STOP_THRESHOLD_J,
 };
 use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
-use mass_spring_solvers::particles::{Integrator, ParticleStepper, ParticleSystem};
+use mass_spring_solvers::particles::{
+    AdaptiveStepper, Integrator, ParticleStepper, ParticleSystem,
+};
 use mass_spring_solvers::scene::{RopeParams, THESIS_GRAVITY, THESIS_NODES, THESIS_STIFFNESSES};
 use mass_spring_solvers::scene_file::{self, SceneFile};
 use mass_spring_solvers::solver::{simulate, Recording, Run, RunOptions, TimeStepper};
@@ -35,6 +37,8 @@ const DEFAULT_ITERATIONS: usize = REFERENCE_NEWTON_ITERATIONS;
 /// Steps between recorded positions when `--positions-every` is not given: keeps the series of
 /// a long run (hundreds of thousands of steps) small.
 const DEFAULT_POSITIONS_EVERY: u64 = 10;
+/// Error tolerance of rk45 when `--tolerance` is not given.
+const DEFAULT_TOLERANCE: f64 = 1e-6;
 /// Stiffness of the built-in ropes when `--stiffness` is not given, N/m (the thesis's stiffer).
 const DEFAULT_ROPE_STIFFNESS: f64 = THESIS_STIFFNESSES[1];
 
@@ -89,6 +93,16 @@ struct Cli {
         help_heading = "Solver"
     )]
     iterations: Option<i64>,
+
+    /// rk45 only: error tolerance T (> 0) of each adaptive step, relative to 1 + |component| of
+    /// every position (m) and velocity (m/s); a bounce is located to within T m [default: 1e-6]
+    #[arg(
+        long,
+        value_name = "T",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    tolerance: Option<f64>,
 
     /// Built-in scene
     #[arg(long, value_enum, default_value_t = SceneArg::Thesis, help_heading = "Scene")]
@@ -239,6 +253,9 @@ enum SolverArg {
     SymplecticEuler,
     /// Tutorial: classical Runge-Kutta (order 4; stable for omega·dt < 2·sqrt(2))
     Rk4,
+    /// Beyond the tutorial: Dormand-Prince 5(4) with error control (--tolerance); --dt is then
+    /// the sampling interval, each covered by as many adaptive steps as the tolerance needs
+    Rk45,
 }
 
 /// A method: one of the thesis's solvers or one of the tutorial's integrators.
@@ -246,6 +263,8 @@ enum SolverArg {
 enum Method {
     Thesis(SolverKind),
     Tutorial(Integrator),
+    /// The adaptive Dormand-Prince 5(4) on the tutorial's particle system.
+    Adaptive,
 }
 
 impl SolverArg {
@@ -258,6 +277,7 @@ impl SolverArg {
             SolverArg::ExplicitEuler => Method::Tutorial(Integrator::ExplicitEuler),
             SolverArg::SymplecticEuler => Method::Tutorial(Integrator::SymplecticEuler),
             SolverArg::Rk4 => Method::Tutorial(Integrator::Rk4),
+            SolverArg::Rk45 => Method::Adaptive,
         }
     }
 
@@ -361,6 +381,8 @@ fn check_count(option: &str, value: i64, min: i64) -> Result<usize, Failure> {
 struct Settings {
     method: Method,
     iterations: usize,
+    /// The adaptive method's error tolerance (rk45 only).
+    tolerance: f64,
     options: RunOptions,
 }
 
@@ -370,12 +392,28 @@ fn settings(cli: &Cli) -> Result<Settings, Failure> {
     let iterations = match (method, cli.iterations) {
         (Method::Thesis(_), None) => DEFAULT_ITERATIONS,
         (Method::Thesis(_), Some(n)) => check_count("--iterations", n, 1)?,
-        (Method::Tutorial(_), None) => 1,
-        (Method::Tutorial(_), Some(n)) => {
+        (Method::Tutorial(_) | Method::Adaptive, None) => 1,
+        (Method::Tutorial(_) | Method::Adaptive, Some(n)) => {
             return Err(Error::invalid(
                 "--iterations",
                 n,
                 &format!("not given: {} takes no iterations", cli.solver.id()),
+            )
+            .into())
+        }
+    };
+    let tolerance = match (method, cli.tolerance) {
+        (Method::Adaptive, None) => DEFAULT_TOLERANCE,
+        (Method::Adaptive, Some(t)) => check("--tolerance", t, t > 0.0, "a number > 0")?,
+        (_, None) => 0.0,
+        (_, Some(t)) => {
+            return Err(Error::invalid(
+                "--tolerance",
+                t,
+                &format!(
+                    "not given: {} has no error control (rk45 has)",
+                    cli.solver.id()
+                ),
             )
             .into())
         }
@@ -426,6 +464,7 @@ fn settings(cli: &Cli) -> Result<Settings, Failure> {
     Ok(Settings {
         method,
         iterations,
+        tolerance,
         options: RunOptions {
             stop: StoppingRule {
                 threshold,
@@ -466,7 +505,7 @@ impl Model {
             Model::File(file) => {
                 file.require_springs_and_gravity_only().map_err(|e| {
                     Failure::input(format!(
-                        "{scene}: {e}; explicit_euler, symplectic_euler and rk4 model it"
+                        "{scene}: {e}; explicit_euler, symplectic_euler, rk4 and rk45 model it"
                     ))
                 })?;
                 Ok(file.system.clone())
@@ -474,7 +513,7 @@ impl Model {
             Model::Particles(_) => Err(Failure::input(format!(
                 "invalid --scene: {scene} (allowed with the thesis's solvers and with \
                  --compare-reference: thesis, rope, hanging_cloth or a scene file without drag, \
-                 ground or spring damping; {scene} needs explicit_euler, symplectic_euler or rk4)"
+                 ground or spring damping; {scene} needs explicit_euler, symplectic_euler, rk4 or rk45)"
             ))),
         }
     }
@@ -570,13 +609,14 @@ fn build_stepper(
     scene: &str,
     dt: f64,
     iterations: usize,
+    tolerance: f64,
 ) -> Result<(Box<dyn TimeStepper>, Option<AppliedForces>), Failure> {
     Ok(match method {
         Method::Thesis(kind) => (
             kind.build(&model.springs_only(scene)?, dt, iterations)?,
             None,
         ),
-        Method::Tutorial(integrator) => {
+        Method::Tutorial(_) | Method::Adaptive => {
             let particles = model.into_particles()?;
             let applied = AppliedForces {
                 forces: particles.forces().iter().map(|f| f.name()).collect(),
@@ -585,8 +625,13 @@ fn build_stepper(
                     restitution: g.restitution(),
                 }),
             };
-            let stepper = ParticleStepper::new(particles, integrator, dt)?;
-            (Box::new(stepper), Some(applied))
+            let stepper: Box<dyn TimeStepper> = match method {
+                Method::Tutorial(integrator) => {
+                    Box::new(ParticleStepper::new(particles, integrator, dt)?)
+                }
+                _ => Box::new(AdaptiveStepper::new(particles, dt, tolerance)?),
+            };
+            (stepper, Some(applied))
         }
     })
 }
@@ -1027,8 +1072,14 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     } else {
         None
     };
-    let (mut stepper, applied) =
-        build_stepper(settings.method, model, &scene, cli.dt, settings.iterations)?;
+    let (mut stepper, applied) = build_stepper(
+        settings.method,
+        model,
+        &scene,
+        cli.dt,
+        settings.iterations,
+        settings.tolerance,
+    )?;
     summary.applied = applied;
     let ke_csv = cli
         .ke_csv

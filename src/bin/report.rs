@@ -11,6 +11,7 @@ use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::report::output::{write_report, OutputFile, RunInfo};
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
+use mass_spring_solvers::report::tutorial::TutorialChapter;
 use mass_spring_solvers::report::{crate_root, render, ReportData, Sources};
 use mass_spring_solvers::{Error, Result};
 use std::io::{IsTerminal, Write};
@@ -18,7 +19,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) into `report/`.
+/// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) and the tutorial's chapter into
+/// `report/`.
 #[derive(Parser, Debug)]
 #[command(version)]
 struct Args {
@@ -81,11 +83,15 @@ fn run(args: Args) -> Result<String> {
     let catenary = Catenary::compute()?;
     phases.push(("figure runs, cloth and catenary".to_string(), t.elapsed()));
     let t = Instant::now();
+    let tutorial = TutorialChapter::compute()?;
+    phases.push(("the tutorial's chapter".to_string(), t.elapsed()));
+    let t = Instant::now();
     let data = ReportData {
         results,
         forensics: Some(forensics),
         runs,
         catenary,
+        tutorial,
         sources,
     };
     let mut files = render(&data)?;

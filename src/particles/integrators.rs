@@ -165,7 +165,7 @@ impl ParticleStepper {
 }
 
 /// $`y \leftarrow y + a\,d`$ for a state and a derivative.
-fn axpy(y: &mut State, a: f64, d: &State) {
+pub(super) fn axpy(y: &mut State, a: f64, d: &State) {
     for (x, dx) in y.x.iter_mut().zip(&d.x) {
         *x += a * dx;
     }

@@ -14,14 +14,18 @@
 //!   [`crate::solver::TimeStepper`] driven by [`crate::solver::simulate`] like the thesis's
 //!   solvers;
 //! - a ground plane with restitution ([`ground::Ground`]);
+//! - beyond the tutorial, the adaptive Dormand-Prince 5(4) integrator it promises for "another
+//!   article" ([`adaptive`]);
 //! - its two scenes, a cloth dropped from 10 m and a pendulum that bounces on the floor, and a
 //!   cloth hanging from two pinned corners for the thesis's solvers ([`scenes`]).
 
+pub mod adaptive;
 pub mod forces;
 pub mod ground;
 pub mod integrators;
 pub mod scenes;
 
+pub use adaptive::{AdaptiveStats, AdaptiveStepper};
 pub use forces::{DampedSprings, Drag, Gravity};
 pub use ground::Ground;
 pub use integrators::{Integrator, ParticleStepper};

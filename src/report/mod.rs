@@ -21,6 +21,7 @@ pub mod rest_state;
 pub mod runs;
 pub mod tables;
 pub mod traceability;
+pub mod tutorial;
 pub mod versions;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
@@ -33,6 +34,8 @@ use crate::report::output::OutputFile;
 use crate::report::rest_state::Catenary;
 use crate::report::runs::FigureRuns;
 use crate::report::traceability::{Quote, Tag};
+use crate::report::tutorial::figures::TutorialFigure;
+use crate::report::tutorial::TutorialChapter;
 use crate::report::versions::Versions;
 use crate::scene::{
     THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT, THESIS_GRAVITY, THESIS_NODES, THESIS_NODE_MASS,
@@ -86,13 +89,20 @@ pub struct ReportData {
     pub forensics: Option<Forensics>,
     pub runs: FigureRuns,
     pub catenary: Catenary,
+    /// The tutorial's chapter.
+    pub tutorial: TutorialChapter,
     pub sources: Sources,
 }
 
 /// The report's files: `REPORT.md`, `figures/*.svg`, `data/*.csv` (not `run-info.md`).
 pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let figures = figures::all(data)?;
-    let mut files = vec![OutputFile::text("REPORT.md", markdown(data, &figures))];
+    let tutorial_figures = data.tutorial.figures()?;
+    let mut files = vec![OutputFile::text(
+        "REPORT.md",
+        markdown(data, &figures, &tutorial_figures),
+    )];
+    files.extend(data.tutorial.files(&tutorial_figures));
     for f in &figures {
         files.push(OutputFile::text(
             format!("figures/{}.svg", f.stem),
@@ -224,7 +234,11 @@ fn scene_table() -> MarkdownTable {
     t
 }
 
-fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
+fn markdown(
+    data: &ReportData,
+    figures: &[figures::Figure],
+    tutorial_figures: &[TutorialFigure],
+) -> String {
     let r = &data.results;
     let mut md = String::new();
     md += "# Solvers de Elasticidad y Restricciones en Simulación — chapter 4 regenerated\n\n";
@@ -255,8 +269,9 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
         md += "\n";
     }
     md += "Contents: 1 Mass-spring systems · 2 The test scene · 3 Measurements · 4 Results (Tables 1-7) · \
-           5 Reproduction summary · 6 Forensic reproduction: evidence classes · 7 Conclusions revisited (Tables 8-12, Figures \
-           5-15) · 8 Analytic catenary · 9 Errata · 10 Equation traceability · 11 Data files · 12 Versions\n\n";
+           5 Reproduction summary · 6 Forensic reproduction: evidence classes · 7 Conclusions revisited \
+           (Tables 8-12, Figures 5-15) · 8 Analytic catenary · 9 The particle-system tutorial, verified · \
+           10 Errata · 11 Equation traceability · 12 Data files · 13 Versions\n\n";
 
     md += "## 1. Mass-spring systems (§2.1)\n\n";
     md += &figure_md(figures, 1);
@@ -346,13 +361,15 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
     md += &rest_state::comparison(r, &data.catenary);
     md += "\n";
 
-    md += "## 9. Errata\n\n";
+    md += &data.tutorial.section(9, tutorial_figures);
+
+    md += "## 10. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 10. Equation traceability\n\n";
+    md += "## 11. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -365,7 +382,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 10.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 11.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -378,7 +395,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
         );
     }
 
-    md += "## 11. Data files\n\n";
+    md += "## 12. Data files\n\n";
     md += &format!(
         "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
          `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
@@ -394,14 +411,17 @@ fn markdown(data: &ReportData, figures: &[figures::Figure]) -> String {
          - [`data/gravity-mismatch.csv`](data/gravity-mismatch.csv): `{}`, the gravity-mismatch errors of \
          section 6.4 in both norms.\n\
          - `data/figNN-*.csv`: the points each figure draws (long series reduced to the minimum and maximum of \
-         each of at most 1500 buckets).\n\n",
+         each of at most 1500 buckets).\n\
+         - `data/tutorial_*.csv`: the tutorial chapter (section 9): the points of each of its figures \
+         (`tutorial_<figure>.csv`), the stability limits, the several-gravities particles and the energy kept at \
+         each bounce, full precision.\n\n",
         data::RESULTS_HEADER,
         data::REPRODUCTION_HEADER,
         data::CONFIGURATIONS_HEADER,
         data::GRAVITY_HEADER
     );
 
-    md += "## 12. Crate and dependency versions\n\n";
+    md += "## 13. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

@@ -258,17 +258,51 @@ fn legend_position(l: Legend) -> SeriesLabelPosition {
     }
 }
 
+/// The chart around a panel's plotting area: caption, margin and label areas.
+fn chart_builder<'a, 'b, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    panel: &'b Panel,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(&panel.title, (FONT, 19))
+        .margin(14)
+        .x_label_area_size(if panel.mesh { 48 } else { 0 })
+        .y_label_area_size(if panel.mesh { 78 } else { 0 });
+    builder
+}
+
+/// The height, px, at which `panel`, drawn `width` px wide, shows a metre as the same number
+/// of pixels along x and y (geometry drawn to scale). Both axes must be linear with fixed
+/// ranges.
+pub fn height_to_scale(panel: &Panel, width: u32) -> Result<u32> {
+    let (Some((x0, x1)), Some((y0, y1)), false, false) =
+        (panel.x.range, panel.y.range, panel.x.log, panel.y.log)
+    else {
+        return Err(Error::Input(format!(
+            "drawing \"{}\" to scale needs linear axes with fixed ranges",
+            panel.title
+        )));
+    };
+    // The plotting area of a square probe: the label areas and margins are fixed in pixels.
+    let mut scratch = String::new();
+    let root = SVGBackend::with_string(&mut scratch, (width, width)).into_drawing_area();
+    let chart = chart_builder(&root, panel)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(plot_error)?;
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    let (plot_width, plot_height) = (f64::from(px.end - px.start), py.end - py.start);
+    let overhead = width as i32 - plot_height;
+    Ok((overhead + (plot_width * (y1 - y0) / (x1 - x0)).round() as i32).max(1) as u32)
+}
+
 /// Draws one panel on `area`. A macro instead of a generic function because plotters'
 /// linear and logarithmic coordinates are different types with the same interface.
 macro_rules! draw_panel {
     ($area:expr, $panel:expr, $xr:expr, $yr:expr, $ranges:expr) => {{
         let panel: &Panel = $panel;
         let (x0, x1, y0, y1) = $ranges;
-        let mut chart = ChartBuilder::on($area)
-            .caption(&panel.title, (FONT, 19))
-            .margin(14)
-            .x_label_area_size(if panel.mesh { 48 } else { 0 })
-            .y_label_area_size(if panel.mesh { 78 } else { 0 })
+        let mut chart = chart_builder($area, panel)
             .build_cartesian_2d($xr, $yr)
             .map_err(plot_error)?;
         if panel.mesh {
@@ -487,5 +521,32 @@ mod tests {
         let b = svg(&[p.clone(), p], (400, 300)).unwrap();
         assert_eq!(a, b);
         assert!(a.contains("<text") && a.contains("dt (s)"));
+    }
+
+    #[test]
+    fn geometry_to_scale_has_equal_pixels_per_unit() {
+        for (mesh, x_range, y_range) in [(true, 4.0, 1.0), (false, 2.0, 3.0)] {
+            let mut p = Panel::new(
+                "t",
+                Axis::linear("x (m)").range(0.0, x_range),
+                Axis::linear("y (m)").range(0.0, y_range),
+            );
+            p.mesh = mesh;
+            let height = height_to_scale(&p, 800).unwrap();
+            let mut out = String::new();
+            let root = SVGBackend::with_string(&mut out, (800, height)).into_drawing_area();
+            let chart = chart_builder(&root, &p)
+                .build_cartesian_2d(0.0..x_range, 0.0..y_range)
+                .unwrap();
+            let (px, py) = chart.plotting_area().get_pixel_range();
+            let per_x = f64::from(px.end - px.start) / x_range;
+            let per_y = f64::from(py.end - py.start) / y_range;
+            assert!(
+                (per_x - per_y).abs() <= 1.0 / y_range,
+                "{per_x} vs {per_y} px/m"
+            );
+        }
+        let log = Panel::new("t", Axis::log("x").range(1.0, 10.0), Axis::linear("y"));
+        assert!(height_to_scale(&log, 800).is_err());
     }
 }
