@@ -20,7 +20,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 /// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
-const FIXTURE_FILES: usize = 2000;
+const FIXTURE_FILES: usize = 400;
 
 /// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) into `report/`.
 ///

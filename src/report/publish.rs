@@ -26,7 +26,7 @@ use std::collections::BTreeSet;
 use std::ffi::{OsStr, OsString};
 use std::fs::{self, File};
 use std::path::{Component, Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 /// The file, inside the output directory, listing the files the report wrote.
 pub const MANIFEST: &str = "MANIFEST";
@@ -42,6 +42,9 @@ const MANIFEST_HEADER: &str = "\
 /// The top-level entries the report writes: a foreign entry under one of these names is
 /// refused before the experiments run.
 const REPORT_ENTRIES: [&str; 4] = ["REPORT.md", "run-info.md", "data", "figures"];
+
+/// How long [`ReportTarget::open`] waits for a busy lock.
+const LOCK_PATIENCE: Duration = Duration::from_millis(500);
 
 /// Temporary directories of the writer before this module, inside the output directory.
 const LEGACY_STAGING_PREFIX: &str = ".tmp-";
@@ -154,18 +157,26 @@ impl Lock {
             .write(true)
             .open(path)
             .map_err(|e| io_error("creating the lock file", path, e))?;
-        try_lock(&file).map_err(|e| {
-            if e.kind() == std::io::ErrorKind::WouldBlock {
-                Error::Input(format!(
-                    "another report run is writing {} (it holds the lock {}); wait for it to \
-                     finish or stop it, then run again",
-                    dir.display(),
-                    path.display()
-                ))
-            } else {
-                io_error("locking", path, e)
+        // A lock is held a moment longer than its run by a child forked meanwhile (until it
+        // execs), so a busy lock is retried briefly before it is reported.
+        let deadline = Instant::now() + LOCK_PATIENCE;
+        loop {
+            match try_lock(&file) {
+                Ok(()) => break,
+                Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                    if Instant::now() >= deadline {
+                        return Err(Error::Input(format!(
+                            "another report run is writing {} (it holds the lock {}); wait \
+                             for it to finish or stop it, then run again",
+                            dir.display(),
+                            path.display()
+                        )));
+                    }
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                Err(e) => return Err(io_error("locking", path, e)),
             }
-        })?;
+        }
         Ok(Self { _file: file })
     }
 }
@@ -367,7 +378,7 @@ fn foreign_entries(
             let new_under = new_files.iter().any(|f| f.starts_with(&rel) && *f != rel);
             if is_dir && (ownership.owns_something_under(&rel) || new_under) {
                 walk(dir, &rel, ownership, new_files, out)?;
-            } else if !(!is_dir && ownership.owns_file(&rel)) {
+            } else if is_dir || !ownership.owns_file(&rel) {
                 if new_under || new_files.contains(&rel) {
                     return Err(Error::Input(format!(
                         "{} was not written by the report (it is not in {}) but the new \
