@@ -19,6 +19,7 @@ pub mod experiments;
 pub mod fast_mass_spring;
 pub mod linear;
 pub mod metrics;
+pub mod output_file;
 pub mod particles;
 pub mod pbd;
 pub mod projective;
