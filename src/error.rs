@@ -87,9 +87,15 @@ pub fn require_within(
     if (min..=max).contains(&value) {
         Ok(value)
     } else {
+        // 1e300 as 1e300, not as its 301 digits; 1e-320 likewise.
+        let shown = if value.is_finite() && value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
+            bound(value)
+        } else {
+            value.to_string()
+        };
         Err(Error::invalid(
             field,
-            value,
+            shown,
             &format!("a number from {} to {}, in {unit}", bound(min), bound(max)),
         ))
     }
