@@ -22,8 +22,10 @@ use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, Pendu
 use mass_spring_solvers::particles::{Integrator, ParticleStepper, ParticleSystem};
 use mass_spring_solvers::scene::{RopeParams, THESIS_GRAVITY, THESIS_NODES, THESIS_STIFFNESSES};
 use mass_spring_solvers::scene_file::{self, SceneFile, LIMITS};
-use mass_spring_solvers::solver::{simulate, Recording, Run, RunOptions, TimeStepper};
-use mass_spring_solvers::system::{MassSpringSystem, Vec3};
+use mass_spring_solvers::solver::{
+    simulate, simulate_into, Recorder, Recording, Run, RunOptions, TimeStepper,
+};
+use mass_spring_solvers::system::{MassSpringSystem, State, Vec3};
 use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -1039,24 +1041,65 @@ fn write_text(out: &mut dyn Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "{:<18}{:.3} s", "wall time", r.wall_time_s)
 }
 
-fn write_ke(out: &mut dyn Write, run: &Run) -> std::io::Result<()> {
-    writeln!(out, "time_s,kinetic_energy_j")?;
-    for (step, ke) in run.kinetic_energy.iter().enumerate() {
-        writeln!(out, "{},{}", num(step_time(step as u64, run.dt)), num(*ke))?;
-    }
-    Ok(())
+/// Writes the recorded series into the output files as the run goes: a long series never
+/// waits in memory.
+struct CsvRecorder {
+    dt: f64,
+    ke: Option<OutputFile>,
+    positions: Option<OutputFile>,
+    /// Whether writing a file failed (the run then stops with that error).
+    failed: bool,
 }
 
-fn write_positions(out: &mut dyn Write, run: &Run) -> std::io::Result<()> {
-    writeln!(out, "time_s,node,x_m,y_m,z_m")?;
-    for (time, state) in &run.positions {
-        // Recorded times are n·dt; the rounding only removes the product's last-digit noise.
-        let time = num(step_time((time / run.dt).round() as u64, run.dt));
-        for (i, x) in state.x.iter().enumerate() {
-            writeln!(out, "{time},{i},{},{},{}", num(x[0]), num(x[1]), num(x[2]))?;
+impl CsvRecorder {
+    fn headers(&mut self) -> std::io::Result<()> {
+        if let Some(out) = &mut self.ke {
+            writeln!(out.writer(), "time_s,kinetic_energy_j")?;
         }
+        if let Some(out) = &mut self.positions {
+            writeln!(out.writer(), "time_s,node,x_m,y_m,z_m")?;
+        }
+        Ok(())
     }
-    Ok(())
+
+    fn noting_failure(
+        &mut self,
+        written: std::io::Result<()>,
+        option: &str,
+    ) -> std::io::Result<()> {
+        written.map_err(|e| {
+            self.failed = true;
+            std::io::Error::new(e.kind(), format!("{option}: {e}"))
+        })
+    }
+}
+
+impl Recorder for CsvRecorder {
+    fn kinetic_energy(&mut self, step: u64, energy: f64) -> std::io::Result<()> {
+        let Some(out) = &mut self.ke else {
+            return Ok(());
+        };
+        let time = num(step_time(step, self.dt));
+        let written = writeln!(out.writer(), "{time},{}", num(energy));
+        self.noting_failure(written, "--ke-csv")
+    }
+
+    fn positions(&mut self, step: u64, state: &State) -> std::io::Result<()> {
+        let Some(out) = &mut self.positions else {
+            return Ok(());
+        };
+        let time = num(step_time(step, self.dt));
+        let written = state.x.iter().enumerate().try_for_each(|(i, x)| {
+            writeln!(
+                out.writer(),
+                "{time},{i},{},{},{}",
+                num(x[0]),
+                num(x[1]),
+                num(x[2])
+            )
+        });
+        self.noting_failure(written, "--positions-csv")
+    }
 }
 
 fn run(cli: &Cli) -> Result<(), Failure> {
@@ -1082,13 +1125,23 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     .filter_map(|(option, path)| path.map(|p| (option, p)))
     .collect();
     let mut outputs = OutputFile::open_all(&requested, cli.scene_file.as_deref())?.into_iter();
-    let ke_csv = cli.ke_csv.as_ref().and_then(|_| outputs.next());
-    let positions_csv = cli.positions_csv.as_ref().and_then(|_| outputs.next());
+    let mut csv = CsvRecorder {
+        dt: cli.dt,
+        ke: cli.ke_csv.as_ref().and_then(|_| outputs.next()),
+        positions: cli.positions_csv.as_ref().and_then(|_| outputs.next()),
+        failed: false,
+    };
+    csv.headers()
+        .map_err(|e| Failure::run(format!("writing the CSV headers: {e}")))?;
 
     let start = Instant::now();
     let initial = stepper.system().initial_state();
-    let outcome = simulate(stepper.as_mut(), initial, &settings.options)
-        .map_err(Failure::from)
+    let outcome = simulate_into(stepper.as_mut(), initial, &settings.options, &mut csv)
+        .map_err(|e| match e {
+            // The files' fault, not the input's.
+            Error::Input(message) if csv.failed => Failure::run(message),
+            e => Failure::from(e),
+        })
         .and_then(|run| {
             // A run with the reference's own parameters is its own reference.
             let is_reference = settings.method == Method::Thesis(SolverKind::BackwardEuler)
@@ -1118,17 +1171,7 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     let (run, reference) = outcome?;
     let wall_time_s = start.elapsed().as_secs_f64();
 
-    let csv_error = |option: &str, path: &Option<PathBuf>, e: std::io::Error| {
-        let path = path.as_deref().unwrap_or(Path::new(""));
-        Failure::run(format!("{option} {}: {e}", path.display()))
-    };
-    if let Some(mut output) = ke_csv {
-        write_ke(output.writer(), &run).map_err(|e| csv_error("--ke-csv", &cli.ke_csv, e))?;
-        output.finish().map_err(|e| Failure::run(e.to_string()))?;
-    }
-    if let Some(mut output) = positions_csv {
-        write_positions(output.writer(), &run)
-            .map_err(|e| csv_error("--positions-csv", &cli.positions_csv, e))?;
+    for output in csv.ke.into_iter().chain(csv.positions) {
         output.finish().map_err(|e| Failure::run(e.to_string()))?;
     }
     let report = Report {
