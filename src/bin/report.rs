@@ -78,6 +78,7 @@ fn run(args: Args) -> Result<String> {
         }
     };
     let target = ReportTarget::open(&out)?;
+    let out = target.dir().to_path_buf();
     for note in target.notes() {
         eprintln!("report: {note}");
     }
