@@ -141,13 +141,22 @@ impl OutputFile {
                         ),
                     ));
                 }
-                Self::replacing(dest).map_err(|e| {
-                    refuse(
-                        option,
-                        path,
-                        &format!("a file in a directory this user may write ({e})"),
-                    )
-                })?
+                let (file, sink) = Self::replacing(dest)
+                    .and_then(|(file, sink)| {
+                        // A replaced file keeps its permissions.
+                        if let Ok(m) = &meta {
+                            file.set_permissions(m.permissions())?;
+                        }
+                        Ok((file, sink))
+                    })
+                    .map_err(|e| {
+                        refuse(
+                            option,
+                            path,
+                            &format!("a file in a directory this user may write ({e})"),
+                        )
+                    })?;
+                (file, sink)
             }
         };
         Ok(Self {

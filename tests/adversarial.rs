@@ -91,8 +91,11 @@ fn a_read_only_file_is_refused_and_kept() {
 #[cfg(unix)]
 #[test]
 fn a_symlink_is_followed_and_stays_a_link() {
+    use std::os::unix::fs::PermissionsExt;
     let dir = scratch("symlink");
     std::fs::write(dir.join("real.csv"), "old").unwrap();
+    let mode = std::fs::Permissions::from_mode(0o640);
+    std::fs::set_permissions(dir.join("real.csv"), mode).unwrap();
     std::os::unix::fs::symlink("real.csv", dir.join("link.csv")).unwrap();
     let out = mss_in(&dir, &[&QUICK[..], &["--ke-csv", "link.csv"]].concat());
     assert!(
@@ -107,6 +110,12 @@ fn a_symlink_is_followed_and_stays_a_link() {
     let series = std::fs::read_to_string(dir.join("real.csv")).unwrap();
     assert!(series.starts_with("time_s,kinetic_energy_j\n"), "{series}");
     assert_eq!(entries(&dir), ["link.csv", "real.csv"]);
+    let meta = std::fs::metadata(dir.join("real.csv")).unwrap();
+    assert_eq!(
+        meta.permissions().mode() & 0o777,
+        0o640,
+        "the replaced file keeps its mode"
+    );
 }
 
 #[cfg(target_os = "linux")]

@@ -356,3 +356,14 @@ fn the_binary_killed_at_seeded_moments_leaves_a_complete_report() {
     assert_eq!(fixture_tag(&out).as_deref(), Some("B"));
     assert_eq!(leftovers(&out), Vec::<String>::new());
 }
+
+#[test]
+fn an_output_path_that_is_a_file_is_refused_and_kept() {
+    let out = scratch("is-a-file");
+    std::fs::write(&out, "not a report").unwrap();
+    let e = write_report(&out, &report("x", &["REPORT.md"]))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("is not a directory"), "{e}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "not a report");
+}
