@@ -253,7 +253,7 @@ fn dt_longer_than_max_time_is_refused() {
 fn dev_zero_as_scene_file_is_refused() {
     refused(
         &mss(&["--scene-file", "/dev/zero"]),
-        &["/dev/zero", "64 MiB"],
+        &["/dev/zero", "16 MiB"],
     );
 }
 

@@ -77,7 +77,7 @@ or any other file that is not a regular file (a device, a named pipe) is written
 
 Limits (bad input, exit 2, before the run): a run needing more than --max-work spring updates
 (steps × iterations × springs, the reference run's included); more nodes than the available
-memory holds at 4 KiB a node; --dt longer than --max-time; a scene file over 64 MiB; values
+memory holds at 4 KiB a node; --dt longer than --max-time; a scene file over 16 MiB; values
 outside the plausible ranges: masses 1e-9 to 1e9 kg, coordinates and rest lengths within 1e6 m,
 velocities within 1e6 m/s, gravity within 1e4 m/s², stiffness up to 1e12 N/m, damping and drag
 up to 1e9 N·s/m.
