@@ -321,11 +321,14 @@ fn the_binary_killed_at_seeded_moments_leaves_a_complete_report() {
     assert!(run("A").wait().unwrap().success());
     std::fs::create_dir_all(out.join("timing")).unwrap();
     std::fs::write(out.join("timing/t.csv"), "mine").unwrap();
-    // The kills land within the first 70% of a whole run's time, measured here, under the
-    // machine's load of the moment.
-    let t = Instant::now();
-    assert!(run("B").wait().unwrap().success());
-    let full = t.elapsed();
+    // The kills land within the first 70% of a whole run's time, the shorter of two measured
+    // here under the machine's load of the moment.
+    let timed = |tag: &str| {
+        let t = Instant::now();
+        assert!(run(tag).wait().unwrap().success());
+        t.elapsed()
+    };
+    let full = timed("B").min(timed("A"));
     let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
     let mut kills = 0;
     for i in 0..6 {
