@@ -69,6 +69,38 @@ pub fn require_non_negative(field: impl Into<String>, value: f64) -> Result<f64>
     }
 }
 
+/// Checks that `value` is within `min..=max` (and so finite).
+pub fn require_within(
+    field: impl Into<String>,
+    value: f64,
+    min: f64,
+    max: f64,
+    unit: &str,
+) -> Result<f64> {
+    let bound = |x: f64| {
+        if x == 0.0 {
+            "0".to_string()
+        } else {
+            format!("{x:e}")
+        }
+    };
+    if (min..=max).contains(&value) {
+        Ok(value)
+    } else {
+        // 1e300 as 1e300, not as its 301 digits; 1e-320 likewise.
+        let shown = if value.is_finite() && value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
+            bound(value)
+        } else {
+            value.to_string()
+        };
+        Err(Error::invalid(
+            field,
+            shown,
+            &format!("a number from {} to {}, in {unit}", bound(min), bound(max)),
+        ))
+    }
+}
+
 /// Checks that `value` is finite.
 pub fn require_finite(field: impl Into<String>, value: f64) -> Result<f64> {
     if value.is_finite() {

@@ -20,6 +20,7 @@ pub mod fast_mass_spring;
 pub mod forensics;
 pub mod linear;
 pub mod metrics;
+pub mod output_file;
 pub mod particles;
 pub mod pbd;
 pub mod projective;

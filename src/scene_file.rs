@@ -28,6 +28,11 @@
 //! ground = { height = 0.0, restitution = 0.5 }   # plane y = height, restitution in [0, 1]
 //! ```
 //!
+//! Beyond these signs, every value must be physically plausible ([`LIMITS`]: masses 1e-9 to
+//! 1e9 kg, coordinates and rest lengths within 1e6 m, gravity within 1e4 m/s², stiffness up to
+//! 1e12 N/m, ...), vectors have exactly three components, and a file is at most
+//! [`MAX_FILE_BYTES`] long.
+//!
 //! Nodes and springs may equally be written as arrays of inline tables
 //! (`nodes = [{ mass = 1.0, position = [0, 0, 0], fixed = true }, ...]`).
 //!
@@ -37,13 +42,111 @@
 //! forces), which names the field (`springs[3].stiffness`), and this module adds the line and
 //! column where the field is written.
 
-use crate::error::{require_non_negative, Error, Result};
+use crate::error::{require_non_negative, require_within, Error, Result};
 use crate::particles::{Drag, Ground, ParticleSystem, Particles};
 use crate::system::{MassSpringSystem, Node, Spring, Vec3};
 use serde::Deserialize;
+use std::io::Read;
 use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
+
+/// The largest scene file read (16 MiB, some 140 000 nodes): a larger one, or an endless one
+/// (`/dev/zero`), is refused before it is parsed. Parsing takes about 45 bytes of memory a
+/// byte of file (1.0 GB for a 22 MB file of 200 000 nodes), so this bounds it near 750 MB.
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// A plausible range: the least and greatest value, and the unit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plausible {
+    pub min: f64,
+    pub max: f64,
+    pub unit: &'static str,
+}
+
+impl Plausible {
+    /// Checks `value`, naming `field`.
+    pub fn check(&self, field: impl Into<String>, value: f64) -> Result<f64> {
+        require_within(field, value, self.min, self.max, self.unit)
+    }
+}
+
+/// The plausible ranges of a scene's physical values; the command line's options share them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    pub mass: Plausible,
+    /// Each coordinate of a position, and a ground height.
+    pub coordinate: Plausible,
+    pub velocity: Plausible,
+    /// Each component of gravity.
+    pub gravity: Plausible,
+    pub rest_length: Plausible,
+    pub stiffness: Plausible,
+    /// Spring damping and drag.
+    pub damping: Plausible,
+}
+
+/// See [`Limits`]: wide enough for any scene of the thesis or the tutorial by many orders of
+/// magnitude, narrow enough that a value past them is a typo, not a scene.
+pub const LIMITS: Limits = Limits {
+    mass: Plausible {
+        min: 1e-9,
+        max: 1e9,
+        unit: "kg",
+    },
+    coordinate: Plausible {
+        min: -1e6,
+        max: 1e6,
+        unit: "m",
+    },
+    velocity: Plausible {
+        min: -1e6,
+        max: 1e6,
+        unit: "m/s",
+    },
+    gravity: Plausible {
+        min: -1e4,
+        max: 1e4,
+        unit: "m/s²",
+    },
+    rest_length: Plausible {
+        min: 1e-9,
+        max: 1e6,
+        unit: "m",
+    },
+    stiffness: Plausible {
+        min: 0.0,
+        max: 1e12,
+        unit: "N/m",
+    },
+    damping: Plausible {
+        min: 0.0,
+        max: 1e9,
+        unit: "N·s/m",
+    },
+};
+
+/// Three numbers, exactly: `[x, y, z]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Triple([f64; 3]);
+
+impl<'de> Deserialize<'de> for Triple {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let values = Vec::<f64>::deserialize(d)?;
+        let n = values.len();
+        <[f64; 3]>::try_from(values)
+            .map(Triple)
+            .map_err(|_| serde::de::Error::invalid_length(n, &"an array of exactly 3 numbers"))
+    }
+}
+
+/// Checks every component of a vector field (`nodes[2].position[1]`).
+fn check_components(field: &str, v: [f64; 3], range: &Plausible) -> Result<()> {
+    for (i, x) in v.into_iter().enumerate() {
+        range.check(format!("{field}[{i}]"), x)?;
+    }
+    Ok(())
+}
 
 /// A scene read from a file: the mass-spring system and the tutorial's extra forces.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,8 +210,18 @@ impl SceneFile {
 
 /// Reads and validates a scene file; every error starts with the file's path.
 pub fn load(path: &Path) -> Result<SceneFile> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::Input(format!("scene file {}: {e}", path.display())))?;
+    let fail = |e: String| Error::Input(format!("scene file {}: {e}", path.display()));
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(|e| fail(e.to_string()))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(fail(format!(
+            "longer than {} MiB, the limit of a scene file",
+            MAX_FILE_BYTES >> 20
+        )));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| fail(format!("not UTF-8 text: {e}")))?;
     parse(&text).map_err(|e| Error::Input(format!("scene file {}: {e}", path.display())))
 }
 
@@ -135,7 +248,7 @@ fn location(text: &str, offset: usize) -> String {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawScene {
-    gravity: Spanned<[f64; 3]>,
+    gravity: Spanned<Triple>,
     #[serde(default)]
     nodes: Vec<Spanned<RawNode>>,
     #[serde(default)]
@@ -147,8 +260,8 @@ struct RawScene {
 #[serde(deny_unknown_fields)]
 struct RawNode {
     mass: Spanned<f64>,
-    position: Spanned<[f64; 3]>,
-    velocity: Option<Spanned<[f64; 3]>>,
+    position: Spanned<Triple>,
+    velocity: Option<Spanned<Triple>>,
     #[serde(default)]
     fixed: bool,
 }
@@ -231,8 +344,61 @@ impl RawScene {
     }
 }
 
+/// Checks the values of the file against [`LIMITS`], naming the first one out of range.
+fn check_plausible(raw: &RawScene) -> Result<()> {
+    check_components("gravity", raw.gravity.get_ref().0, &LIMITS.gravity)?;
+    for (i, n) in raw.nodes.iter().enumerate() {
+        let n = n.get_ref();
+        LIMITS
+            .mass
+            .check(format!("nodes[{i}].mass"), *n.mass.get_ref())?;
+        let position = n.position.get_ref().0;
+        check_components(
+            &format!("nodes[{i}].position"),
+            position,
+            &LIMITS.coordinate,
+        )?;
+        if let Some(v) = &n.velocity {
+            check_components(
+                &format!("nodes[{i}].velocity"),
+                v.get_ref().0,
+                &LIMITS.velocity,
+            )?;
+        }
+    }
+    for (j, s) in raw.springs.iter().enumerate() {
+        let s = s.get_ref();
+        LIMITS
+            .stiffness
+            .check(format!("springs[{j}].stiffness"), *s.stiffness.get_ref())?;
+        if let Some(l) = &s.rest_length {
+            LIMITS
+                .rest_length
+                .check(format!("springs[{j}].rest_length"), *l.get_ref())?;
+        }
+        if let Some(d) = &s.damping {
+            LIMITS
+                .damping
+                .check(format!("springs[{j}].damping"), *d.get_ref())?;
+        }
+    }
+    if let Some(f) = &raw.forces {
+        let f = f.get_ref();
+        if let Some(d) = &f.drag {
+            LIMITS.damping.check("forces.drag", *d.get_ref())?;
+        }
+        if let Some(g) = &f.ground {
+            LIMITS
+                .coordinate
+                .check("forces.ground.height", *g.get_ref().height.get_ref())?;
+        }
+    }
+    Ok(())
+}
+
 /// Builds the validated scene; range errors name the field as the file writes it.
 fn build(raw: &RawScene) -> Result<SceneFile> {
+    check_plausible(raw)?;
     let nodes: Vec<Node> = raw
         .nodes
         .iter()
@@ -240,11 +406,11 @@ fn build(raw: &RawScene) -> Result<SceneFile> {
             let n = n.get_ref();
             Node {
                 mass: *n.mass.get_ref(),
-                position: Vec3::from(*n.position.get_ref()),
+                position: Vec3::from(n.position.get_ref().0),
                 velocity: n
                     .velocity
                     .as_ref()
-                    .map_or(Vec3::zeros(), |v| Vec3::from(*v.get_ref())),
+                    .map_or(Vec3::zeros(), |v| Vec3::from(v.get_ref().0)),
                 fixed: n.fixed,
             }
         })
@@ -270,7 +436,7 @@ fn build(raw: &RawScene) -> Result<SceneFile> {
             }
         })
         .collect();
-    let system = MassSpringSystem::new(nodes, springs, Vec3::from(*raw.gravity.get_ref()))?;
+    let system = MassSpringSystem::new(nodes, springs, Vec3::from(raw.gravity.get_ref().0))?;
     let forces = match &raw.forces {
         None => Forces::default(),
         Some(f) => {

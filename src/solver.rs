@@ -32,6 +32,34 @@ pub struct Recording {
     pub positions_every: Option<u64>,
 }
 
+/// Receives the series a run records ([`Recording`]) as the run goes, so that a long series
+/// can go to a file instead of memory.
+pub trait Recorder {
+    /// The kinetic energy after `step` steps (0: the initial state), J.
+    fn kinetic_energy(&mut self, step: u64, energy: f64) -> std::io::Result<()>;
+    /// The state after `step` steps.
+    fn positions(&mut self, step: u64, state: &State) -> std::io::Result<()>;
+}
+
+/// The recorder of [`simulate`]: the series in memory, as [`Run`] holds them.
+struct InMemory {
+    dt: f64,
+    kinetic_energy: Vec<f64>,
+    positions: Vec<(f64, State)>,
+}
+
+impl Recorder for InMemory {
+    fn kinetic_energy(&mut self, _step: u64, energy: f64) -> std::io::Result<()> {
+        self.kinetic_energy.push(energy);
+        Ok(())
+    }
+
+    fn positions(&mut self, step: u64, state: &State) -> std::io::Result<()> {
+        self.positions.push((step as f64 * self.dt, state.clone()));
+        Ok(())
+    }
+}
+
 /// Options of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RunOptions {
@@ -115,10 +143,27 @@ fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
 /// A non-finite state or a kinetic energy above [`DIVERGENCE_FACTOR`] times the energy scale
 /// stops the run with [`Error::Diverged`], naming the step and time; a failing step stops it
 /// with [`Error::StepFailed`].
-pub fn simulate(
+pub fn simulate(solver: &mut dyn TimeStepper, state: State, options: &RunOptions) -> Result<Run> {
+    let mut memory = InMemory {
+        dt: solver.dt(),
+        kinetic_energy: Vec::new(),
+        positions: Vec::new(),
+    };
+    let run = simulate_into(solver, state, options, &mut memory)?;
+    Ok(Run {
+        kinetic_energy: memory.kinetic_energy,
+        positions: memory.positions,
+        ..run
+    })
+}
+
+/// [`simulate`], handing the recorded series to `recorder` as they come (the [`Run`]'s own
+/// series stay empty). A recorder's error stops the run with [`Error::Input`].
+pub fn simulate_into(
     solver: &mut dyn TimeStepper,
     mut state: State,
     options: &RunOptions,
+    recorder: &mut dyn Recorder,
 ) -> Result<Run> {
     options.stop.validate()?;
     require_non_negative("velocity_damping", options.velocity_damping)?;
@@ -129,15 +174,21 @@ pub fn simulate(
     let scale = energy_scale(solver.system(), &state);
     let mut detector = PeakDetector::new(dt);
     let mut peaks = Vec::new();
-    let mut kinetic_energy = Vec::new();
-    let mut positions = Vec::new();
+    let recorded = |step: u64, e: std::io::Error| {
+        Error::Input(format!("recording step {step} of {name}: {e}"))
+    };
     let ke0 = state.kinetic_energy(solver.system());
     detector.push(ke0);
     if options.recording.kinetic_energy {
-        kinetic_energy.push(ke0);
+        recorder
+            .kinetic_energy(0, ke0)
+            .map_err(|e| recorded(0, e))?;
     }
+    // The last step whose positions were recorded.
+    let mut positions_at = None;
     if options.recording.positions_every.is_some() {
-        positions.push((0.0, state.clone()));
+        recorder.positions(0, &state).map_err(|e| recorded(0, e))?;
+        positions_at = Some(0);
     }
     let mut steps = 0;
     let mut stopped = false;
@@ -170,11 +221,16 @@ pub fn simulate(
             });
         }
         if options.recording.kinetic_energy {
-            kinetic_energy.push(ke);
+            recorder
+                .kinetic_energy(steps, ke)
+                .map_err(|e| recorded(steps, e))?;
         }
         if let Some(every) = options.recording.positions_every {
             if steps % every.max(1) == 0 {
-                positions.push((time, state.clone()));
+                recorder
+                    .positions(steps, &state)
+                    .map_err(|e| recorded(steps, e))?;
+                positions_at = Some(steps);
             }
         }
         if let Some(peak) = detector.push(ke) {
@@ -186,12 +242,10 @@ pub fn simulate(
             }
         }
     }
-    if options.recording.positions_every.is_some()
-        && positions
-            .last()
-            .is_some_and(|(t, _)| *t < steps as f64 * dt)
-    {
-        positions.push((steps as f64 * dt, state.clone()));
+    if positions_at.is_some_and(|at| at < steps) {
+        recorder
+            .positions(steps, &state)
+            .map_err(|e| recorded(steps, e))?;
     }
     Ok(Run {
         solver: name,
@@ -200,7 +254,70 @@ pub fn simulate(
         peaks,
         hit_time_limit: !stopped,
         final_state: state,
-        kinetic_energy,
-        positions,
+        kinetic_energy: Vec::new(),
+        positions: Vec::new(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backward_euler::BackwardEuler;
+    use crate::metrics::StoppingRule;
+    use crate::scene::thesis_rope;
+
+    /// Collects what it is handed, with the step numbers.
+    #[derive(Default)]
+    struct Collect {
+        kinetic_energy: Vec<(u64, f64)>,
+        positions: Vec<(u64, State)>,
+    }
+
+    impl Recorder for Collect {
+        fn kinetic_energy(&mut self, step: u64, energy: f64) -> std::io::Result<()> {
+            self.kinetic_energy.push((step, energy));
+            Ok(())
+        }
+
+        fn positions(&mut self, step: u64, state: &State) -> std::io::Result<()> {
+            self.positions.push((step, state.clone()));
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_recorder_gets_the_series_simulate_keeps_in_memory() {
+        let system = thesis_rope(1e3).unwrap();
+        let options = RunOptions {
+            stop: StoppingRule {
+                max_time: 0.05,
+                ..StoppingRule::default()
+            },
+            recording: Recording {
+                kinetic_energy: true,
+                positions_every: Some(7),
+            },
+            ..RunOptions::default()
+        };
+        let mut solver = BackwardEuler::reference(&system).unwrap();
+        let kept = simulate(&mut solver, system.initial_state(), &options).unwrap();
+        let mut solver = BackwardEuler::reference(&system).unwrap();
+        let mut collect = Collect::default();
+        let streamed =
+            simulate_into(&mut solver, system.initial_state(), &options, &mut collect).unwrap();
+        assert!(streamed.kinetic_energy.is_empty() && streamed.positions.is_empty());
+        assert_eq!(collect.kinetic_energy.len(), 51);
+        let steps: Vec<u64> = collect.positions.iter().map(|(s, _)| *s).collect();
+        // t = 0, every 7th step, and the last (50).
+        assert_eq!(steps, [0, 7, 14, 21, 28, 35, 42, 49, 50]);
+        assert!(collect
+            .kinetic_energy
+            .iter()
+            .enumerate()
+            .all(|(i, (s, e))| *s == i as u64 && *e == kept.kinetic_energy[i]));
+        for ((step, state), (time, kept)) in collect.positions.iter().zip(&kept.positions) {
+            assert_eq!((*step as f64 * streamed.dt, state), (*time, kept));
+        }
+        assert_eq!(collect.positions.len(), kept.positions.len());
+    }
 }

@@ -394,6 +394,7 @@ fn help_documents_every_option() {
         "--ke-csv",
         "--positions-csv",
         "--positions-every",
+        "--max-work",
     ] {
         assert!(help.contains(option), "{option} not in --help");
     }
@@ -413,7 +414,17 @@ fn help_documents_every_option() {
     ] {
         assert!(help.contains(value), "{value} not in --help");
     }
-    for unit in ["in s", "N/m", "in J", "m/s²", "in kg", "1/s", "Exit status"] {
+    for unit in [
+        "in s",
+        "N/m",
+        "in J",
+        "m/s²",
+        "in kg",
+        "1/s",
+        "Exit status",
+        "written in place",
+        "1e-9 to 1e9 kg",
+    ] {
         assert!(help.contains(unit), "{unit} not in --help");
     }
 }

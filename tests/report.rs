@@ -10,7 +10,8 @@
 use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::format::sig4;
-use mass_spring_solvers::report::output::{write_report, OutputFile};
+use mass_spring_solvers::report::output::OutputFile;
+use mass_spring_solvers::report::publish::write_report;
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
 use mass_spring_solvers::report::tutorial::TutorialChapter;

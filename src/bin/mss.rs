@@ -17,17 +17,19 @@ use mass_spring_solvers::metrics::{
     rest_error_l2, rest_error_max, rest_error_sum, Peak, StoppingRule, MAX_SIMULATED_TIME_S,
     STOP_THRESHOLD_J,
 };
+use mass_spring_solvers::output_file::OutputFile;
 use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
 use mass_spring_solvers::particles::{
     AdaptiveStepper, Integrator, ParticleStepper, ParticleSystem,
 };
 use mass_spring_solvers::scene::{RopeParams, THESIS_GRAVITY, THESIS_NODES, THESIS_STIFFNESSES};
-use mass_spring_solvers::scene_file::{self, SceneFile};
-use mass_spring_solvers::solver::{simulate, Recording, Run, RunOptions, TimeStepper};
-use mass_spring_solvers::system::{MassSpringSystem, Vec3};
+use mass_spring_solvers::scene_file::{self, SceneFile, LIMITS};
+use mass_spring_solvers::solver::{
+    simulate, simulate_into, Recorder, Recording, Run, RunOptions, TimeStepper,
+};
+use mass_spring_solvers::system::{MassSpringSystem, State, Vec3};
 use serde::Serialize;
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -41,6 +43,14 @@ const DEFAULT_POSITIONS_EVERY: u64 = 10;
 const DEFAULT_TOLERANCE: f64 = 1e-6;
 /// Stiffness of the built-in ropes when `--stiffness` is not given, N/m (the thesis's stiffer).
 const DEFAULT_ROPE_STIFFNESS: f64 = THESIS_STIFFNESSES[1];
+/// Spring updates (steps × iterations × springs) a run may need unless `--max-work` says
+/// more: about a quarter of an hour of the slowest solver on this machine's kind.
+const DEFAULT_MAX_WORK: f64 = 1e11;
+/// Memory a node may need at most, in bytes, in any scene and solver: the bound of `--nodes`
+/// and of a scene file's node count against the memory available.
+const BYTES_PER_NODE: u64 = 4096;
+/// The memory assumed available where the system does not say (`/proc/meminfo`), in bytes.
+const ASSUMED_MEMORY: u64 = 1 << 32;
 
 const AFTER_HELP: &str = "\
 Output: the number of kinetic-energy peaks (a peak is a step whose KE is above the previous
@@ -62,6 +72,19 @@ Examples:
   mss --scene rope --nodes 30 --solver fast_mass_spring --iterations 30 --compare-reference --json
   mss --scene pendulum --solver rk4 --dt 1e-4 --max-time 10 --positions-csv pendulum.csv
   mss --scene-file scenes/hanging-cloth.toml --solver admm_pd --iterations 20 --ke-csv ke.csv
+
+Output files (--ke-csv, --positions-csv) are checked before the run: a directory, a read-only
+file, a path whose directory is missing or not writable, the scene file, or one file given to
+both options is bad input (exit 2). A new or existing regular file (links followed) is replaced
+only when the run succeeds, and an interrupted run leaves nothing beside it; a path under /dev
+or any other file that is not a regular file (a device, a named pipe) is written in place.
+
+Limits (bad input, exit 2, before the run): a run needing more than --max-work spring updates
+(steps × iterations × springs, the reference run's included); more nodes than the available
+memory holds at 4 KiB a node; --dt longer than --max-time; a scene file over 16 MiB; values
+outside the plausible ranges: masses 1e-9 to 1e9 kg, coordinates and rest lengths within 1e6 m,
+velocities within 1e6 m/s, gravity within 1e4 m/s², stiffness up to 1e12 N/m, damping and drag
+up to 1e9 N·s/m.
 
 Exit status: 0 success; 1 the run failed (diverged or a step failed); 2 bad input.";
 
@@ -220,6 +243,11 @@ struct Cli {
     #[arg(long, value_name = "PATH", help_heading = "Output")]
     positions_csv: Option<PathBuf>,
 
+    /// Refuse, before it starts, a run needing more than this many spring updates (steps ×
+    /// iterations × springs, the reference run's included); raise it for a long run on purpose
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_WORK, help_heading = "Limits")]
+    max_work: f64,
+
     /// With --positions-csv: write the positions every N steps, an integer >= 1 [default: 10]
     #[arg(
         long,
@@ -376,6 +404,54 @@ fn check_count(option: &str, value: i64, min: i64) -> Result<usize, Failure> {
         .ok_or_else(|| Error::invalid(option, value, &format!("an integer >= {min}")).into())
 }
 
+/// The memory available to a new process, in bytes (`MemAvailable` on Linux).
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuses more nodes than the available memory holds at [`BYTES_PER_NODE`], naming `option`.
+fn check_memory(option: &str, nodes: usize) -> Result<(), Failure> {
+    let memory = available_memory().unwrap_or(ASSUMED_MEMORY);
+    let max_nodes = memory / BYTES_PER_NODE;
+    if nodes as u64 <= max_nodes {
+        return Ok(());
+    }
+    Err(Failure::input(format!(
+        "invalid {option}: {nodes} nodes (allowed: at most {max_nodes}, what the {} MiB of \
+         memory available hold at {BYTES_PER_NODE} bytes a node)",
+        memory >> 20
+    )))
+}
+
+/// Refuses, before it starts, a run that needs more than `--max-work` spring updates.
+fn check_work(cli: &Cli, settings: &Settings, springs: usize) -> Result<(), Failure> {
+    let max_time = settings.options.stop.max_time;
+    let springs = springs.max(1) as f64;
+    let steps = (max_time / cli.dt).ceil();
+    let mut work = steps * settings.iterations as f64 * springs;
+    let mut parts = format!(
+        "{steps:.3e} steps (--max-time / --dt) × {} iterations × {springs} springs",
+        settings.iterations
+    );
+    if cli.compare_reference {
+        let reference_steps = (max_time / REFERENCE_DT).ceil();
+        work += reference_steps * REFERENCE_NEWTON_ITERATIONS as f64 * springs;
+        parts += ", and the reference run's";
+    }
+    if work <= cli.max_work {
+        return Ok(());
+    }
+    Err(Failure::input(format!(
+        "invalid --max-work: the run needs about {work:.3e} spring updates ({parts}), more than \
+         the budget of {:e}; take a larger --dt, a shorter --max-time or fewer --iterations, or \
+         raise --max-work",
+        cli.max_work
+    )))
+}
+
 /// The options, checked: every value in range, every option used by the chosen scene and method.
 #[derive(Debug)]
 struct Settings {
@@ -420,10 +496,17 @@ fn settings(cli: &Cli) -> Result<Settings, Failure> {
     };
     if let Some(k) = cli.stiffness {
         check("--stiffness", k, k > 0.0, "a number > 0, in N/m")?;
+        LIMITS.stiffness.check("--stiffness", k)?;
     }
     if let Some(g) = cli.gravity {
-        check("--gravity", g, true, "a finite number, in m/s²")?;
+        LIMITS.gravity.check("--gravity", g)?;
     }
+    check(
+        "--max-work",
+        cli.max_work,
+        cli.max_work >= 1.0,
+        "a number >= 1, in spring updates",
+    )?;
     let rope_only = [
         ("--nodes", cli.nodes.is_some()),
         ("--rest-length", cli.rest_length.is_some()),
@@ -450,6 +533,14 @@ fn settings(cli: &Cli) -> Result<Settings, Failure> {
         cli.max_time > 0.0,
         "a number > 0, in s",
     )?;
+    if cli.dt > max_time {
+        return Err(Error::invalid(
+            "--dt",
+            cli.dt,
+            &format!("at most --max-time ({max_time} s): a longer step is never taken"),
+        )
+        .into());
+    }
     let velocity_damping = check(
         "--velocity-damping",
         cli.velocity_damping,
@@ -540,6 +631,7 @@ fn build_scene(cli: &Cli) -> Result<Model, Failure> {
     let g = cli.gravity;
     if let Some(path) = &cli.scene_file {
         let mut file = scene_file::load(path)?;
+        check_memory("--scene-file", file.system.len())?;
         if let Some(k) = cli.stiffness {
             file.system = file.system.with_stiffness(k)?;
         }
@@ -561,14 +653,18 @@ fn build_scene(cli: &Cli) -> Result<Model, Failure> {
                 Some(n) => check_count("--nodes", n, 3)?,
                 None => THESIS_NODES,
             };
+            check_memory("--nodes", rope.nodes)?;
             if let Some(l) = cli.rest_length {
-                rope.rest_length = check("--rest-length", l, l > 0.0, "a number > 0, in m")?;
+                rope.rest_length = LIMITS.rest_length.check("--rest-length", l)?;
             }
             if let Some(m) = cli.node_mass {
-                rope.node_mass = check("--node-mass", m, m > 0.0, "a number > 0, in kg")?;
+                rope.node_mass = LIMITS.mass.check("--node-mass", m)?;
             }
             let span = match cli.span {
-                Some(s) => check("--span", s, s > 0.0, "a number > 0, in m")?,
+                Some(s) => {
+                    check("--span", s, s > 0.0, "a number > 0, in m")?;
+                    LIMITS.coordinate.check("--span", s)?
+                }
                 None => (rope.nodes - 1) as f64 * rope.rest_length,
             };
             rope.anchor_right = rope.anchor_left + Vec3::new(span, 0.0, 0.0);
@@ -634,56 +730,6 @@ fn build_stepper(
             (stepper, Some(applied))
         }
     })
-}
-
-/// An output file, written beside its destination (`<path>.partial`) and renamed into place
-/// when complete: a bad path fails before the run, and a failed run leaves any previous file
-/// at the destination untouched.
-struct Output {
-    option: &'static str,
-    path: PathBuf,
-    partial: PathBuf,
-    writer: BufWriter<File>,
-}
-
-impl Output {
-    fn create(option: &'static str, path: &Path) -> Result<Self, Failure> {
-        let mut partial = path.as_os_str().to_owned();
-        partial.push(".partial");
-        let partial = PathBuf::from(partial);
-        let file = File::create(&partial)
-            .map_err(|e| Failure::input(format!("{option} {}: {e}", path.display())))?;
-        Ok(Self {
-            option,
-            path: path.to_path_buf(),
-            partial,
-            writer: BufWriter::new(file),
-        })
-    }
-
-    fn write(
-        mut self,
-        rows: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-    ) -> Result<(), Failure> {
-        let written = rows(&mut self.writer)
-            .and_then(|()| self.writer.flush())
-            .and_then(|()| std::fs::rename(&self.partial, &self.path));
-        written.map_err(|e| {
-            let message = format!("{} {}: {e}", self.option, self.path.display());
-            self.discard();
-            Failure::run(message)
-        })
-    }
-
-    /// Removes the partial file of a run that failed.
-    fn discard(self) {
-        let Self {
-            partial, writer, ..
-        } = self;
-        drop(writer);
-        // The file is ours; if it cannot be removed, the run's error matters more.
-        let _ = std::fs::remove_file(partial);
-    }
 }
 
 /// A number in CSV and text: the shortest representation that reads back to the same f64,
@@ -1041,30 +1087,72 @@ fn write_text(out: &mut dyn Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "{:<18}{:.3} s", "wall time", r.wall_time_s)
 }
 
-fn write_ke(out: &mut dyn Write, run: &Run) -> std::io::Result<()> {
-    writeln!(out, "time_s,kinetic_energy_j")?;
-    for (step, ke) in run.kinetic_energy.iter().enumerate() {
-        writeln!(out, "{},{}", num(step_time(step as u64, run.dt)), num(*ke))?;
-    }
-    Ok(())
+/// Writes the recorded series into the output files as the run goes: a long series never
+/// waits in memory.
+struct CsvRecorder {
+    dt: f64,
+    ke: Option<OutputFile>,
+    positions: Option<OutputFile>,
+    /// Whether writing a file failed (the run then stops with that error).
+    failed: bool,
 }
 
-fn write_positions(out: &mut dyn Write, run: &Run) -> std::io::Result<()> {
-    writeln!(out, "time_s,node,x_m,y_m,z_m")?;
-    for (time, state) in &run.positions {
-        // Recorded times are n·dt; the rounding only removes the product's last-digit noise.
-        let time = num(step_time((time / run.dt).round() as u64, run.dt));
-        for (i, x) in state.x.iter().enumerate() {
-            writeln!(out, "{time},{i},{},{},{}", num(x[0]), num(x[1]), num(x[2]))?;
+impl CsvRecorder {
+    fn headers(&mut self) -> std::io::Result<()> {
+        if let Some(out) = &mut self.ke {
+            writeln!(out.writer(), "time_s,kinetic_energy_j")?;
         }
+        if let Some(out) = &mut self.positions {
+            writeln!(out.writer(), "time_s,node,x_m,y_m,z_m")?;
+        }
+        Ok(())
     }
-    Ok(())
+
+    fn noting_failure(
+        &mut self,
+        written: std::io::Result<()>,
+        option: &str,
+    ) -> std::io::Result<()> {
+        written.map_err(|e| {
+            self.failed = true;
+            std::io::Error::new(e.kind(), format!("{option}: {e}"))
+        })
+    }
+}
+
+impl Recorder for CsvRecorder {
+    fn kinetic_energy(&mut self, step: u64, energy: f64) -> std::io::Result<()> {
+        let Some(out) = &mut self.ke else {
+            return Ok(());
+        };
+        let time = num(step_time(step, self.dt));
+        let written = writeln!(out.writer(), "{time},{}", num(energy));
+        self.noting_failure(written, "--ke-csv")
+    }
+
+    fn positions(&mut self, step: u64, state: &State) -> std::io::Result<()> {
+        let Some(out) = &mut self.positions else {
+            return Ok(());
+        };
+        let time = num(step_time(step, self.dt));
+        let written = state.x.iter().enumerate().try_for_each(|(i, x)| {
+            writeln!(
+                out.writer(),
+                "{time},{i},{},{},{}",
+                num(x[0]),
+                num(x[1]),
+                num(x[2])
+            )
+        });
+        self.noting_failure(written, "--positions-csv")
+    }
 }
 
 fn run(cli: &Cli) -> Result<(), Failure> {
     let settings = settings(cli)?;
     let scene = scene_name(cli);
     let model = build_scene(cli)?;
+    check_work(cli, &settings, model.system().springs().len())?;
     let mut summary = SceneSummary::new(scene.clone(), model.system());
     let published = published_row(cli, &settings, model.system());
     let reference_system = if cli.compare_reference {
@@ -1081,21 +1169,31 @@ fn run(cli: &Cli) -> Result<(), Failure> {
         settings.tolerance,
     )?;
     summary.applied = applied;
-    let ke_csv = cli
-        .ke_csv
-        .as_deref()
-        .map(|p| Output::create("--ke-csv", p))
-        .transpose()?;
-    let positions_csv = cli
-        .positions_csv
-        .as_deref()
-        .map(|p| Output::create("--positions-csv", p))
-        .transpose()?;
+    let requested: Vec<(&'static str, &Path)> = [
+        ("--ke-csv", cli.ke_csv.as_deref()),
+        ("--positions-csv", cli.positions_csv.as_deref()),
+    ]
+    .into_iter()
+    .filter_map(|(option, path)| path.map(|p| (option, p)))
+    .collect();
+    let mut outputs = OutputFile::open_all(&requested, cli.scene_file.as_deref())?.into_iter();
+    let mut csv = CsvRecorder {
+        dt: cli.dt,
+        ke: cli.ke_csv.as_ref().and_then(|_| outputs.next()),
+        positions: cli.positions_csv.as_ref().and_then(|_| outputs.next()),
+        failed: false,
+    };
+    csv.headers()
+        .map_err(|e| Failure::run(format!("writing the CSV headers: {e}")))?;
 
     let start = Instant::now();
     let initial = stepper.system().initial_state();
-    let outcome = simulate(stepper.as_mut(), initial, &settings.options)
-        .map_err(Failure::from)
+    let outcome = simulate_into(stepper.as_mut(), initial, &settings.options, &mut csv)
+        .map_err(|e| match e {
+            // The files' fault, not the input's.
+            Error::Input(message) if csv.failed => Failure::run(message),
+            e => Failure::from(e),
+        })
         .and_then(|run| {
             // The report's reference: the thesis's stopping rule, no damping. A run with
             // exactly its parameters is its own reference.
@@ -1121,23 +1219,12 @@ fn run(cli: &Cli) -> Result<(), Failure> {
                 .map_err(|e| Failure::from(e).with_context("reference run"))?;
             Ok((run, reference))
         });
-    let (run, reference) = match outcome {
-        Ok(runs) => runs,
-        Err(failure) => {
-            ke_csv
-                .into_iter()
-                .chain(positions_csv)
-                .for_each(Output::discard);
-            return Err(failure);
-        }
-    };
+    // A failed run drops its outputs, which leaves every destination as it was.
+    let (run, reference) = outcome?;
     let wall_time_s = start.elapsed().as_secs_f64();
 
-    if let Some(output) = ke_csv {
-        output.write(|out| write_ke(out, &run))?;
-    }
-    if let Some(output) = positions_csv {
-        output.write(|out| write_positions(out, &run))?;
+    for output in csv.ke.into_iter().chain(csv.positions) {
+        output.finish().map_err(|e| Failure::run(e.to_string()))?;
     }
     let report = Report {
         solver: cli.solver.id(),

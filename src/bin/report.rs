@@ -1,36 +1,48 @@
 //! `make report`: runs every experiment the thesis's tables and figures need (once, in
-//! parallel), then the forensic configurations of the rows run, and writes `report/`
-//! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv` and the git-ignored `run-info.md`.
-//! Progress goes to stderr when it is a terminal.
+//! parallel), then the forensic configurations of the rows run, and replaces `report/`
+//! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv`, `MANIFEST` and the git-ignored
+//! `run-info.md`; what the previous report did not write is carried over (see
+//! [`mass_spring_solvers::report::publish`]). Progress goes to stderr when it is a terminal.
 
 use clap::Parser;
 use mass_spring_solvers::experiments::{
     published_rows, run_all, Configuration, PublishedRow, SolverKind,
 };
 use mass_spring_solvers::forensics::{Evidence, Forensics};
-use mass_spring_solvers::report::output::{write_report, OutputFile, RunInfo};
+use mass_spring_solvers::report::output::{OutputFile, RunInfo};
+use mass_spring_solvers::report::publish::{fixture, ReportTarget};
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
-use mass_spring_solvers::report::{crate_root, render, ReportData, Sources};
+use mass_spring_solvers::report::{crate_root, render, repository_containing, ReportData, Sources};
 use mass_spring_solvers::{Error, Result};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) and the tutorial's chapter into
-/// `report/`.
+/// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
+const FIXTURE_FILES: usize = 400;
+
+/// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) and the tutorial's chapter
+/// into `report/`.
+///
+/// The output directory is replaced as a whole and atomically; it must be new, empty, or a
+/// report this program wrote (it has a MANIFEST). Files in it that the report did not write
+/// are kept. One run at a time per directory (a lock file beside it).
 #[derive(Parser, Debug)]
 #[command(version)]
 struct Args {
-    /// Output directory [default: report/ in the crate root]
+    /// Output directory [default: report/ of the repository holding the current directory]
     #[arg(long)]
     out: Option<PathBuf>,
     /// Run only the rows of these tables (comma-separated, 1-7) for a quick partial report;
     /// the report then says which solvers were not run. Default: all 56 rows.
     #[arg(long, value_delimiter = ',')]
     tables: Vec<u8>,
+    /// Tests only: write a synthetic report whose files name TAG instead of running anything.
+    #[arg(long, value_name = "TAG", hide = true)]
+    fixture: Option<String>,
 }
 
 /// `label: done/total` on one stderr line, only when stderr is a terminal.
@@ -50,9 +62,33 @@ fn progress(label: &'static str) -> impl Fn(usize, usize) + Sync {
 fn run(args: Args) -> Result<String> {
     let start = Instant::now();
     let root = crate_root();
-    let out = args.out.unwrap_or_else(|| root.join("report"));
     if let Some(bad) = args.tables.iter().find(|t| !(1..=7).contains(*t)) {
         return Err(Error::invalid("--tables", bad, "table numbers 1 to 7"));
+    }
+    let out = match args.out {
+        Some(out) => out,
+        None => {
+            let cwd = std::env::current_dir()
+                .map_err(|e| Error::Input(format!("reading the current directory: {e}")))?;
+            repository_containing(&cwd)
+                .ok_or_else(|| {
+                    Error::Input(format!(
+                        "{} is not inside the mass-spring-solvers repository: give --out DIR",
+                        cwd.display()
+                    ))
+                })?
+                .join("report")
+        }
+    };
+    let target = ReportTarget::open(&out)?;
+    let out = target.dir().to_path_buf();
+    for note in target.notes() {
+        eprintln!("report: {note}");
+    }
+    if let Some(tag) = args.fixture {
+        let files = fixture(&tag, FIXTURE_FILES);
+        target.publish(&files)?;
+        return Ok(format!("wrote the {tag} fixture to {}", out.display()));
     }
     let rows: Vec<PublishedRow> = published_rows()
         .iter()
@@ -110,7 +146,7 @@ fn run(args: Args) -> Result<String> {
         rows_run: data.results.rows.len(),
     };
     files.push(OutputFile::text("run-info.md", info.render(&root)));
-    write_report(&out, &files)?;
+    target.publish(&files)?;
     Ok(format!(
         "wrote {} files to {} in {:.1} s: {} of {} rows reproduced by the faithful configuration{classes}",
         files.len(),
@@ -128,7 +164,7 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("report: {e} (the previous report, if any, is unchanged)");
+            eprintln!("report: {e}");
             ExitCode::FAILURE
         }
     }

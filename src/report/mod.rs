@@ -6,9 +6,9 @@
 //! of the figures ([`runs`]), the exact catenary ([`rest_state`]), the equation tags and the
 //! solvers' step functions read from `src/` ([`traceability`]) and the dependency versions
 //! ([`versions`]). [`render`] turns it into files (Markdown, SVG, CSV) without computing
-//! anything, so the same data always gives the same bytes; [`output::write_report`] writes
-//! them atomically. What changes from run to run (commit, machine, timings) goes to
-//! `run-info.md` ([`output::RunInfo`]), which is git-ignored.
+//! anything, so the same data always gives the same bytes; [`publish`] replaces the output
+//! directory with them atomically. What changes from run to run (commit, machine, timings)
+//! goes to `run-info.md` ([`output::RunInfo`]), which is git-ignored.
 
 pub mod data;
 pub mod errata;
@@ -17,6 +17,7 @@ pub mod forensics;
 pub mod format;
 pub mod output;
 mod plot;
+pub mod publish;
 pub mod rest_state;
 pub mod runs;
 pub mod tables;
@@ -46,6 +47,22 @@ use std::path::{Path, PathBuf};
 /// The crate's root directory (where `src/`, `Cargo.toml` and `Cargo.lock` are).
 pub fn crate_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The repository of this crate that holds `start` (the nearest ancestor, `start` included,
+/// whose `Cargo.toml` names the package), found at run time: the report's default output
+/// directory is its `report/`, wherever the binary was built.
+pub fn repository_containing(start: &Path) -> Option<PathBuf> {
+    let package = format!("name = \"{}\"", env!("CARGO_PKG_NAME"));
+    start.ancestors().find_map(|dir| {
+        let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).ok()?;
+        let names_us = manifest.split("[package]").nth(1).is_some_and(|p| {
+            p.lines()
+                .take_while(|l| !l.trim_start().starts_with('['))
+                .any(|l| l.trim() == package)
+        });
+        names_us.then(|| dir.to_path_buf())
+    })
 }
 
 /// What the report reads from the crate's files: equation tags, the quoted step function of

@@ -1,11 +1,6 @@
-//! Writing the report atomically, and the run information that changes from run to run.
-//!
-//! Every file is first written into a temporary directory inside the output directory
-//! (`report/.tmp-*`, git-ignored); only when all of them are written does each top-level
-//! entry (`REPORT.md`, `run-info.md`, `figures/`, `data/`) replace the old one by a rename.
-//! A run that fails before that leaves the previous report untouched.
+//! The report's files, and the run information that changes from run to run. Writing them is
+//! [`crate::report::publish`]'s concern.
 
-use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
@@ -24,79 +19,6 @@ impl OutputFile {
             contents: contents.into_bytes(),
         }
     }
-}
-
-fn io_error(what: &str, path: &Path, e: std::io::Error) -> Error {
-    Error::Input(format!("{what} {}: {e}", path.display()))
-}
-
-/// Removes a directory tree if it exists.
-fn remove_tree(path: &Path) -> Result<()> {
-    match std::fs::remove_dir_all(path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(io_error("removing", path, e)),
-        _ => Ok(()),
-    }
-}
-
-fn unique_suffix() -> String {
-    let nanos = SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_or(0, |d| d.subsec_nanos());
-    format!("{}-{nanos}", std::process::id())
-}
-
-/// Writes `files` into `dir` atomically per top-level entry (see the module documentation).
-/// Top-level entries of `dir` that `files` does not mention are left alone.
-pub fn write_report(dir: &Path, files: &[OutputFile]) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| io_error("creating", dir, e))?;
-    let suffix = unique_suffix();
-    let staging = dir.join(format!(".tmp-{suffix}"));
-    let result = stage(&staging, files).and_then(|()| swap_in(dir, &staging, &suffix));
-    let cleanup = remove_tree(&staging);
-    result.and(cleanup)
-}
-
-fn stage(staging: &Path, files: &[OutputFile]) -> Result<()> {
-    for file in files {
-        if file.path.is_absolute()
-            || file
-                .path
-                .components()
-                .any(|c| matches!(c, std::path::Component::ParentDir))
-        {
-            return Err(Error::Input(format!(
-                "report file {} must be a relative path inside the report",
-                file.path.display()
-            )));
-        }
-        let path = staging.join(&file.path);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| io_error("creating", parent, e))?;
-        }
-        std::fs::write(&path, &file.contents).map_err(|e| io_error("writing", &path, e))?;
-    }
-    Ok(())
-}
-
-fn swap_in(dir: &Path, staging: &Path, suffix: &str) -> Result<()> {
-    let old = dir.join(format!(".tmp-{suffix}-old"));
-    let mut entries: Vec<_> = std::fs::read_dir(staging)
-        .map_err(|e| io_error("reading", staging, e))?
-        .map(|e| e.map(|e| e.file_name()))
-        .collect::<std::result::Result<_, _>>()
-        .map_err(|e| io_error("reading", staging, e))?;
-    entries.sort();
-    std::fs::create_dir_all(&old).map_err(|e| io_error("creating", &old, e))?;
-    for name in entries {
-        let target = dir.join(&name);
-        if target.exists() {
-            std::fs::rename(&target, old.join(&name))
-                .map_err(|e| io_error("moving aside", &target, e))?;
-        }
-        std::fs::rename(staging.join(&name), &target)
-            .map_err(|e| io_error("moving into place", &target, e))?;
-    }
-    remove_tree(&old)
 }
 
 /// What varies from run to run, for `run-info.md`.
@@ -210,46 +132,5 @@ mod tests {
         assert_eq!(utc(0), "1970-01-01 00:00:00 UTC");
         assert_eq!(utc(951_782_400), "2000-02-29 00:00:00 UTC");
         assert_eq!(utc(1_700_000_000), "2023-11-14 22:13:20 UTC");
-    }
-
-    #[test]
-    fn atomic_write_replaces_and_keeps_on_failure() {
-        let dir = std::env::temp_dir().join(format!("mss-report-output-{}", unique_suffix()));
-        let a = [
-            OutputFile::text("REPORT.md", "one".into()),
-            OutputFile::text("figures/a.svg", "a".into()),
-        ];
-        write_report(&dir, &a).unwrap();
-        let b = [
-            OutputFile::text("REPORT.md", "two".into()),
-            OutputFile::text("figures/b.svg", "b".into()),
-        ];
-        write_report(&dir, &b).unwrap();
-        assert_eq!(
-            std::fs::read_to_string(dir.join("REPORT.md")).unwrap(),
-            "two"
-        );
-        assert!(!dir.join("figures/a.svg").exists() && dir.join("figures/b.svg").exists());
-        let bad = [
-            OutputFile::text("REPORT.md", "three".into()),
-            OutputFile::text("../escape", "x".into()),
-        ];
-        assert!(write_report(&dir, &bad).is_err());
-        assert_eq!(
-            std::fs::read_to_string(dir.join("REPORT.md")).unwrap(),
-            "two"
-        );
-        let leftovers = std::fs::read_dir(&dir)
-            .unwrap()
-            .filter(|e| {
-                e.as_ref()
-                    .unwrap()
-                    .file_name()
-                    .to_string_lossy()
-                    .starts_with(".tmp")
-            })
-            .count();
-        assert_eq!(leftovers, 0);
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
