@@ -1,7 +1,8 @@
 //! `make report`: runs every experiment the thesis's tables and figures need (once, in
 //! parallel), then the forensic configurations of the rows run, and writes `report/`
 //! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv` and the git-ignored `run-info.md`.
-//! Progress goes to stderr when it is a terminal.
+//! Each phase prints one line with its time to stderr (a live counter too when stderr is a
+//! terminal).
 
 use clap::Parser;
 use mass_spring_solvers::experiments::{
@@ -16,7 +17,7 @@ use mass_spring_solvers::{Error, Result};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) into `report/`.
 #[derive(Parser, Debug)]
@@ -29,6 +30,14 @@ struct Args {
     /// the report then says which solvers were not run. Default: all 56 rows.
     #[arg(long, value_delimiter = ',')]
     tables: Vec<u8>,
+}
+
+/// Records a finished phase and prints `report: <phase>: <seconds> s` on stderr, terminal or not,
+/// so that a log shows where the time went.
+fn phase_done(phases: &mut Vec<(String, Duration)>, label: String, started: Instant) {
+    let elapsed = started.elapsed();
+    eprintln!("report: {label}: {:.1} s", elapsed.as_secs_f64());
+    phases.push((label, elapsed));
 }
 
 /// `label: done/total` on one stderr line, only when stderr is a terminal.
@@ -66,20 +75,26 @@ fn run(args: Args) -> Result<String> {
     let mut phases = Vec::new();
     let t = Instant::now();
     let results = run_all(&rows, &Configuration::faithful(), &progress("experiments"))?;
-    phases.push((
+    phase_done(
+        &mut phases,
         format!("{} thesis experiments (parallel)", rows.len()),
-        t.elapsed(),
-    ));
+        t,
+    );
     let t = Instant::now();
     let forensics = Forensics::compute(&results, &progress("forensic configurations"))?;
-    phases.push((
+    phase_done(
+        &mut phases,
         "forensic configurations and gravity mismatch (parallel)".to_string(),
-        t.elapsed(),
-    ));
+        t,
+    );
     let t = Instant::now();
     let runs = FigureRuns::compute(&results, &progress("figure runs"))?;
     let catenary = Catenary::compute()?;
-    phases.push(("figure runs, cloth and catenary".to_string(), t.elapsed()));
+    phase_done(
+        &mut phases,
+        "figure runs, cloth and catenary".to_string(),
+        t,
+    );
     let t = Instant::now();
     let data = ReportData {
         results,
@@ -89,7 +104,7 @@ fn run(args: Args) -> Result<String> {
         sources,
     };
     let mut files = render(&data)?;
-    phases.push(("rendering (Markdown, SVG, CSV)".to_string(), t.elapsed()));
+    phase_done(&mut phases, "rendering (Markdown, SVG, CSV)".to_string(), t);
     let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
     let classes = data.forensics.as_ref().map_or(String::new(), |f| {
         let counts: Vec<String> = Evidence::ALL
