@@ -80,34 +80,21 @@ fn run(args: Args) -> Result<String> {
         format!("{} thesis experiments (parallel)", rows.len()),
         t,
     );
-    // The figure runs need only the faithful results: run beside the forensic batches, they use
-    // the cores each batch leaves idle while its last runs finish.
     let t = Instant::now();
-    let (forensics, (runs, figures_elapsed)) = std::thread::scope(|scope| {
-        let figures = scope.spawn(|| {
-            let runs = FigureRuns::compute(&results, &progress("figure runs"));
-            (runs, t.elapsed())
-        });
-        let forensics = Forensics::compute(&results, &progress("forensic configurations"));
-        let figures = figures
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        (forensics, figures)
-    });
-    let (forensics, runs) = (forensics?, runs?);
+    let forensics = Forensics::compute(&results, &progress("forensic configurations"))?;
     phase_done(
         &mut phases,
-        "forensic configurations and gravity mismatch, with the figure runs beside them (parallel)"
-            .to_string(),
+        "forensic configurations and gravity mismatch (parallel)".to_string(),
         t,
     );
-    eprintln!(
-        "report: (of which the figure runs and the cloth: {:.1} s)",
-        figures_elapsed.as_secs_f64()
-    );
     let t = Instant::now();
+    let runs = FigureRuns::compute(&results, &progress("figure runs"))?;
     let catenary = Catenary::compute()?;
-    phase_done(&mut phases, "catenary".to_string(), t);
+    phase_done(
+        &mut phases,
+        "figure runs, cloth and catenary".to_string(),
+        t,
+    );
     let t = Instant::now();
     let data = ReportData {
         results,
