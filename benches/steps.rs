@@ -5,17 +5,24 @@
 //! (about 488 000 steps each), from a moving state. On the cloth, the global solve goes
 //! through faer's sparse Cholesky; `cloth_global_solve` measures its three coordinates solved
 //! together (as the solvers do) against one at a time.
+//!
+//! The `floor_*` benchmarks measure what no implementation of an iteration on the rope can
+//! avoid, on this machine: the nine springs' square roots and divisions, independent in Liu's
+//! and ADMM's local step (a throughput bound) and one after another in XPBD's Gauss-Seidel
+//! sweep (a latency bound), and the rope's prefactored global solve (Liu, ADMM). A solver's
+//! step with m iterations divided by m, against its floor, says how much is left to gain.
 
 use mass_spring_solvers::admm::AdmmPd;
 use mass_spring_solvers::backward_euler::BackwardEuler;
 use mass_spring_solvers::boundary::{fixed_unknowns, ConstrainedSystem};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::particles::scenes::ClothParams;
-use mass_spring_solvers::projective::system_matrix;
+use mass_spring_solvers::projective::{system_matrix, to_columns, GlobalSolve};
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::solver::TimeStepper;
 use mass_spring_solvers::xpbd::Xpbd;
-use mass_spring_solvers::{MassSpringSystem, State};
+use mass_spring_solvers::{MassSpringSystem, State, Vec3};
+use std::hint::black_box;
 
 fn main() {
     divan::main();
@@ -135,4 +142,62 @@ fn cloth_global_solve(bencher: divan::Bencher, how: &str) {
                 }
             }
         });
+}
+
+/// The springs' vectors $`x_a - x_b`$ of the moving rope.
+fn spring_vectors(system: &MassSpringSystem, state: &State) -> Vec<Vec3> {
+    system
+        .springs()
+        .iter()
+        .map(|s| state.x[s.a] - state.x[s.b])
+        .collect()
+}
+
+/// Floor of a Jacobi local step (Liu, ADMM): $`l_0/|d_i|`$ for the nine springs, independent of
+/// one another, so their square roots and divisions overlap.
+#[divan::bench]
+fn floor_local_step_arithmetic(bencher: divan::Bencher) {
+    let (system, state) = rope();
+    let d = spring_vectors(&system, &state);
+    let l0: Vec<f64> = system.springs().iter().map(|s| s.rest_length).collect();
+    let mut scale = vec![0.0; d.len()];
+    bencher.bench_local(|| {
+        for ((r, d), &l0) in scale.iter_mut().zip(black_box(&d)).zip(&l0) {
+            *r = l0 / d.norm_squared().sqrt();
+        }
+        black_box(&scale);
+    });
+}
+
+/// Floor of a Gauss-Seidel sweep (XPBD): each spring's square root and division wait for the
+/// previous spring's correction, which moves the node they share.
+#[divan::bench]
+fn floor_gauss_seidel_chain(bencher: divan::Bencher) {
+    let (system, state) = rope();
+    let d = spring_vectors(&system, &state);
+    let l0: Vec<f64> = system.springs().iter().map(|s| s.rest_length).collect();
+    bencher.bench_local(|| {
+        let mut carried = 0.0;
+        for (d, &l0) in black_box(&d).iter().zip(&l0) {
+            // The previous spring's correction enters this spring's length (as zero, which the
+            // compiler cannot fold away).
+            let length = (d.norm_squared() + carried).sqrt();
+            carried = (length - l0) / length * 0.0;
+        }
+        black_box(carried)
+    });
+}
+
+/// The rope's prefactored global solve of Liu (Eq 29) for the three coordinates, the floor of
+/// a Liu or ADMM iteration together with [`floor_local_step_arithmetic`].
+#[divan::bench]
+fn floor_rope_global_solve(bencher: divan::Bencher) {
+    let (system, state) = rope();
+    let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+    let solve = GlobalSolve::new(&system, DT, &k).unwrap();
+    let mut x_n = vec![0.0; 3 * system.len()];
+    to_columns(&state.x, &mut x_n);
+    bencher
+        .with_inputs(|| x_n.clone())
+        .bench_local_refs(|b| solve.solve(b, &x_n));
 }

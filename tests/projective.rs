@@ -1,14 +1,10 @@
 //! Liu 2013 (Algorithm 3) and ADMM-PD (Algorithm 4) against their oracles: the converged
 //! Backward Euler step (Eq 20's minimiser), the closed-form matrices of Eqs 52-54, the scene's
-//! symmetry and fixed nodes, and the published Tables 4-7.
-//!
-//! Run with `cargo test --test projective -- --nocapture` to see the measured tables.
+//! symmetry and fixed nodes. The published Tables 4-7 are checked in `tests/thesis/`, with the
+//! other tests of the full result set.
 
 use mass_spring_solvers::admm::{z_minimisation, z_update, AdmmPd};
 use mass_spring_solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
-use mass_spring_solvers::experiments::{
-    published_rows, run_all, Configuration, Measured, PublishedRow, ResultSet,
-};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::projective::{
     incidence_matrix, mass_matrix, project_on_sphere, project_on_spheres, reduction_matrix,
@@ -16,7 +12,6 @@ use mass_spring_solvers::projective::{
 };
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::{Error, MassSpringSystem, Node, Spring, State, TimeStepper, Vec3};
-use std::sync::OnceLock;
 
 /// A moving state: the thesis rope after `steps` steps of the Backward Euler reference.
 fn moving_state(system: &MassSpringSystem, steps: usize) -> State {
@@ -371,140 +366,4 @@ fn mirror_symmetry_of_the_rope_is_kept() {
             }
         }
     }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Tables 4-7.
-
-/// The 36 rows of Tables 4-7 and the two references they are measured against, run once per
-/// test binary through the shared experiment runner (the report's rule and metrics).
-fn tables() -> &'static ResultSet {
-    static TABLES: OnceLock<ResultSet> = OnceLock::new();
-    TABLES.get_or_init(|| {
-        let rows: Vec<PublishedRow> = published_rows()
-            .iter()
-            .filter(|r| r.table == 1 || (4..=7).contains(&r.table))
-            .cloned()
-            .collect();
-        assert_eq!(rows.len(), 38);
-        let start = std::time::Instant::now();
-        let tables = run_all(&rows, &Configuration::faithful(), &|_, _| {}).unwrap();
-        println!(
-            "36 rows and 2 references in {:.1} s",
-            start.elapsed().as_secs_f64()
-        );
-        tables
-    })
-}
-
-fn label(m: &Measured) -> String {
-    let p = &m.published;
-    format!(
-        "T{} dt={} it={} k={:e}",
-        p.table, p.dt_s, p.iterations, p.stiffness
-    )
-}
-
-/// Prints Table `table` and asserts which of its rows reproduce, as (dt, iterations) ordered
-/// by iterations, then by decreasing dt.
-fn check_table(table: u8, expected: &[(f64, usize)]) {
-    println!(
-        "{:<28} {:>6} {:>6} {:>10} {:>10} {:>8} {:>9} {:>9} {:>10} ok",
-        "row", "peaks", "pub", "T/2", "pub T/2", "dev %", "error", "pub err", "last KE J"
-    );
-    let mut rows: Vec<&Measured> = tables().table(table).collect();
-    assert_eq!(rows.len(), 9);
-    rows.sort_by(|a, b| {
-        let (a, b) = (&a.published, &b.published);
-        a.iterations
-            .cmp(&b.iterations)
-            .then(b.dt_s.total_cmp(&a.dt_s))
-    });
-    let mut reproduced = Vec::new();
-    for m in rows {
-        let p = &m.published;
-        let t = m.half_period_thesis.unwrap_or(f64::NAN);
-        let error = m.error_sum.expect("a solver row has a rest-state error");
-        let published_error = p.error.expect("Tables 4-7 publish an error");
-        println!(
-            "{:<28} {:>6} {:>6} {:>10.4} {:>10.4} {:>8.2} {:>9.2e} {:>9.2e} {:>10.1e} {}{}",
-            label(m),
-            m.peaks,
-            p.ke_peaks,
-            t,
-            p.half_period_s,
-            100.0 * (t - p.half_period_s) / p.half_period_s,
-            error,
-            published_error,
-            m.last_peak_energy.unwrap_or(f64::NAN),
-            if m.reproduces() { "yes" } else { "no" },
-            if m.hit_time_limit {
-                " (time limit)"
-            } else {
-                ""
-            },
-        );
-        assert!(
-            published_error <= 0.1,
-            "no row of Tables 4-7 has a published error above 0.1"
-        );
-        if m.reproduces() {
-            reproduced.push((p.dt_s, p.iterations));
-        }
-    }
-    assert_eq!(
-        reproduced, expected,
-        "rows of Table {table} that reproduce, as (dt, iterations)"
-    );
-}
-
-/// Faithful Liu at k = 1e3 reproduces 3 of 9 rows. The misses, per the forensic findings of
-/// `docs/thesis-scene.md`: 0.1/1 is a round-off row (finding 1: 2 peaks, exact; its T/2 is set
-/// by a noise peak near 1e-26 J, -2.2 %); 0.001/1 (118 vs 87 peaks), 0.01/30 and 0.01/70 (74 vs
-/// 61) and 0.001/30 and 0.001/70 (725 vs 227) are the 0.05 s⁻¹ velocity damping of finding 3
-/// (our converged rows equal Backward Euler's 725 peaks; their T/2 still matches within 0.1 %
-/// except the 725-peak rows, +0.52 %).
-#[test]
-fn table_4_liu_k_1e3() {
-    check_table(4, &[(0.01, 1), (0.1, 30), (0.1, 70)]);
-}
-
-/// Faithful Liu at k = 1e6 reproduces none of its 9 rows. 0.1/1 and 0.01/1 stop at their
-/// first peak, which is below 1e-3 J (finding 2: the thesis exempted it; 1 vs 2 peaks);
-/// 0.001/1 (+1.2 %), 0.1/30 (-7.6 %) and 0.1/70 (+2.3 %) are round-off rows with exact peak
-/// counts (finding 1): their second peak is noise below 1e-19 J, whose timing, and so T/2,
-/// moves with any change in the last bits of the arithmetic (0.1/70 matched within 0.5 %
-/// by chance with a Cholesky global solve); 0.01/30 (4 vs 5), 0.01/70 (16 vs 20), 0.001/30
-/// and 0.001/70 (175 vs 184) are finding 4's effective 1e-4 J threshold with finding 3's
-/// damping.
-#[test]
-fn table_5_liu_k_1e6() {
-    check_table(5, &[]);
-}
-
-/// Faithful ADMM-PD at k = 1e3 reproduces 8 of 9 rows; the miss, 0.1/1 (10 vs 11 peaks, T/2
-/// +17 %), is the large-dt ADMM behaviour of finding 6.
-#[test]
-fn table_6_admm_k_1e3() {
-    check_table(
-        6,
-        &[
-            (0.01, 1),
-            (0.001, 1),
-            (0.1, 20),
-            (0.01, 20),
-            (0.001, 20),
-            (0.1, 50),
-            (0.01, 50),
-            (0.001, 50),
-        ],
-    );
-}
-
-/// Faithful ADMM-PD at k = 1e6 reproduces the 3 rows at dt = 1e-3 (they equal Backward Euler
-/// when converged); the six rows at dt = 0.1 and 0.01 stop much earlier than published (4 to 36
-/// peaks against 7 to 49), the unexplained behaviour of finding 6.
-#[test]
-fn table_7_admm_k_1e6() {
-    check_table(7, &[(0.001, 1), (0.001, 20), (0.001, 50)]);
 }

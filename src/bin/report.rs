@@ -2,7 +2,8 @@
 //! parallel), then the forensic configurations of the rows run, and replaces `report/`
 //! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv`, `MANIFEST` and the git-ignored
 //! `run-info.md`; what the previous report did not write is carried over (see
-//! [`mass_spring_solvers::report::publish`]). Progress goes to stderr when it is a terminal.
+//! [`mass_spring_solvers::report::publish`]). Each phase prints one line with its time to
+//! stderr (a live counter too when stderr is a terminal).
 
 use clap::Parser;
 use mass_spring_solvers::experiments::{
@@ -19,7 +20,7 @@ use mass_spring_solvers::{Error, Result};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
 const FIXTURE_FILES: usize = 400;
@@ -43,6 +44,14 @@ struct Args {
     /// Tests only: write a synthetic report whose files name TAG instead of running anything.
     #[arg(long, value_name = "TAG", hide = true)]
     fixture: Option<String>,
+}
+
+/// Records a finished phase and prints `report: <phase>: <seconds> s` on stderr, terminal or not,
+/// so that a log shows where the time went.
+fn phase_done(phases: &mut Vec<(String, Duration)>, label: String, started: Instant) {
+    let elapsed = started.elapsed();
+    eprintln!("report: {label}: {:.1} s", elapsed.as_secs_f64());
+    phases.push((label, elapsed));
 }
 
 /// `label: done/total` on one stderr line, only when stderr is a terminal.
@@ -104,23 +113,29 @@ fn run(args: Args) -> Result<String> {
     let mut phases = Vec::new();
     let t = Instant::now();
     let results = run_all(&rows, &Configuration::faithful(), &progress("experiments"))?;
-    phases.push((
+    phase_done(
+        &mut phases,
         format!("{} thesis experiments (parallel)", rows.len()),
-        t.elapsed(),
-    ));
+        t,
+    );
     let t = Instant::now();
     let forensics = Forensics::compute(&results, &progress("forensic configurations"))?;
-    phases.push((
+    phase_done(
+        &mut phases,
         "forensic configurations and gravity mismatch (parallel)".to_string(),
-        t.elapsed(),
-    ));
+        t,
+    );
     let t = Instant::now();
     let runs = FigureRuns::compute(&results, &progress("figure runs"))?;
     let catenary = Catenary::compute()?;
-    phases.push(("figure runs, cloth and catenary".to_string(), t.elapsed()));
+    phase_done(
+        &mut phases,
+        "figure runs, cloth and catenary".to_string(),
+        t,
+    );
     let t = Instant::now();
     let tutorial = TutorialChapter::compute()?;
-    phases.push(("the tutorial's chapter".to_string(), t.elapsed()));
+    phase_done(&mut phases, "the tutorial's chapter".to_string(), t);
     let t = Instant::now();
     let data = ReportData {
         results,
@@ -131,7 +146,7 @@ fn run(args: Args) -> Result<String> {
         sources,
     };
     let mut files = render(&data)?;
-    phases.push(("rendering (Markdown, SVG, CSV)".to_string(), t.elapsed()));
+    phase_done(&mut phases, "rendering (Markdown, SVG, CSV)".to_string(), t);
     let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
     let classes = data.forensics.as_ref().map_or(String::new(), |f| {
         let counts: Vec<String> = Evidence::ALL

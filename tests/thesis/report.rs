@@ -5,7 +5,7 @@
 //! One result set per process: the 56 experiments come from
 //! [`experiments::faithful_results`], the figure runs are made once, and every test formats
 //! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
-//! accept it with `INSTA_UPDATE=always cargo test --test report`.
+//! accept it with `INSTA_UPDATE=always cargo test --test thesis`.
 
 use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
@@ -46,7 +46,7 @@ fn files() -> &'static [OutputFile] {
 }
 
 fn snapshot(name: &str, text: &str) {
-    insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+    insta::with_settings!({snapshot_path => "../../snapshots", prepend_module_to_snapshot => false}, {
         insta::assert_snapshot!(name, text);
     });
 }

@@ -33,7 +33,7 @@ use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::{MassSpringSystem, Result, State, TimeStepper, Vec3};
 
 fn snapshot(name: &str, text: &str) {
-    insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+    insta::with_settings!({snapshot_path => "../../snapshots", prepend_module_to_snapshot => false}, {
         insta::assert_snapshot!(name, text);
     });
 }
