@@ -117,7 +117,7 @@ fn run(args: Args) -> Result<String> {
     let t = Instant::now();
     let runs = FigureRuns::compute(&results, &progress("figure runs"))?;
     let catenary = Catenary::compute()?;
-    phases.push(("figure runs, cloth and catenary".to_string(), t.elapsed()));
+    phases.push(("figure runs, sheet and catenary".to_string(), t.elapsed()));
     let t = Instant::now();
     let tutorial = TutorialChapter::compute()?;
     phases.push(("the tutorial's chapter".to_string(), t.elapsed()));
