@@ -11,6 +11,7 @@ use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::format::sig4;
 use mass_spring_solvers::report::output::OutputFile;
+use mass_spring_solvers::report::plot::Layout;
 use mass_spring_solvers::report::publish::write_report;
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
@@ -241,14 +242,30 @@ fn catenary_csv_holds_both_stiffnesses_at_full_precision() {
     assert_eq!(y4, exact[4].y);
 }
 
+/// Every figure of the report as (file stem, layout, SVG): Figures 1-16 and the tutorial
+/// chapter's.
+fn every_figure() -> Vec<(String, Layout, String)> {
+    let thesis = figures::all(data()).unwrap();
+    assert_eq!(thesis.len(), 16);
+    let tutorial = data().tutorial.figures().unwrap();
+    assert_eq!(tutorial.len(), 7);
+    thesis
+        .into_iter()
+        .map(|f| (f.stem, f.layout, f.svg))
+        .chain(
+            tutorial
+                .into_iter()
+                .map(|f| (f.stem.to_string(), f.layout, f.svg)),
+        )
+        .collect()
+}
+
 /// Issue 11's figure test on every figure of the report (see `figure_check`).
 #[test]
 fn every_figure_passes_the_figure_test() {
-    let figures = figures::all(data()).unwrap();
-    assert_eq!(figures.len(), 16);
-    let problems: Vec<String> = figures
+    let problems: Vec<String> = every_figure()
         .iter()
-        .flat_map(|f| figure_check::problems(&f.stem, &f.layout, &f.svg))
+        .flat_map(|(stem, layout, svg)| figure_check::problems(stem, layout, svg))
         .collect();
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
@@ -263,8 +280,8 @@ fn parity_csv_has_every_published_row_with_its_class() {
     assert_eq!(rows.len(), published_rows().len());
     let forensics = forensic_results();
     for (row, published) in rows.iter().zip(published_rows()) {
-        let status = forensics.status(published).unwrap().status.id();
-        assert_eq!(row[class], status, "{row:?}");
+        let evidence = forensics.evidence_of(published).unwrap().evidence.id();
+        assert_eq!(row[class], evidence, "{row:?}");
         assert_eq!(row[6], published.ke_peaks.to_string(), "{row:?}");
     }
 }
@@ -301,8 +318,8 @@ fn every_figure_rasterises_at_its_stated_size() {
         fonts.set_sans_serif_family("DejaVu Sans");
     }
     let dpi = 150.0;
-    for f in figures::all(data()).unwrap() {
-        let tree = resvg::usvg::Tree::from_str(&f.svg, &options).unwrap();
+    for (stem, layout, svg) in every_figure() {
+        let tree = resvg::usvg::Tree::from_str(&svg, &options).unwrap();
         // usvg sizes the tree in CSS pixels, 96 per inch.
         let scale = (dpi / 96.0) as f32;
         let size = tree.size().to_int_size().scale_by(scale).unwrap();
@@ -313,11 +330,11 @@ fn every_figure_rasterises_at_its_stated_size() {
             &mut pixmap.as_mut(),
         );
         // Canvas units per pt (the viewBox is in pt).
-        let per_pt = tree.size().width() as f64 / (f.layout.width_mm * 72.0 / 25.4);
+        let per_pt = tree.size().width() as f64 / (layout.width_mm * 72.0 / 25.4);
         let mut boxes = Vec::new();
         text_boxes(tree.root(), &mut boxes);
-        assert_eq!(boxes.len(), f.layout.texts.len(), "{}", f.stem);
-        for (b, t) in boxes.iter().zip(&f.layout.texts) {
+        assert_eq!(boxes.len(), layout.texts.len(), "{}", stem);
+        for (b, t) in boxes.iter().zip(&layout.texts) {
             let (x0, x1) = (b.left() as f64 / per_pt, b.right() as f64 / per_pt);
             let (y0, y1) = (b.top() as f64 / per_pt, b.bottom() as f64 / per_pt);
             // The run's length must hold to 0.5 pt; across it, the font's line box reaches
@@ -329,22 +346,20 @@ fn every_figure_rasterises_at_its_stated_size() {
                     && y0 >= t.rect.y0 - sy
                     && y1 <= t.rect.y1 + sy,
                 "{}: {:?} renders at x {x0:.1}-{x1:.1}, y {y0:.1}-{y1:.1} pt, outside its box {:?}",
-                f.stem,
+                stem,
                 t.text,
                 t.rect
             );
         }
-        let expected = (f.layout.width_mm / 25.4 * dpi).round() as i64;
+        let expected = (layout.width_mm / 25.4 * dpi).round() as i64;
         assert!(
             (size.width() as i64 - expected).abs() <= 1,
             "{}: {} px wide, expected {expected}",
-            f.stem,
+            stem,
             size.width()
         );
         let dark = pixmap.pixels().iter().filter(|p| p.red() < 128).count();
-        assert!(dark > 1000, "{} is almost blank", f.stem);
-        pixmap
-            .save_png(dir.join(format!("{}.png", f.stem)))
-            .unwrap();
+        assert!(dark > 1000, "{} is almost blank", stem);
+        pixmap.save_png(dir.join(format!("{}.png", stem))).unwrap();
     }
 }

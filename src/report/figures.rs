@@ -102,20 +102,22 @@ pub fn class_colour(class: &str) -> Rgb {
         "predicted" => Rgb(0, 114, 178),
         "selected" => Rgb(230, 159, 0),
         "fitted" => Rgb(204, 121, 167),
-        "variant" => Rgb(153, 94, 50),
         "noise-limited" => Rgb(128, 128, 128),
         "unexplained" => Rgb(213, 94, 0),
         _ => BLACK,
     }
 }
 
-/// The class of a published row in the parity figure: its reproduction status when the
+/// The class of a published row in the parity figure: its evidence class (issue 8) when the
 /// forensic reproduction ran, else "unclassified".
 pub fn row_class(data: &ReportData, row: &PublishedRow) -> String {
     data.forensics
         .as_ref()
-        .and_then(|f| f.status(row))
-        .map_or_else(|| "unclassified".to_string(), |s| s.status.id().to_string())
+        .and_then(|f| f.evidence_of(row))
+        .map_or_else(
+            || "unclassified".to_string(),
+            |e| e.evidence.id().to_string(),
+        )
 }
 
 /// `10³`: a stiffness as a typeset power of ten.
@@ -1479,8 +1481,9 @@ fn parity(data: &ReportData) -> Result<Figure> {
              ({n_peaks} rows), (b) T/2 under the thesis convention ({n_half} rows) and (c) the rest-state error \
              ({n_error} solver rows; Table 1 has none). Ours are the faithful configuration's numbers; the dashed \
              line is ours = published and the grey band the reproduction rule (peaks within max(1, round(0.005 × \
-             published)), T/2 within {} %); the rest-state error has no rule. Colour: the row's class ({}); marker: \
-             the solver. Rows where a side is missing or zero are left out.",
+             published)), T/2 within {} %); the rest-state error has no rule. Colour: the row's evidence class of \
+             section 6 ({}), which names the configuration that reproduces it while the mark stays at the faithful \
+             numbers; marker: the solver. Rows where a side is missing or zero are left out.",
             sig_short(100.0 * HALF_PERIOD_TOLERANCE),
             classes.join(", ")
         ),
