@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::experiments::{
     peak_tolerance, published_rows, Measured, PublishedRow, SolverKind, HALF_PERIOD_TOLERANCE,
 };
+use crate::forensics::Evidence;
 use crate::report::format::{full, full_opt, sig4};
 use crate::report::plot::{
     layout, power_of_ten, Align, Arrow, Axis, Band, Chart, Entry, Layout, LegendPlace, Line,
@@ -1437,7 +1438,8 @@ fn parity(data: &ReportData) -> Result<Figure> {
     ];
     let mut chart = Chart::new(FULL_WIDTH_MM, 80.0, panels);
     let mut classes: Vec<String> = rows.iter().map(|r| r.class.clone()).collect();
-    classes.sort();
+    // Strongest class first, as in the forensic chapter.
+    classes.sort_by_key(|c| Evidence::ALL.iter().position(|e| e.id() == c));
     classes.dedup();
     for class in &classes {
         chart.legend.push(Entry {
