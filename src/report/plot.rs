@@ -1,19 +1,24 @@
 //! The report's figure style, written once: panels of line and marker series on linear or
 //! logarithmic axes, laid out at their final printed size and written as self-contained SVG.
 //!
-//! Every figure is drawn in points (1/72 in) on a viewBox whose `width`/`height` state the
-//! printed size in millimetres, so a font size of 8 is 8 pt on paper. Coordinates keep two
-//! decimals (no whole-pixel stair-steps). Legends go outside the axes (right of or below a
-//! panel, or below the whole figure); a legend inside the axes is possible only at a corner,
-//! and the figure test rejects it when it covers data.
+//! Every figure is laid out in points (1/72 in) at its printed size, so a font size of 8 is
+//! 8 pt on paper. Legends go outside the axes (right of or below a panel, or below the whole
+//! figure); a legend inside the axes is possible only at a corner, and the figure test rejects
+//! it when it covers data.
 //!
 //! [`layout`] computes every text's box, every data mark and every axes rectangle before
-//! anything is written; [`Layout::svg`] only serialises it. The figure test checks the layout
-//! (text sizes, overlaps, marks inside their axes) with the glyph-width bound of
-//! [`text_width`].
+//! anything is written; [`Layout::svg`] only draws it, through plotters' SVG backend (the
+//! project's drawing backend), on a canvas of [`SVG_UNITS_PER_PT`] integer units per pt, so
+//! positions keep two decimals of a point (no whole-pixel stair-steps). The SVG's
+//! `width`/`height` state the printed size in millimetres and its viewBox the canvas. The
+//! figure test checks the layout (text sizes, overlaps, marks inside their axes) with the
+//! glyph-width bound of [`text_width`].
 
 use crate::error::{Error, Result};
-use std::fmt::Write;
+use plotters::backend::{DrawingBackend, SVGBackend};
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::{Color, FontTransform, RGBColor, ShapeStyle, TextStyle};
+use plotters_backend::{BackendCoord, DrawingErrorKind};
 
 /// Points per millimetre.
 pub const PT_PER_MM: f64 = 72.0 / 25.4;
@@ -44,6 +49,9 @@ const SWATCH_PT: f64 = 16.0;
 const EDGE_PAD_PT: f64 = 6.0;
 /// The generic family: the SVG carries no font, and renders alike in browsers and librsvg.
 const FONT: &str = "sans-serif";
+/// SVG canvas units per pt. plotters' backend draws on integer coordinates; at 100 units per
+/// pt every position, stroke width and font size keeps two decimals of a point.
+pub const SVG_UNITS_PER_PT: f64 = 100.0;
 
 /// Top of a glyph box above the baseline, em (DejaVu Sans ascent of digits and capitals).
 pub const ASCENT_EM: f64 = 0.78;
@@ -77,12 +85,6 @@ pub fn text_width(text: &str, size: f64) -> f64 {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Rgb(pub u8, pub u8, pub u8);
 
-impl Rgb {
-    fn hex(self) -> String {
-        format!("#{:02x}{:02x}{:02x}", self.0, self.1, self.2)
-    }
-}
-
 pub const WHITE: Rgb = Rgb(255, 255, 255);
 const FRAME_COLOUR: Rgb = Rgb(60, 60, 60);
 const GRID_COLOUR: Rgb = Rgb(222, 222, 222);
@@ -98,10 +100,11 @@ pub enum Line {
 }
 
 impl Line {
-    fn dash(self) -> Option<&'static str> {
+    /// The dash pattern, on and off lengths in pt.
+    fn dash(self) -> Option<&'static [f64]> {
         match self {
-            Line::Dashed => Some("4.5 2.5"),
-            Line::Dotted => Some("1.2 2"),
+            Line::Dashed => Some(&[4.5, 2.5]),
+            Line::Dotted => Some(&[1.2, 2.0]),
             _ => None,
         }
     }
@@ -464,7 +467,7 @@ pub struct Layout {
 enum Shape {
     Path {
         points: Vec<(f64, f64)>,
-        stroke: Option<(Rgb, f64, Option<&'static str>)>,
+        stroke: Option<(Rgb, f64, Option<&'static [f64]>)>,
         fill: Option<Rgb>,
         closed: bool,
     },
@@ -801,7 +804,7 @@ impl Builder {
         points: Vec<(f64, f64)>,
         color: Rgb,
         width: f64,
-        dash: Option<&'static str>,
+        dash: Option<&'static [f64]>,
     ) {
         self.shapes.push(Shape::Path {
             points,
@@ -1315,13 +1318,7 @@ fn draw_panel(
     Ok(())
 }
 
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
-
-/// A coordinate with two decimals, without a trailing `.00`.
+/// A size with two decimals, without a trailing `.00`.
 fn num(v: f64) -> String {
     let s = format!("{v:.2}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
@@ -1332,20 +1329,114 @@ fn num(v: f64) -> String {
     }
 }
 
+/// A length in canvas units.
+fn units(pt: f64) -> i32 {
+    (pt * SVG_UNITS_PER_PT).round() as i32
+}
+
+fn canvas(p: (f64, f64)) -> BackendCoord {
+    (units(p.0), units(p.1))
+}
+
+fn colour(c: Rgb) -> RGBColor {
+    RGBColor(c.0, c.1, c.2)
+}
+
+fn stroke_style(c: Rgb, width_pt: f64) -> ShapeStyle {
+    colour(c).stroke_width(units(width_pt).max(0) as u32)
+}
+
+/// plotters' SVG backend writes a text style's size divided by 1.24 as the `font-size`; the
+/// style size whose quotient is exactly `size` units, so the attribute reads `800`, not
+/// `799.9999999999999`.
+fn plotters_font_size(size: f64) -> f64 {
+    let guess = size * 1.24;
+    (-4i64..=4)
+        .map(|k| f64::from_bits(guess.to_bits().wrapping_add_signed(k)))
+        .find(|s| s / 1.24 == size)
+        .unwrap_or(guess)
+}
+
+/// The pieces of a polyline drawn by a dash pattern (on, off, on, … lengths, pt), as SVG's
+/// `stroke-dasharray` draws it: the pattern runs on across vertices, so a dash can turn a
+/// corner.
+fn dash_runs(points: &[(f64, f64)], pattern: &[f64]) -> Vec<Vec<(f64, f64)>> {
+    let mut runs = Vec::new();
+    let Some(&first) = points.first() else {
+        return runs;
+    };
+    let mut current = vec![first];
+    let (mut element, mut on) = (0, true);
+    let mut left = pattern[0];
+    for w in points.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let len = (b.0 - a.0).hypot(b.1 - a.1);
+        if len == 0.0 {
+            continue;
+        }
+        let mut done = 0.0;
+        while len - done > left {
+            done += left;
+            let p = (
+                a.0 + (b.0 - a.0) * done / len,
+                a.1 + (b.1 - a.1) * done / len,
+            );
+            if on {
+                current.push(p);
+                runs.push(std::mem::take(&mut current));
+            } else {
+                current = vec![p];
+            }
+            on = !on;
+            element = (element + 1) % pattern.len();
+            left = pattern[element];
+        }
+        left -= len - done;
+        if on {
+            current.push(b);
+        }
+    }
+    if on && current.len() > 1 {
+        runs.push(current);
+    }
+    runs
+}
+
+type DrawResult = std::result::Result<(), DrawingErrorKind<std::io::Error>>;
+
 impl Layout {
-    /// The SVG document: `width`/`height` in mm, a viewBox in pt.
+    /// The SVG document, written by plotters' SVG backend on a canvas of
+    /// [`SVG_UNITS_PER_PT`] units per pt: `width`/`height` state the printed size in mm, the
+    /// viewBox the canvas.
     pub fn svg(&self) -> String {
-        let (w, h) = (self.width_mm * PT_PER_MM, self.height_mm * PT_PER_MM);
-        let mut out = format!(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}mm\" height=\"{}mm\" viewBox=\"0 0 {} {}\" \
-             font-family=\"{FONT}\">\n<rect width=\"{}\" height=\"{}\" fill=\"#ffffff\"/>\n",
+        let size = (
+            units(self.width_mm * PT_PER_MM),
+            units(self.height_mm * PT_PER_MM),
+        );
+        let mut drawn = String::new();
+        {
+            let mut backend = SVGBackend::with_string(&mut drawn, (size.0 as u32, size.1 as u32));
+            // The backend appends to a String; only its file target can fail.
+            self.draw(&mut backend)
+                .and_then(|()| backend.present())
+                .expect("plotters' SVG backend writing to a String does not fail");
+        }
+        // plotters' root states the canvas in pixels; the printed size goes there instead.
+        let body = drawn.split_once('\n').map_or("", |(_, body)| body);
+        format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}mm\" height=\"{}mm\" \
+             viewBox=\"0 0 {} {}\" font-family=\"{FONT}\" stroke-linecap=\"round\" \
+             stroke-linejoin=\"round\">\n{body}",
             num(self.width_mm),
             num(self.height_mm),
-            num(w),
-            num(h),
-            num(w),
-            num(h)
-        );
+            size.0,
+            size.1
+        )
+    }
+
+    fn draw(&self, backend: &mut SVGBackend) -> DrawResult {
+        let (w, h) = backend.get_size();
+        backend.draw_rect((0, 0), (w as i32, h as i32), &colour(WHITE), true)?;
         for shape in &self.shapes {
             match shape {
                 Shape::Path {
@@ -1354,25 +1445,24 @@ impl Layout {
                     fill,
                     closed,
                 } => {
-                    let pts: Vec<String> = points
-                        .iter()
-                        .map(|p| format!("{},{}", num(p.0), num(p.1)))
-                        .collect();
-                    let tag = if *closed { "polygon" } else { "polyline" };
-                    let _ = write!(out, "<{tag} points=\"{}\"", pts.join(" "));
-                    let _ = write!(out, " fill=\"{}\"", fill.map_or("none".into(), Rgb::hex));
-                    if let Some((c, width, dash)) = stroke {
-                        let _ = write!(
-                            out,
-                            " stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\" stroke-linecap=\"round\"",
-                            c.hex(),
-                            num(*width)
-                        );
-                        if let Some(d) = dash {
-                            let _ = write!(out, " stroke-dasharray=\"{d}\"");
-                        }
+                    if let Some(fill) = fill {
+                        backend.fill_polygon(points.iter().map(|&p| canvas(p)), &colour(*fill))?;
                     }
-                    out += "/>\n";
+                    let Some((c, width, dash)) = stroke else {
+                        continue;
+                    };
+                    let mut outline = points.clone();
+                    if *closed {
+                        outline.extend(points.first());
+                    }
+                    let runs = match dash {
+                        Some(pattern) => dash_runs(&outline, pattern),
+                        None => vec![outline],
+                    };
+                    for run in runs {
+                        backend
+                            .draw_path(run.into_iter().map(canvas), &stroke_style(*c, *width))?;
+                    }
                 }
                 Shape::Circle {
                     centre,
@@ -1380,40 +1470,40 @@ impl Layout {
                     stroke,
                     fill,
                 } => {
-                    let _ = writeln!(
-                        out,
-                        "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"{}\" stroke=\"{}\" stroke-width=\"{}\"/>",
-                        num(centre.0),
-                        num(centre.1),
-                        num(*r),
-                        fill.hex(),
-                        stroke.0.hex(),
-                        num(stroke.1)
-                    );
+                    let (c, r) = (canvas(*centre), units(*r).max(0) as u32);
+                    backend.draw_circle(c, r, &colour(*fill), true)?;
+                    backend.draw_circle(c, r, &stroke_style(stroke.0, stroke.1), false)?;
                 }
-                Shape::Text(i) => {
-                    let t = &self.texts[*i];
-                    let anchor = match t.align {
-                        Align::Start => "start",
-                        Align::Middle => "middle",
-                        Align::End => "end",
-                    };
-                    let (x, y) = (num(t.anchor.0), num(t.anchor.1));
-                    let _ = write!(
-                        out,
-                        "<text x=\"{x}\" y=\"{y}\" font-size=\"{}\" fill=\"{}\" text-anchor=\"{anchor}\"",
-                        num(t.size),
-                        t.color.hex()
-                    );
-                    if t.rotated {
-                        let _ = write!(out, " transform=\"rotate(-90 {x} {y})\"");
-                    }
-                    let _ = writeln!(out, ">{}</text>", escape(&t.text));
-                }
+                Shape::Text(i) => self.draw_text(backend, &self.texts[*i])?,
             }
         }
-        out += "</svg>\n";
-        out
+        Ok(())
+    }
+
+    /// A text with its baseline on the layout's anchor. plotters' backend has no baseline
+    /// alignment: `VPos::Top` shifts the text down by `dy="0.76em"` (font-independent, unlike
+    /// the `ex` of `Center` and `Bottom`), so the anchor is drawn 0.76 em above the baseline,
+    /// across the text's own direction when it is rotated.
+    fn draw_text(&self, backend: &mut SVGBackend, t: &TextBox) -> DrawResult {
+        const TOP_DY_EM: f64 = 0.76;
+        let (x, y) = t.anchor;
+        let shift = TOP_DY_EM * t.size;
+        let (at, transform) = if t.rotated {
+            ((x - shift, y), FontTransform::Rotate270)
+        } else {
+            ((x, y - shift), FontTransform::None)
+        };
+        let h_pos = match t.align {
+            Align::Start => HPos::Left,
+            Align::Middle => HPos::Center,
+            Align::End => HPos::Right,
+        };
+        let rgb = colour(t.color);
+        let style = TextStyle::from((FONT, plotters_font_size(t.size * SVG_UNITS_PER_PT)))
+            .color(&rgb)
+            .pos(Pos::new(h_pos, VPos::Top))
+            .transform(transform);
+        backend.draw_text(&t.text, &style, canvas(at))
     }
 }
 
@@ -1465,9 +1555,121 @@ mod tests {
         let chart = Chart::new(FULL_WIDTH_MM, 60.0, vec![p.clone(), p]);
         let a = layout(&chart).unwrap().svg();
         assert_eq!(a, layout(&chart).unwrap().svg());
+        // 170 mm = 481.89 pt, 60 mm = 170.08 pt, at 100 units per pt.
         assert!(a.starts_with(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"170mm\" height=\"60mm\""
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"170mm\" height=\"60mm\" \
+             viewBox=\"0 0 48189 17008\" font-family=\"sans-serif\""
         ));
-        assert!(a.contains(">(b)</text>") && a.contains("Δt (s)"));
+        assert!(a.contains("\n(b)\n</text>") && a.contains("Δt (s)"));
+        assert!(a.ends_with("</svg>\n"));
+    }
+
+    /// The value of attribute `name` in an element's text.
+    fn attr<'a>(element: &'a str, name: &str) -> &'a str {
+        let start = element.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        let end = element[start..].find('"').unwrap() + start;
+        &element[start..end]
+    }
+
+    #[test]
+    fn svg_texts_have_their_baseline_on_the_layout_anchor() {
+        let mut p = Panel::new(Axis::log("Δt (s)"), Axis::linear("E (J)"));
+        p.series.push(Series::line(
+            "a & b",
+            vec![(0.001, 1.0), (0.1, 2.0)],
+            Rgb(0, 0, 0),
+        ));
+        p.label((0.01, 1.5), (2.0, 3.0), Align::End, "peak", Rgb(200, 0, 0));
+        let l = layout(&Chart::new(FULL_WIDTH_MM, 60.0, vec![p.clone(), p])).unwrap();
+        let svg = l.svg();
+        let elements: Vec<&str> = svg.split("<text").skip(1).collect();
+        assert_eq!(elements.len(), l.texts.len());
+        assert!(l.texts.iter().any(|t| t.rotated));
+        for (e, t) in elements.iter().zip(&l.texts) {
+            let number = |name| attr(e, name).parse::<f64>().unwrap();
+            // The font size is the layout's, exactly, in canvas units.
+            assert_eq!(attr(e, "font-size"), num(t.size * SVG_UNITS_PER_PT));
+            let (x, y) = (number("x"), number("y"));
+            // plotters shifts the text by `dy` across its direction; the baseline ends there.
+            let dy = attr(e, "dy")
+                .strip_suffix("em")
+                .unwrap()
+                .parse::<f64>()
+                .unwrap()
+                * t.size
+                * SVG_UNITS_PER_PT;
+            let baseline = if t.rotated {
+                assert_eq!(attr(e, "transform"), format!("rotate(270, {x}, {y})"));
+                (x + dy, y)
+            } else {
+                assert!(!e.contains("transform="));
+                (x, y + dy)
+            };
+            let anchor = (t.anchor.0 * SVG_UNITS_PER_PT, t.anchor.1 * SVG_UNITS_PER_PT);
+            assert!(
+                (baseline.0 - anchor.0).abs() <= 0.5 && (baseline.1 - anchor.1).abs() <= 0.5,
+                "{:?}: baseline {baseline:?}, layout {anchor:?}",
+                t.text
+            );
+            let expected = match t.align {
+                Align::Start => "start",
+                Align::Middle => "middle",
+                Align::End => "end",
+            };
+            assert_eq!(attr(e, "text-anchor"), expected, "{:?}", t.text);
+            let content = e.split_once(">\n").unwrap().1;
+            assert_eq!(
+                content.split_once("\n</text>").unwrap().0,
+                t.text.replace('&', "&amp;")
+            );
+        }
+    }
+
+    #[test]
+    fn dashes_follow_the_pattern_across_corners() {
+        // A 5 pt leg right, then 10 pt down: 15 pt of path.
+        let path = [(0.0, 0.0), (5.0, 0.0), (5.0, 10.0)];
+        assert_eq!(
+            dash_runs(&path, &[4.5, 2.5]),
+            [
+                vec![(0.0, 0.0), (4.5, 0.0)],
+                vec![(5.0, 2.0), (5.0, 6.5)],
+                vec![(5.0, 9.0), (5.0, 10.0)],
+            ]
+        );
+        // A dash longer than the first leg turns the corner.
+        assert_eq!(
+            dash_runs(&path, &[6.0, 1.0]),
+            [
+                vec![(0.0, 0.0), (5.0, 0.0), (5.0, 1.0)],
+                vec![(5.0, 2.0), (5.0, 8.0)],
+                vec![(5.0, 9.0), (5.0, 10.0)],
+            ]
+        );
+    }
+
+    #[test]
+    fn markers_keep_hollow_and_filled_apart() {
+        let mut p = Panel::new(Axis::linear("x"), Axis::linear("y"));
+        p.legend = LegendPlace::Below;
+        p.series.push(
+            Series::points("ours", vec![(0.0, 0.0)], Rgb(10, 20, 30))
+                .with_marker(Marker::Circle, true),
+        );
+        p.series.push(
+            Series::points("published", vec![(1.0, 1.0)], Rgb(10, 20, 30))
+                .with_marker(Marker::Square, false),
+        );
+        let svg = layout(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p]))
+            .unwrap()
+            .svg();
+        // Filled circle: a disc in the colour, then its outline (r = 2.4 pt).
+        assert!(svg.contains("r=\"240\" opacity=\"1\" fill=\"#0A141E\" stroke=\"none\""));
+        assert!(svg.contains(
+            "r=\"240\" opacity=\"1\" fill=\"none\" stroke=\"#0A141E\" stroke-width=\"50\""
+        ));
+        // Hollow square: a white polygon under a 0.9 pt outline.
+        assert!(svg.contains("<polygon opacity=\"1\" fill=\"#FFFFFF\""));
+        assert!(svg.contains("stroke=\"#0A141E\" stroke-width=\"90\""));
     }
 }

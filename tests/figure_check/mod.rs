@@ -1,14 +1,17 @@
 //! The figure test of issue 11, shared by `tests/figures.rs` (synthetic charts) and
 //! `tests/report.rs` (the report's figures): from a figure's layout in plot coordinates
 //! (points at the printed size) and the glyph-width bound of `plot::text_width`,
-//! - the SVG states its printed size in mm and a viewBox in pt, so sizes below are in pt;
+//! - the SVG states its printed size in mm and a viewBox of `SVG_UNITS_PER_PT` units per pt,
+//!   so sizes below are in pt;
 //! - every text is at least 8 pt;
 //! - no text box or legend box intersects a data mark (marker or line piece) of any panel;
 //! - no two text boxes intersect, no legend box covers a text other than its own, and no two
 //!   legends overlap;
 //! - every mark lies inside its panel's axes, and every text inside the figure.
 
-use mass_spring_solvers::report::plot::{Layout, Mark, Rect, TextRole, PT_PER_MM};
+use mass_spring_solvers::report::plot::{
+    Layout, Mark, Rect, TextRole, PT_PER_MM, SVG_UNITS_PER_PT,
+};
 
 /// Smallest text at the printed size, pt.
 pub const MIN_TEXT_PT: f64 = 8.0;
@@ -56,10 +59,15 @@ fn stated_size(svg: &str) -> Option<(f64, f64, f64, f64)> {
 pub fn problems(name: &str, layout: &Layout, svg: &str) -> Vec<String> {
     let mut out = Vec::new();
     match stated_size(svg) {
+        // The viewBox is whole canvas units: within half a unit of the stated size.
         Some((w, h, vw, vh))
-            if (w * PT_PER_MM - vw).abs() < 0.01 && (h * PT_PER_MM - vh).abs() < 0.01 => {}
+            if (w * PT_PER_MM - vw / SVG_UNITS_PER_PT).abs() <= 0.005
+                && (h * PT_PER_MM - vh / SVG_UNITS_PER_PT).abs() <= 0.005
+                && (w - layout.width_mm).abs() <= 0.005
+                && (h - layout.height_mm).abs() <= 0.005 => {}
         other => out.push(format!(
-            "{name}: the SVG does not state its size in mm with a viewBox in pt: {other:?}"
+            "{name}: the SVG does not state its printed size in mm with a viewBox of \
+             {SVG_UNITS_PER_PT} units per pt: {other:?}"
         )),
     }
     let page = Rect {
