@@ -1,4 +1,5 @@
-//! The thesis's test scene (§3.1, Figures 2-3) and the general N-node rope.
+//! The thesis's test scene (§3.1, Figures 2-3), the general N-node rope, and the sheet (the rope
+//! raised one dimension, `docs/sheet-scene.md`).
 //!
 //! The thesis states 10 nodes of 1 kg, 9 springs between consecutive nodes, both ends
 //! fixed and stiffnesses 1e3 and 1e6 N/m. It does not state the geometry; the values below
@@ -95,4 +96,184 @@ impl RopeParams {
 /// The thesis rope (§3.1) at stiffness `k` N/m.
 pub fn thesis_rope(stiffness: f64) -> Result<MassSpringSystem> {
     RopeParams::thesis(stiffness).build()
+}
+
+/// Sheet side length, m: the rope's 9 m in both directions (`docs/sheet-scene.md`).
+pub const SHEET_SIDE: f64 = 9.0;
+/// Sheet total mass, kg, for every n: 1 kg per node at n = 10, like the rope.
+pub const SHEET_TOTAL_MASS: f64 = 100.0;
+/// Nodes per side of the default sheet.
+pub const SHEET_NODES_PER_SIDE: usize = 10;
+
+/// Which corners of the sheet are held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SheetSupport {
+    /// The four corners: the sheet of the specification.
+    FourCorners,
+    /// Corners (0, 0) and (n−1, 0), the two ends of the edge along x at z = 0: the sheet
+    /// hangs from them like a cloth (Figure 1).
+    TwoCorners,
+}
+
+/// The thesis rope woven into a square net (`docs/sheet-scene.md`): an n × n grid in the
+/// horizontal plane y = 0, structural springs on the grid edges and both diagonals of every
+/// cell as shear springs, all at rest length, at rest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SheetParams {
+    /// Nodes per side n, >= 3 (free nodes besides the corners); node (i, j) starts at (i·h, 0, j·h).
+    pub nodes_per_side: usize,
+    /// Grid spacing h, m (9 / (n − 1) in the specification).
+    pub spacing: f64,
+    /// Mass of every node, kg (100 / n² in the specification).
+    pub node_mass: f64,
+    /// Stiffness of every spring, N/m.
+    pub stiffness: f64,
+    /// Gravity magnitude along −y, m/s².
+    pub gravity: f64,
+    pub support: SheetSupport,
+}
+
+impl SheetParams {
+    /// The specification's sheet: n nodes per side over 9 m, 100 kg in all, four corners held.
+    pub fn spec(nodes_per_side: usize, stiffness: f64) -> Self {
+        let n = nodes_per_side.max(2);
+        Self {
+            nodes_per_side,
+            spacing: SHEET_SIDE / (n - 1) as f64,
+            node_mass: SHEET_TOTAL_MASS / (n * n) as f64,
+            stiffness,
+            gravity: THESIS_GRAVITY,
+            support: SheetSupport::FourCorners,
+        }
+    }
+
+    /// The same sheet held by other corners.
+    pub fn with_support(mut self, support: SheetSupport) -> Self {
+        self.support = support;
+        self
+    }
+
+    /// Index of node (i, j).
+    pub fn node(&self, i: usize, j: usize) -> usize {
+        i * self.nodes_per_side + j
+    }
+
+    /// Builds the sheet: structural springs (i, j)–(i+1, j) and (i, j)–(i, j+1) of rest
+    /// length h, shear springs on both diagonals of every cell of rest length √2·h.
+    pub fn build(&self) -> Result<MassSpringSystem> {
+        let n = self.nodes_per_side;
+        if n < 3 {
+            return Err(Error::invalid("sheet.nodes_per_side", n, "an integer >= 3"));
+        }
+        require_positive("sheet.spacing", self.spacing)?;
+        require_positive("sheet.node_mass", self.node_mass)?;
+        require_positive("sheet.stiffness", self.stiffness)?;
+        require_finite("sheet.gravity", self.gravity)?;
+        let last = n - 1;
+        let held = |i: usize, j: usize| {
+            let corner = (i == 0 || i == last) && (j == 0 || j == last);
+            match self.support {
+                SheetSupport::FourCorners => corner,
+                SheetSupport::TwoCorners => corner && j == 0,
+            }
+        };
+        let mut nodes = Vec::with_capacity(n * n);
+        for i in 0..n {
+            for j in 0..n {
+                nodes.push(Node {
+                    mass: self.node_mass,
+                    position: Vec3::new(i as f64 * self.spacing, 0.0, j as f64 * self.spacing),
+                    velocity: Vec3::zeros(),
+                    fixed: held(i, j),
+                });
+            }
+        }
+        let spring = |a: usize, b: usize, rest_length: f64| Spring {
+            a,
+            b,
+            rest_length,
+            stiffness: self.stiffness,
+            damping: 0.0,
+        };
+        let h = self.spacing;
+        let diagonal = std::f64::consts::SQRT_2 * h;
+        let mut springs = Vec::with_capacity(2 * n * last + 2 * last * last);
+        for i in 0..n {
+            for j in 0..n {
+                if i < last {
+                    springs.push(spring(self.node(i, j), self.node(i + 1, j), h));
+                }
+                if j < last {
+                    springs.push(spring(self.node(i, j), self.node(i, j + 1), h));
+                }
+                if i < last && j < last {
+                    springs.push(spring(self.node(i, j), self.node(i + 1, j + 1), diagonal));
+                    springs.push(spring(self.node(i + 1, j), self.node(i, j + 1), diagonal));
+                }
+            }
+        }
+        MassSpringSystem::new(nodes, springs, Vec3::new(0.0, -self.gravity, 0.0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_specification_sheet_has_its_counts_masses_and_corners() {
+        for n in [3, 10, 20] {
+            let params = SheetParams::spec(n, 1e3);
+            let sheet = params.build().unwrap();
+            let structural = 2 * n * (n - 1);
+            let shear = 2 * (n - 1) * (n - 1);
+            assert_eq!(sheet.springs().len(), structural + shear);
+            let mass: f64 = sheet.nodes().iter().map(|node| node.mass).sum();
+            assert!((mass - SHEET_TOTAL_MASS).abs() < 1e-9, "n = {n}: {mass} kg");
+            let last = n - 1;
+            let fixed: Vec<usize> = (0..n * n).filter(|&i| sheet.nodes()[i].fixed).collect();
+            assert_eq!(fixed, [0, last, last * n, last * n + last]);
+            let far = sheet.nodes()[params.node(last, last)].position;
+            assert!((far - Vec3::new(SHEET_SIDE, 0.0, SHEET_SIDE)).norm() < 1e-12);
+        }
+        let two = SheetParams::spec(10, 1e3).with_support(SheetSupport::TwoCorners);
+        let fixed = two
+            .build()
+            .unwrap()
+            .nodes()
+            .iter()
+            .filter(|node| node.fixed)
+            .count();
+        assert_eq!(fixed, 2);
+    }
+
+    #[test]
+    fn the_sheet_starts_with_every_spring_at_rest_length() {
+        let sheet = SheetParams::spec(10, 1e6).build().unwrap();
+        let x: Vec<Vec3> = sheet.nodes().iter().map(|node| node.position).collect();
+        let mut f = vec![Vec3::zeros(); x.len()];
+        sheet.forces(&x, &mut f);
+        // Only gravity acts at the start: zero tension everywhere.
+        for (node, force) in sheet.nodes().iter().zip(&f) {
+            let gravity = if node.fixed {
+                0.0
+            } else {
+                -node.mass * THESIS_GRAVITY
+            };
+            assert!(
+                (force - Vec3::new(0.0, gravity, 0.0)).norm() < 1e-9,
+                "{force:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_bad_sheet_names_its_field() {
+        let err = SheetParams::spec(2, 1e3).build().unwrap_err().to_string();
+        assert!(err.contains("sheet.nodes_per_side"), "{err}");
+        let mut params = SheetParams::spec(10, 1e3);
+        params.stiffness = f64::NAN;
+        let err = params.build().unwrap_err().to_string();
+        assert!(err.contains("sheet.stiffness"), "{err}");
+    }
 }

@@ -130,7 +130,7 @@ fn run(args: Args) -> Result<String> {
     let catenary = Catenary::compute()?;
     phase_done(
         &mut phases,
-        "figure runs, cloth and catenary".to_string(),
+        "figure runs, sheet and catenary".to_string(),
         t,
     );
     let t = Instant::now();

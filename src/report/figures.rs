@@ -1,71 +1,133 @@
-//! Figures 1-15 of the thesis, redrawn from our runs as SVG, each with the CSV of the points
-//! it draws and a caption that states every choice the thesis leaves open.
+//! Figures 1-15 of the thesis, redrawn from our runs as SVG at their printed size, and the
+//! parity figure of the 56 published rows; each with the CSV of the points it draws and a
+//! caption that states every choice the thesis leaves open.
 //!
 //! Colours follow Table 8: Backward Euler black; XPBD blue, Fast m-s orange, ADMM green,
 //! darker for fewer iterations. Published values are hollow markers on dashed lines, ours
-//! filled markers on solid lines.
+//! filled markers on solid lines. The style itself (sizes, fonts, legends outside the data)
+//! is [`crate::report::plot`]'s.
 
 use crate::error::Result;
-use crate::experiments::{published_rows, Measured, PublishedRow, SolverKind};
-use crate::report::format::{full, sig4};
-use crate::report::plot::{svg, Arrow, Axis, Legend, Line, Marker, Panel, Series};
-use crate::report::runs::{FigureRuns, BE_SOFT, BE_STIFF, FMS_SOFT_COARSE, STIFF_MIDDLE};
+use crate::experiments::{
+    peak_tolerance, published_rows, Measured, PublishedRow, SolverKind, HALF_PERIOD_TOLERANCE,
+};
+use crate::forensics::Evidence;
+use crate::report::format::{full, full_opt, sig4};
+use crate::report::plot::{
+    layout, power_of_ten, Align, Arrow, Axis, Band, Chart, Entry, Layout, LegendPlace, Line,
+    Marker, Panel, Rgb, Series, Style, COLUMN_WIDTH_MM, FULL_WIDTH_MM,
+};
+use crate::report::runs::{
+    FigureRuns, BE_SOFT, BE_STIFF, FMS_SOFT_COARSE, SHEET_FIGURE_STIFFNESS, STIFF_MIDDLE,
+};
 use crate::report::tables::{iteration_count, measured, stiffness_label};
 use crate::report::ReportData;
 use crate::solver::Run;
 use crate::system::Vec3;
-use plotters::style::RGBColor;
 
-/// One figure: file stem (`fig05-error-dt-k1e3`), caption, SVG and CSV text.
+/// One figure: file stem (`fig05-error-dt-k1e3`), caption, layout, SVG and CSV text.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Figure {
     pub number: u8,
     pub stem: String,
     pub caption: String,
+    /// Every text box, data mark and axes rectangle, for the figure test.
+    pub layout: Layout,
     pub svg: String,
     pub csv: String,
 }
 
-/// Size of one panel, px.
-const PANEL: (u32, u32) = (760, 520);
-/// Size of one panel of a two-panel figure, px.
-const HALF: (u32, u32) = (600, 500);
+impl Figure {
+    fn new(
+        number: u8,
+        stem: impl Into<String>,
+        caption: String,
+        chart: &Chart,
+        csv: String,
+    ) -> Result<Self> {
+        let layout = layout(chart)?;
+        Ok(Self {
+            number,
+            stem: stem.into(),
+            caption,
+            svg: layout.svg(),
+            layout,
+            csv,
+        })
+    }
+}
+
 /// Long series are reduced to this many buckets (min and max of each) before drawing.
 const MAX_BUCKETS: usize = 1500;
+/// Two series coincide in a drawing when every pair of their points is closer than this on a
+/// log axis, decades (12 %; under a third of a marker on the error plots' ten decades).
+const COINCIDE_DECADES: f64 = 0.05;
 
-const BLACK: RGBColor = RGBColor(0, 0, 0);
-const GREY: RGBColor = RGBColor(150, 150, 150);
-const RED: RGBColor = RGBColor(200, 30, 30);
+const BLACK: Rgb = Rgb(0, 0, 0);
+const GREY: Rgb = Rgb(120, 120, 120);
+const RED: Rgb = Rgb(200, 30, 30);
+const BLUE: Rgb = Rgb(33, 113, 181);
+const GREEN: Rgb = Rgb(35, 139, 69);
 
 /// The colour of a solver at its `index`-th iteration count (0 = fewest, darkest).
-pub fn colour(solver: SolverKind, index: usize) -> RGBColor {
-    let shades: [RGBColor; 3] = match solver {
+pub fn colour(solver: SolverKind, index: usize) -> Rgb {
+    let shades: [Rgb; 3] = match solver {
         SolverKind::BackwardEuler => [BLACK, BLACK, BLACK],
-        SolverKind::Xpbd => [
-            RGBColor(8, 48, 107),
-            RGBColor(33, 113, 181),
-            RGBColor(107, 174, 214),
-        ],
-        SolverKind::FastMassSpring => [
-            RGBColor(127, 39, 4),
-            RGBColor(217, 72, 1),
-            RGBColor(253, 141, 60),
-        ],
-        SolverKind::AdmmPd => [
-            RGBColor(0, 68, 27),
-            RGBColor(35, 139, 69),
-            RGBColor(116, 196, 118),
-        ],
+        SolverKind::Xpbd => [Rgb(8, 48, 107), Rgb(33, 113, 181), Rgb(107, 174, 214)],
+        SolverKind::FastMassSpring => [Rgb(127, 39, 4), Rgb(217, 72, 1), Rgb(253, 141, 60)],
+        SolverKind::AdmmPd => [Rgb(0, 68, 27), Rgb(35, 139, 69), Rgb(116, 196, 118)],
     };
     shades[index.min(2)]
 }
 
-fn marker(solver: SolverKind) -> Marker {
+fn solver_marker(solver: SolverKind) -> Marker {
     match solver {
         SolverKind::BackwardEuler => Marker::Square,
         SolverKind::Xpbd => Marker::Circle,
         SolverKind::FastMassSpring => Marker::Triangle,
         SolverKind::AdmmPd => Marker::Cross,
+    }
+}
+
+/// The marker of the `index`-th iteration count inside one solver's panel.
+fn iteration_marker(index: usize) -> Marker {
+    [Marker::Circle, Marker::Triangle, Marker::Square][index.min(2)]
+}
+
+/// The colour of an evidence class (or reproduction status) in the parity figure: one fixed
+/// colour per label (Okabe-Ito), black for a label it does not know.
+pub fn class_colour(class: &str) -> Rgb {
+    match class {
+        "faithful" => Rgb(0, 158, 115),
+        "interpretation" => Rgb(86, 180, 233),
+        "predicted" => Rgb(0, 114, 178),
+        "selected" => Rgb(230, 159, 0),
+        "fitted" => Rgb(204, 121, 167),
+        "noise-limited" => Rgb(128, 128, 128),
+        "unexplained" => Rgb(213, 94, 0),
+        _ => BLACK,
+    }
+}
+
+/// The class of a published row in the parity figure: its evidence class (issue 8) when the
+/// forensic reproduction ran, else "unclassified".
+pub fn row_class(data: &ReportData, row: &PublishedRow) -> String {
+    data.forensics
+        .as_ref()
+        .and_then(|f| f.evidence_of(row))
+        .map_or_else(
+            || "unclassified".to_string(),
+            |e| e.evidence.id().to_string(),
+        )
+}
+
+/// `10³`: a stiffness as a typeset power of ten.
+fn stiffness_text(k: f64) -> String {
+    let e = k.log10().round();
+    if (10f64.powf(e) - k).abs() <= 1e-9 * k {
+        power_of_ten(e as i32)
+    } else {
+        sig4(k)
     }
 }
 
@@ -137,8 +199,48 @@ fn energy_series(run: &Run, until: f64) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Figures 5, 7, 9, 10: rest-state error against dt on log axes, published and ours side by
-/// side, one series per solver and iteration count.
+/// Whether two series coincide in a log-log drawing: same x values, y within
+/// [`COINCIDE_DECADES`] at every point.
+fn coincide(a: &[(f64, f64)], b: &[(f64, f64)]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(p, q)| {
+            p.0 == q.0
+                && p.1 > 0.0
+                && q.1 > 0.0
+                && (p.1.log10() - q.1.log10()).abs() < COINCIDE_DECADES
+        })
+}
+
+/// Consecutive iteration counts whose series coincide, as groups of indices into `series`.
+fn coinciding_groups(series: &[Vec<(f64, f64)>]) -> Vec<Vec<usize>> {
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (i, s) in series.iter().enumerate() {
+        match groups.last_mut() {
+            Some(g) if coincide(&series[g[0]], s) => g.push(i),
+            _ => groups.push(vec![i]),
+        }
+    }
+    groups
+}
+
+/// "20 ≈ 50 it." for a group of iteration counts.
+fn group_label(iterations: &[usize], group: &[usize]) -> String {
+    let counts: Vec<String> = group.iter().map(|&i| iterations[i].to_string()).collect();
+    format!("{} it.", counts.join(" ≈ "))
+}
+
+/// The look of one error series: published hollow and dashed, ours filled and solid.
+fn error_style(index: usize, color: Rgb, published: bool) -> Series {
+    let s = Series::line("", Vec::new(), color).with_marker(iteration_marker(index), !published);
+    if published {
+        s.with_line(Line::Dashed)
+    } else {
+        s
+    }
+}
+
+/// Figures 5, 7, 9, 10: rest-state error against Δt on log axes, one panel per solver,
+/// published (hollow, dashed) and ours (filled, solid) on the same axes.
 fn error_against_dt(
     data: &ReportData,
     number: u8,
@@ -146,143 +248,178 @@ fn error_against_dt(
     solvers: &[SolverKind],
 ) -> Result<Figure> {
     let k = stiffness_label(stiffness);
-    let mut published = Panel::new(
-        format!("published (thesis), k = {k} N/m"),
-        Axis::log("dt (s)").range(5e-4, 0.2),
-        Axis::log("rest-state error (m)"),
-    );
-    let mut ours = Panel::new(
-        format!("ours, k = {k} N/m"),
-        Axis::log("dt (s)").range(5e-4, 0.2),
-        Axis::log("rest-state error (m)"),
-    );
     let mut csv_rows = String::from("solver,iterations,dt_s,error_published_m,error_ours_m\n");
-    let mut all_y = Vec::new();
+    // Per solver: iteration counts, published series, our series.
+    let mut per_solver = Vec::new();
     for &solver in solvers {
+        let (mut counts, mut published, mut ours) = (Vec::new(), Vec::new(), Vec::new());
         for index in 0..3 {
             let Some(iterations) = iteration_count(solver, index) else {
                 continue;
             };
-            let rows: Vec<&PublishedRow> = published_rows()
+            let mut rows: Vec<&PublishedRow> = published_rows()
                 .iter()
                 .filter(|r| {
                     r.solver == solver && r.iterations == iterations && r.stiffness == stiffness
                 })
                 .collect();
-            let mut sorted = rows.clone();
-            sorted.sort_by(|a, b| a.dt_s.total_cmp(&b.dt_s));
-            let pub_points: Vec<(f64, f64)> = sorted
-                .iter()
-                .filter_map(|r| r.error.map(|e| (r.dt_s, e)))
-                .collect();
-            let our_points: Vec<(f64, f64)> = sorted
-                .iter()
-                .filter_map(|r| {
-                    measured(&data.results, r)
-                        .and_then(|m| m.error_sum)
-                        .map(|e| (r.dt_s, e))
-                })
-                .collect();
-            for r in &sorted {
-                let m = measured(&data.results, r);
+            rows.sort_by(|a, b| a.dt_s.total_cmp(&b.dt_s));
+            let mut p = Vec::new();
+            let mut o = Vec::new();
+            for r in &rows {
+                let ours_error = measured(&data.results, r).and_then(|m| m.error_sum);
                 csv_rows += &format!(
                     "{},{},{},{},{}\n",
                     solver.id(),
                     iterations,
                     full(r.dt_s),
-                    r.error.map(full).unwrap_or_default(),
-                    m.and_then(|m| m.error_sum).map(full).unwrap_or_default()
+                    full_opt(r.error),
+                    full_opt(ours_error)
                 );
+                p.extend(r.error.map(|e| (r.dt_s, e)));
+                o.extend(ours_error.map(|e| (r.dt_s, e)));
             }
-            let c = colour(solver, index);
-            let label = format!("{} {iterations} it.", solver.abbreviation());
-            all_y.extend(pub_points.iter().chain(&our_points).map(|p| p.1));
-            published.series.push(
-                Series::line(label.clone(), pub_points, c)
-                    .with_line(Line::Dashed)
-                    .with_marker(marker(solver), false),
-            );
-            if !our_points.is_empty() {
-                ours.series
-                    .push(Series::line(label, our_points, c).with_marker(marker(solver), true));
-            }
+            counts.push(iterations);
+            published.push(p);
+            ours.push(o);
         }
+        per_solver.push((solver, counts, published, ours));
     }
-    // One y range for both panels, so that they compare at a glance.
-    let (lo, hi) = all_y
+    // One y range for every panel, so that they compare at a glance.
+    let (lo, hi) = per_solver
         .iter()
-        .filter(|v| **v > 0.0)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+        .flat_map(|(_, _, p, o)| p.iter().chain(o).flatten().map(|q| q.1))
+        .filter(|v| *v > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
             (lo.min(v), hi.max(v))
         });
-    if lo.is_finite() {
-        // One decade of headroom above the data for the legend.
-        let (lo, hi) = (
-            10f64.powf(lo.log10().floor()),
-            10f64.powf(hi.log10().ceil() + 1.0),
-        );
-        published.y = published.y.clone().range(lo, hi);
-        ours.y = ours.y.clone().range(lo, hi);
-    }
-    published.legend = Legend::UpperLeft;
-    ours.legend = Legend::UpperLeft;
-    if ours.series.is_empty() {
-        ours.label(
-            (1.5e-3, lo.max(1e-12) * 2.0),
-            "(not run in this report)",
-            GREY,
-        );
-    }
-    let which = if solvers.len() == 3 {
-        "all methods"
+    let y_range = if lo.is_finite() {
+        (10f64.powf(lo.log10() - 0.4), 10f64.powf(hi.log10() + 0.4))
     } else {
-        "the two Projective Dynamics methods"
+        (1e-9, 10.0)
+    };
+    let mut panels = Vec::new();
+    let mut merged = Vec::new();
+    for (solver, counts, published, ours) in &per_solver {
+        let mut panel = Panel::new(
+            Axis::log("Δt (s)").range(6e-4, 0.17),
+            Axis::log("rest-state error (m)").range(y_range.0, y_range.1),
+        );
+        panel.heading = solver.abbreviation().to_string();
+        panel.legend = LegendPlace::Below;
+        let pub_groups = coinciding_groups(published);
+        let our_groups = if ours.iter().all(|o| o.is_empty()) {
+            pub_groups.clone()
+        } else {
+            coinciding_groups(ours)
+        };
+        let same = pub_groups == our_groups;
+        for (source, groups, series) in [
+            ("published", &pub_groups, published),
+            ("ours", &our_groups, ours),
+        ] {
+            let is_published = source == "published";
+            for g in groups {
+                let index = g[0];
+                let mut s = error_style(index, colour(*solver, index), is_published);
+                s.points = series[index].clone();
+                let label = group_label(counts, g);
+                if g.len() > 1 {
+                    merged.push(format!("{} {source} {label}", solver.abbreviation()));
+                }
+                // Where both sources group alike, one entry (ours' look) names the colour.
+                s.label = match (same, is_published) {
+                    (true, true) => String::new(),
+                    (true, false) => label,
+                    (false, _) => format!("{source} {label}"),
+                };
+                if !s.points.is_empty() {
+                    panel.series.push(s);
+                }
+            }
+        }
+        if ours.iter().all(|o| o.is_empty()) {
+            panel.label(
+                (1e-2, y_range.0),
+                (0.0, 8.0),
+                Align::Middle,
+                "(ours not run in this report)",
+                GREY,
+            );
+        }
+        panels.push(panel);
+    }
+    let mut chart = Chart::new(FULL_WIDTH_MM, 78.0, panels);
+    chart.legend = vec![
+        Entry {
+            label: "published (thesis)".into(),
+            style: error_style(0, GREY, true).style,
+        },
+        Entry {
+            label: "ours".into(),
+            style: error_style(0, GREY, false).style,
+        },
+    ];
+    let which = if solvers.len() == 3 {
+        "XPBD (a), Fast m-s (b) and ADMM (c)"
+    } else {
+        "the two Projective Dynamics methods, Fast m-s (a) and ADMM (b)"
+    };
+    let merged = if merged.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " Series closer than {} decade at every point are drawn once and named together: {}",
+            COINCIDE_DECADES,
+            merged.join("; ")
+        )
     };
     let stem = format!(
         "fig{number:02}-error-dt-k{k}{}",
         if solvers.len() == 3 { "" } else { "-pd" }
     );
-    Ok(Figure {
+    Figure::new(
         number,
         stem,
-        caption: format!(
-            "Figure {number}. Rest-state error against dt, k = {k} N/m, {which}: published (left, hollow markers, \
-             dashed) and ours (right, filled markers); one series per solver and iteration count. The error is the \
-             sum over the nodes of the distance between the final positions and those of our Backward Euler \
-             reference of the same stiffness (the thesis's measure, convention 7). Same axes in both panels."
+        format!(
+            "Figure {number}. Rest-state error against Δt, k = {} N/m, one panel per solver: {which}. Published \
+             values hollow on dashed lines, ours filled on solid lines, one colour and marker per iteration count \
+             (darker for fewer). The error is the sum over the nodes of the distance between the final positions \
+             and those of our Backward Euler reference of the same stiffness (the thesis's measure, convention \
+             7). Same axes in every panel.{merged}",
+            stiffness_text(stiffness)
         ),
-        svg: svg(&[published, ours], HALF)?,
-        csv: csv_rows,
-    })
+        &chart,
+        csv_rows,
+    )
 }
 
 fn xy(nodes: &[Vec3]) -> Vec<(f64, f64)> {
     nodes.iter().map(|p| (p.x, p.y)).collect()
 }
 
-/// Figures 6 and 8: the rest state of Backward Euler against XPBD at dt = 0.1 s, every
+fn opt_sig(x: Option<f64>) -> String {
+    x.map_or_else(|| "–".into(), sig4)
+}
+
+/// Figures 6 and 8: the rest state of Backward Euler against XPBD at Δt = 0.1 s, every
 /// iteration count.
 fn rest_state_xpbd(data: &ReportData, number: u8, stiffness: f64) -> Result<Figure> {
     let k = stiffness_label(stiffness);
-    let mut panel = Panel::new(
-        format!("rest state, k = {k} N/m"),
-        Axis::linear("x (m)"),
-        Axis::linear("y (m)"),
-    );
-    panel.legend = Legend::UpperMiddle;
+    let mut panel = Panel::new(Axis::linear("x (m)"), Axis::linear("y (m)"));
+    panel.legend = LegendPlace::Below;
     let mut shapes = Vec::new();
-    let reference = data.results.rows.iter().find(|m| {
-        m.published.solver == SolverKind::BackwardEuler && m.published.stiffness == stiffness
-    });
-    if let Some(r) = reference {
-        panel.series.push(
+    let mut reference_series = None;
+    if let Some(r) = reference(data, stiffness) {
+        reference_series = Some(
             Series::line(
-                "BE reference (dt 0.001, 5 it.)",
+                "BE reference (Δt = 0.001 s, 5 it.)",
                 xy(&r.final_positions),
                 BLACK,
             )
-            .with_width(3)
-            .with_marker(Marker::Square, true),
+            .with_weight(0.8)
+            .with_marker(Marker::Square, false)
+            .with_marker_scale(1.3),
         );
         shapes.push(("backward_euler".to_string(), r.final_positions.clone()));
     }
@@ -297,17 +434,16 @@ fn rest_state_xpbd(data: &ReportData, number: u8, stiffness: f64) -> Result<Figu
                 && r.iterations == iterations
         });
         if let Some(m) = row.and_then(|r| measured(&data.results, r)) {
-            let label = format!(
-                "XPBD dt 0.1, {iterations} it. (error {} m)",
-                opt_sig(m.error_sum)
-            );
             panel.series.push(
                 Series::line(
-                    label,
+                    format!(
+                        "XPBD Δt = 0.1 s, {iterations} it. (error {} m)",
+                        opt_sig(m.error_sum)
+                    ),
                     xy(&m.final_positions),
                     colour(SolverKind::Xpbd, index),
                 )
-                .with_marker(Marker::Circle, true),
+                .with_marker(iteration_marker(index), true),
             );
             shapes.push((
                 format!("xpbd_dt0.1_{iterations}it"),
@@ -315,99 +451,225 @@ fn rest_state_xpbd(data: &ReportData, number: u8, stiffness: f64) -> Result<Figu
             ));
         }
     }
-    if panel.series.len() < 2 {
-        panel.label((0.5, -0.5), "(XPBD not run in this report)", GREY);
+    if panel.series.is_empty() {
+        panel.label(
+            (4.5, 0.0),
+            (0.0, -12.0),
+            Align::Middle,
+            "(XPBD not run in this report)",
+            GREY,
+        );
     }
-    headroom(&mut panel, 0.3);
-    Ok(Figure {
+    // The reference on top.
+    panel.series.extend(reference_series);
+    Figure::new(
         number,
-        stem: format!("fig{number:02}-rest-state-xpbd-k{k}"),
-        caption: format!(
-            "Figure {number}. Rest state of Backward Euler against XPBD, k = {k} N/m. The thesis does not say which \
-             XPBD run it shows; we show the coarsest time step, dt = 0.1 s, with each of its iteration counts (1, 20, \
-             50), where the difference is visible and shrinks with the iterations. Node positions at the end of each \
-             run (the first kinetic-energy peak below 0.001 J)."
+        format!("fig{number:02}-rest-state-xpbd-k{k}"),
+        format!(
+            "Figure {number}. Rest state of Backward Euler (hollow squares) against XPBD, k = {} N/m. The thesis \
+             does not say which XPBD run it shows; we show the coarsest time step, Δt = 0.1 s, with each of its \
+             iteration counts (1, 20, 50), where the difference is visible and shrinks with the iterations. Node \
+             positions at the end of each run (the first kinetic-energy peak below 0.001 J).",
+            stiffness_text(stiffness)
         ),
-        svg: svg(&[panel], PANEL)?,
-        csv: shapes_csv(&shapes),
-    })
+        &Chart::new(COLUMN_WIDTH_MM, 82.0, vec![panel]),
+        shapes_csv(&shapes),
+    )
 }
 
-fn opt_sig(x: Option<f64>) -> String {
-    x.map_or_else(|| "–".into(), sig4)
+/// The oblique view of Figure 1: an orthographic projection seen from azimuth 35° and
+/// elevation 25°, so that lengths in the picture plane keep their scale. Returns (right, up).
+fn oblique(p: &Vec3) -> (f64, f64) {
+    let (a, e) = (35f64.to_radians(), 25f64.to_radians());
+    let right = p.x * a.cos() - p.z * a.sin();
+    let depth = p.x * a.sin() + p.z * a.cos();
+    (right, p.y * e.cos() + depth * e.sin())
 }
 
-/// Figure 1: the cloth.
+/// Figure 1: the sheet of `docs/sheet-scene.md` hanging from two corners, one panel per
+/// instant, drawn to scale in an oblique view.
 fn figure1(data: &ReportData) -> Result<Figure> {
-    let cloth = &data.runs.cloth;
-    let mut panel = Panel::new(
-        "cloth hanging from two corners, Backward Euler",
-        Axis::linear("x (m)"),
-        Axis::linear("y (m)"),
+    let sheet = &data.runs.sheet;
+    let p = &sheet.params;
+    let n = p.nodes_per_side;
+    let mut csv = String::from("time_s,i,j,x_m,y_m,z_m\n");
+    // One common extent for every panel: the same scale throughout.
+    let all: Vec<(f64, f64)> = sheet
+        .frames
+        .iter()
+        .flat_map(|(_, x)| x.iter().map(oblique))
+        .collect();
+    let (x0, x1, y0, y1) = all.iter().fold(
+        (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ),
+        |(a, b, c, d), q| (a.min(q.0), b.max(q.0), c.min(q.1), d.max(q.1)),
     );
-    panel.legend = Legend::LowerRight;
-    let shades = [
-        RGBColor(190, 190, 190),
-        RGBColor(100, 140, 200),
-        RGBColor(20, 40, 120),
-    ];
-    let mut csv = String::from("time_s,spring,x_a_m,y_a_m,x_b_m,y_b_m\n");
-    for (f, (t, x)) in cloth.frames.iter().enumerate() {
-        let color = shades[f.min(2)];
-        // Every spring as its own two-point polyline, separated by NaN gaps in one series.
-        let mut points = Vec::new();
-        for (s, spring) in cloth.system.springs().iter().enumerate() {
-            let (a, b) = (x[spring.a], x[spring.b]);
-            points.extend([(a.x, a.y), (b.x, b.y), (f64::NAN, f64::NAN)]);
-            csv += &format!(
-                "{},{s},{},{},{},{}\n",
-                full(*t),
-                full(a.x),
-                full(a.y),
-                full(b.x),
-                full(b.y)
-            );
-        }
-        for segment in points.split(|p| p.0.is_nan()).filter(|s| !s.is_empty()) {
+    let mut panels = Vec::new();
+    for (t, x) in &sheet.frames {
+        let mut panel = Panel::new(
+            Axis::linear("").range(x0 - 0.5, x1 + 0.5),
+            Axis::linear("").range(y0 - 0.5, y1 + 0.5),
+        );
+        panel.frame = false;
+        panel.equal_aspect = true;
+        // The grid lines of the net (structural springs), row by row and column by column.
+        for line in 0..n {
+            let row: Vec<(f64, f64)> = (0..n).map(|j| oblique(&x[p.node(line, j)])).collect();
+            let column: Vec<(f64, f64)> = (0..n).map(|i| oblique(&x[p.node(i, line)])).collect();
             panel
                 .series
-                .push(Series::line("", segment.to_vec(), color).with_width(1));
+                .push(Series::line("", row, BLUE).with_weight(0.6));
+            panel
+                .series
+                .push(Series::line("", column, BLUE).with_weight(0.6));
         }
-        if let Some(last) = panel.series.last_mut() {
-            last.label = format!("t = {} s", sig_short(*t));
+        let held: Vec<(f64, f64)> = sheet
+            .system
+            .nodes()
+            .iter()
+            .zip(x)
+            .filter(|(node, _)| node.fixed)
+            .map(|(_, q)| oblique(q))
+            .collect();
+        panel
+            .series
+            .push(Series::points("", held, RED).with_marker(Marker::Square, true));
+        panel.heading = format!("t = {} s", sig_short(*t));
+        for i in 0..n {
+            for j in 0..n {
+                let q = x[p.node(i, j)];
+                csv += &format!(
+                    "{},{i},{j},{},{},{}\n",
+                    full(*t),
+                    full(q.x),
+                    full(q.y),
+                    full(q.z)
+                );
+            }
         }
+        panels.push(panel);
     }
-    let pinned: Vec<(f64, f64)> = cloth
-        .system
-        .nodes()
-        .iter()
-        .filter(|n| n.fixed)
-        .map(|n| (n.position.x, n.position.y))
-        .collect();
-    panel.series.push(
-        Series::line("pinned corners", pinned, RED)
-            .with_line(Line::None)
-            .with_marker(Marker::Square, true),
-    );
-    let p = &cloth.params;
-    Ok(Figure {
-        number: 1,
-        stem: "fig01-cloth".into(),
-        caption: format!(
-            "Figure 1. A cloth simulated with a mass-spring discretisation: the hanging cloth of `particles::scenes` \
-             ({}×{} particles of {} kg, {} m apart, a spring of k = {} N/m on every grid edge and one diagonal per \
-             quad), pinned at its two top corners and released at rest, simulated with Backward Euler (dt = {} s, 5 \
-             Newton iterations); the mesh at t = {}.",
-            p.nx,
-            p.ny,
-            sig_short(p.particle_mass),
+    let mut chart = Chart::new(FULL_WIDTH_MM, 62.0, panels);
+    chart.legend = vec![
+        Entry {
+            label: "structural springs (grid lines)".into(),
+            style: Series::line("", Vec::new(), BLUE).with_weight(0.6).style,
+        },
+        Entry {
+            label: "held corners".into(),
+            style: Series::points("", Vec::new(), RED)
+                .with_marker(Marker::Square, true)
+                .style,
+        },
+    ];
+    let spring_count = sheet.system.springs().len();
+    Figure::new(
+        1,
+        "fig01-cloth",
+        format!(
+            "Figure 1. A cloth simulated with a mass-spring discretisation: the sheet of `docs/sheet-scene.md` \
+             ({n} × {n} nodes of {} kg, {} m apart, {spring_count} springs of k = {} N/m: structural springs on \
+             the grid edges and shear springs on both diagonals of every cell), held at the two corners of one edge \
+             and released flat and at rest, simulated with Backward Euler (Δt = {} s, 5 Newton iterations); panels \
+             (a)-({}) at t = {}. Orthographic view from 35° azimuth and 25° elevation, the same scale in every \
+             panel and in both directions; only the structural springs are drawn. The sheet swings down about the \
+             held edge and stretches under its own weight; with shear springs on both diagonals it stays \
+             symmetric and does not sway sideways.",
+            sig_short(p.node_mass),
             sig_short(p.spacing),
-            sig_short(p.stiffness),
-            sig_short(cloth.dt),
-            cloth.frames.iter().map(|(t, _)| format!("{} s", sig_short(*t))).collect::<Vec<_>>().join(", ")
+            stiffness_text(SHEET_FIGURE_STIFFNESS),
+            sig_short(sheet.dt),
+            (b'a' + sheet.frames.len().saturating_sub(1) as u8) as char,
+            sheet.frames.iter().map(|(t, _)| format!("{} s", sig_short(*t))).collect::<Vec<_>>().join(", ")
         ),
-        svg: svg(&[panel], PANEL)?,
+        &chart,
         csv,
+    )
+}
+
+/// Figure 2: our rest state and the analytic one, both stiffnesses, each panel to scale.
+fn figure2(data: &ReportData) -> Result<Figure> {
+    let mut panels = Vec::new();
+    let mut shapes = Vec::new();
+    for stiffness in [1e3, 1e6] {
+        let k = stiffness_label(stiffness);
+        let mut panel = Panel::new(
+            Axis::linear("x (m)"),
+            Axis::linear(format!("y (m), k = {} N/m", stiffness_text(stiffness))),
+        );
+        panel.equal_aspect = true;
+        let reference_series = reference(data, stiffness).map(|r| {
+            shapes.push((format!("backward_euler_k{k}"), r.final_positions.clone()));
+            Series::line("", xy(&r.final_positions), BLACK).with_marker(Marker::Circle, true)
+        });
+        match data.catenary.analytic(stiffness) {
+            Some(nodes) => {
+                panel.series.push(
+                    Series::line("", xy(nodes), RED)
+                        .with_line(Line::Dashed)
+                        .with_marker(Marker::Square, false)
+                        .with_marker_scale(1.6),
+                );
+                shapes.push((format!("analytic_k{k}"), nodes.to_vec()));
+            }
+            None => panel.label(
+                (4.5, 0.0),
+                (0.0, 10.0),
+                Align::Middle,
+                "(analytic catenary pending)",
+                GREY,
+            ),
+        }
+        // Our rest state on top of the exact one.
+        panel.series.extend(reference_series);
+        panels.push(panel);
+    }
+    let mut chart = Chart::new(FULL_WIDTH_MM, 100.0, panels);
+    chart.columns = 1;
+    chart.legend = vec![
+        Entry {
+            label: "Newton rest state (BE reference)".into(),
+            style: Series::line("", Vec::new(), BLACK)
+                .with_marker(Marker::Circle, true)
+                .style,
+        },
+        Entry {
+            label: "exact discrete catenary".into(),
+            style: Series::line("", Vec::new(), RED)
+                .with_line(Line::Dashed)
+                .with_marker(Marker::Square, false)
+                .with_marker_scale(1.6)
+                .style,
+        },
+    ];
+    let sag = |k: f64| {
+        reference(data, k).map_or("–".to_string(), |r| {
+            sig_short(-r.final_positions.iter().map(|p| p.y).fold(0.0, f64::min))
+        })
+    };
+    Figure::new(
+        2,
+        "fig02-catenary",
+        format!(
+            "Figure 2. The catenary discretised with 10 nodes: the rest state our Backward Euler reference comes to \
+             (filled circles) and the exact static equilibrium of the discrete elastic chain (hollow squares), \
+             k = 10³ N/m (a) and 10⁶ N/m (b), each drawn to scale: the lowest node hangs {} m below the anchors at \
+             k = 10³ N/m and {} m at 10⁶ N/m.",
+            sag(1e3),
+            sag(1e6)
+        ),
+        &chart,
+        shapes_csv(&shapes),
+    )
+}
+
+fn reference(data: &ReportData, stiffness: f64) -> Option<&Measured> {
+    data.results.rows.iter().find(|m| {
+        m.published.solver == SolverKind::BackwardEuler && m.published.stiffness == stiffness
     })
 }
 
@@ -419,62 +681,6 @@ fn sig_short(x: f64) -> String {
     } else {
         s
     }
-}
-
-/// Figure 2: our rest state and the analytic one, both stiffnesses.
-fn figure2(data: &ReportData) -> Result<Figure> {
-    let mut panels = Vec::new();
-    let mut shapes = Vec::new();
-    for stiffness in [1e3, 1e6] {
-        let k = stiffness_label(stiffness);
-        let mut panel = Panel::new(
-            format!("k = {k} N/m"),
-            Axis::linear("x (m)"),
-            Axis::linear("y (m)"),
-        );
-        panel.legend = Legend::UpperMiddle;
-        if let Some(r) = reference(data, stiffness) {
-            panel.series.push(
-                Series::line(
-                    "Newton rest state (BE reference)",
-                    xy(&r.final_positions),
-                    BLACK,
-                )
-                .with_marker(Marker::Circle, true),
-            );
-            shapes.push((format!("backward_euler_k{k}"), r.final_positions.clone()));
-        }
-        match data.catenary.analytic(stiffness) {
-            Some(nodes) => {
-                panel.series.push(
-                    Series::line("exact discrete catenary", xy(nodes), RED)
-                        .with_line(Line::Dashed)
-                        .with_marker(Marker::Square, false)
-                        .with_marker_size(7),
-                );
-                shapes.push((format!("analytic_k{k}"), nodes.to_vec()));
-            }
-            None => panel.label((2.0, 0.0), "(analytic catenary pending)", GREY),
-        }
-        panels.push(panel);
-    }
-    Ok(Figure {
-        number: 2,
-        stem: "fig02-catenary".into(),
-        caption: "Figure 2. The catenary discretised with 10 nodes: the rest state our Backward Euler reference comes \
-                  to (filled circles) and the exact static equilibrium of the discrete elastic chain (hollow squares), \
-                  for both stiffnesses. The vertical scales differ: the lowest node hangs about 1.47 m below the \
-                  anchors at k = 1e3 and 0.143 m at k = 1e6."
-            .into(),
-        svg: svg(&panels, HALF)?,
-        csv: shapes_csv(&shapes),
-    })
-}
-
-fn reference(data: &ReportData, stiffness: f64) -> Option<&Measured> {
-    data.results.rows.iter().find(|m| {
-        m.published.solver == SolverKind::BackwardEuler && m.published.stiffness == stiffness
-    })
 }
 
 /// A zigzag between two points, for drawing a spring.
@@ -494,7 +700,7 @@ fn zigzag(a: (f64, f64), b: (f64, f64), turns: usize, amplitude: f64) -> Vec<(f6
     points
 }
 
-/// Figure 3: the rope's nodes and springs.
+/// Figure 3: the rope's nodes and springs, to scale.
 fn figure3() -> Result<Figure> {
     let rope = crate::scene::RopeParams::thesis(1e3);
     let nodes: Vec<(f64, f64)> = (0..rope.nodes)
@@ -505,22 +711,22 @@ fn figure3() -> Result<Figure> {
         })
         .collect();
     let mut panel = Panel::new(
-        "the thesis rope: 10 nodes, 9 springs",
-        Axis::linear("x (m)").range(-0.6, 9.6),
-        Axis::linear("y (m)").range(-1.2, 1.0),
+        Axis::linear("x (m)").range(-1.7, 10.7),
+        Axis::linear("y (m)").range(-1.2, 0.7),
     );
-    panel.mesh = false;
-    let blue = RGBColor(33, 113, 181);
+    panel.frame = false;
+    panel.equal_aspect = true;
+    panel.legend = LegendPlace::Below;
     let mut csv = String::from("element,index,x_a_m,y_a_m,x_b_m,y_b_m\n");
     for (i, w) in nodes.windows(2).enumerate() {
         let label = if i == 0 {
-            "spring: k, rest length l0 = 1 m"
+            "spring: stiffness k, rest length l₀ = 1 m"
         } else {
             ""
         };
         panel
             .series
-            .push(Series::line(label, zigzag(w[0], w[1], 3, 0.12), blue).with_width(2));
+            .push(Series::line(label, zigzag(w[0], w[1], 3, 0.12), BLUE).with_weight(0.8));
         csv += &format!(
             "spring,{i},{},{},{},{}\n",
             full(w[0].0),
@@ -530,40 +736,57 @@ fn figure3() -> Result<Figure> {
         );
     }
     let last = nodes.len() - 1;
-    let free: Vec<(f64, f64)> = nodes[1..last].to_vec();
     panel.series.push(
-        Series::line("free node, m = 1 kg", free, BLACK)
-            .with_line(Line::None)
+        Series::points("free node, m = 1 kg", nodes[1..last].to_vec(), BLACK)
             .with_marker(Marker::Circle, true),
     );
     panel.series.push(
-        Series::line("fixed node (anchor)", vec![nodes[0], nodes[last]], RED)
-            .with_line(Line::None)
-            .with_marker(Marker::Square, true),
+        Series::points("fixed node (anchor)", vec![nodes[0], nodes[last]], RED)
+            .with_marker(Marker::Square, true)
+            .with_marker_scale(1.2),
     );
     for (i, &(x, y)) in nodes.iter().enumerate() {
-        panel.label((x - 0.12, y - 0.2), format!("x{i}"), BLACK);
+        panel.label(
+            (x, y),
+            (0.0, -13.0),
+            Align::Middle,
+            format!("x{}", subscript(i)),
+            BLACK,
+        );
         csv += &format!("node,{i},{},{},,\n", full(x), full(y));
     }
-    panel.label((-0.45, 0.42), "(0, 0) m", GREY);
-    panel.label((8.4, 0.42), "(9, 0) m", GREY);
+    panel.label(nodes[0], (-5.0, 4.0), Align::End, "(0, 0) m", GREY);
+    panel.label(nodes[last], (5.0, 4.0), Align::Start, "(9, 0) m", GREY);
     panel.arrows.push(Arrow {
         from: (4.5, -0.55),
-        to: (4.5, -1.05),
+        to: (4.5, -1.15),
         color: GREY,
     });
-    panel.label((4.65, -0.7), "g = 9.81 m/s²", GREY);
-    panel.legend = Legend::UpperMiddle;
-    Ok(Figure {
-        number: 3,
-        stem: "fig03-rope-structure".into(),
-        caption: "Figure 3. The internal structure of the rope: one spring between each pair of consecutive nodes \
-                  (10 nodes of 1 kg, 9 springs of rest length 1 m); nodes 0 and 9 are fixed at (0, 0) and (9, 0) m, \
-                  and the rope starts straight, taut and at rest."
+    panel.label(
+        (4.5, -0.85),
+        (5.0, -3.0),
+        Align::Start,
+        "g = 9.81 m/s²",
+        GREY,
+    );
+    Figure::new(
+        3,
+        "fig03-rope-structure",
+        "Figure 3. The internal structure of the rope, to scale: one spring between each pair of consecutive nodes \
+         (10 nodes of 1 kg, 9 springs of rest length 1 m); nodes 0 and 9 are fixed at (0, 0) and (9, 0) m, and the \
+         rope starts straight, taut and at rest."
             .into(),
-        svg: svg(&[panel], (900, 360))?,
+        &Chart::new(FULL_WIDTH_MM, 45.0, vec![panel]),
         csv,
-    })
+    )
+}
+
+/// `₁₂`: an index as subscript digits.
+fn subscript(i: usize) -> String {
+    i.to_string()
+        .bytes()
+        .map(|d| char::from_u32(0x2080 + (d - b'0') as u32).unwrap_or('?'))
+        .collect()
 }
 
 /// Figure 4: the distance constraint and its gradient.
@@ -576,17 +799,17 @@ fn figure4() -> Result<Figure> {
     let n = (dx / d, dy / d);
     let c = d - l0;
     let mut left = Panel::new(
-        "C = |x1 - x2| - l0 and its gradient",
-        Axis::linear("x (m)").range(-1.2, 2.8),
-        Axis::linear("y (m)").range(-1.0, 1.8),
+        Axis::linear("x (m)").range(-1.3, 2.9),
+        Axis::linear("y (m)").range(-1.0, 1.9),
     );
-    left.legend = Legend::LowerRight;
+    left.equal_aspect = true;
+    left.legend = LegendPlace::Below;
     left.series.push(
-        Series::line("current length |x1 - x2|", vec![x1, x2], BLACK)
+        Series::line("current length |x₁ − x₂|", vec![x1, x2], BLACK)
             .with_marker(Marker::Circle, true),
     );
     // The rest length and C drawn beside the spring, on its lower side.
-    let side = (0.1 * n.1, -0.1 * n.0);
+    let side = (0.12 * n.1, -0.12 * n.0);
     let side = if side.1 > 0.0 {
         (-side.0, -side.1)
     } else {
@@ -596,74 +819,86 @@ fn figure4() -> Result<Figure> {
         (x2.0 + side.0, x2.1 + side.1),
         (x2.0 + side.0 + l0 * n.0, x2.1 + side.1 + l0 * n.1),
     ];
-    left.series.push(
-        Series::line("rest length l0 = 1 m", rest.clone(), RGBColor(33, 113, 181)).with_width(4),
-    );
-    let stretch = vec![(rest[1].0, rest[1].1), (x1.0 + side.0, x1.1 + side.1)];
     left.series
-        .push(Series::line(format!("C = {} m", sig_short(c)), stretch.clone(), RED).with_width(4));
-    let g1 = (x1.0 + 0.8 * n.0, x1.1 + 0.8 * n.1);
-    let g2 = (x2.0 - 0.8 * n.0, x2.1 - 0.8 * n.1);
-    left.arrows.push(Arrow {
-        from: x1,
-        to: g1,
-        color: RGBColor(35, 139, 69),
-    });
-    left.arrows.push(Arrow {
-        from: x2,
-        to: g2,
-        color: RGBColor(35, 139, 69),
-    });
-    left.label((x1.0 - 0.3, x1.1 + 0.22), "x1", BLACK);
-    left.label((x2.0 - 0.3, x2.1 + 0.22), "x2", BLACK);
-    left.label(
-        (g1.0 - 0.2, g1.1 - 0.12),
-        "∇x1 C = (x1 - x2)/|x1 - x2|",
-        RGBColor(35, 139, 69),
+        .push(Series::line("rest length l₀ = 1 m", rest.clone(), BLUE).with_weight(2.0));
+    left.series.push(
+        Series::line(
+            format!("C = {} m", sig_short(c)),
+            vec![rest[1], (x1.0 + side.0, x1.1 + side.1)],
+            RED,
+        )
+        .with_weight(2.0),
     );
-    left.label(
-        (g2.0 - 0.55, g2.1 + 0.35),
-        "∇x2 C = -∇x1 C",
-        RGBColor(35, 139, 69),
-    );
+    // The gradients are unit vectors: arrows 1 m long on this to-scale drawing.
+    let g1 = (x1.0 + n.0, x1.1 + n.1);
+    let g2 = (x2.0 - n.0, x2.1 - n.1);
+    for (from, to) in [(x1, g1), (x2, g2)] {
+        left.arrows.push(Arrow {
+            from,
+            to,
+            color: GREEN,
+        });
+    }
+    // Up and to the left of each end: away from the spring, the arrows and the C lines.
+    left.label(x1, (-4.0, 4.0), Align::End, "x₁", BLACK);
+    left.label(x2, (-4.0, 4.0), Align::End, "x₂", BLACK);
+    left.label(g1, (0.0, -12.0), Align::Middle, "∇ₓ₁C", GREEN);
+    left.label(g2, (0.0, 6.0), Align::Middle, "∇ₓ₂C = −∇ₓ₁C", GREEN);
     let mut right = Panel::new(
-        "C against the spring's length",
-        Axis::linear("length |x1 - x2| (m)").range(0.0, 2.0),
+        Axis::linear("length |x₁ − x₂| (m)").range(0.0, 2.0),
         Axis::linear("C (m)").range(-1.1, 1.1),
     );
-    right.legend = Legend::LowerRight;
+    right.legend = LegendPlace::Below;
     right.series.push(Series::line(
-        "C = |x1 - x2| - l0 (slope |∇C| = 1)",
+        "C = |x₁ − x₂| − l₀ (slope |∇C| = 1)",
         vec![(0.0, -l0), (2.0, 2.0 - l0)],
         RED,
     ));
+    right
+        .series
+        .push(Series::points("this spring", vec![(d, c)], BLACK).with_marker(Marker::Circle, true));
     right.series.push(
-        Series::line("this spring", vec![(d, c)], BLACK)
-            .with_line(Line::None)
-            .with_marker(Marker::Circle, true),
+        Series::points("rest length l₀", vec![(l0, 0.0)], BLUE).with_marker(Marker::Square, true),
     );
-    right.series.push(
-        Series::line("rest length l0", vec![(l0, 0.0)], RGBColor(33, 113, 181))
-            .with_line(Line::None)
-            .with_marker(Marker::Square, true),
+    right.label((l0, 0.0), (6.0, -3.0), Align::Start, "rest: C = 0", GREY);
+    right.label(
+        (0.5, -0.5),
+        (6.0, -6.0),
+        Align::Start,
+        "compressed: C < 0",
+        GREY,
     );
-    right.label((1.05, -0.05), "rest: C = 0", GREY);
-    right.label((0.05, -0.1), "compressed: C < 0", GREY);
-    right.label((1.05, 0.95), "stretched: C > 0", GREY);
+    right.label(
+        (1.5, 0.5),
+        (-6.0, 6.0),
+        Align::End,
+        "stretched: C > 0",
+        GREY,
+    );
     let csv = format!(
         "quantity,x,y\nx1,{},{}\nx2,{},{}\ngrad_x1_C,{},{}\ngrad_x2_C,{},{}\nlength_m,{},\nrest_length_m,{},\nC_m,{},\n",
-        full(x1.0), full(x1.1), full(x2.0), full(x2.1), full(n.0), full(n.1), full(-n.0), full(-n.1), full(d), full(l0), full(c)
+        full(x1.0),
+        full(x1.1),
+        full(x2.0),
+        full(x2.1),
+        full(n.0),
+        full(n.1),
+        full(-n.0),
+        full(-n.1),
+        full(d),
+        full(l0),
+        full(c)
     );
-    Ok(Figure {
-        number: 4,
-        stem: "fig04-distance-constraint".into(),
-        caption: "Figure 4. The distance constraint C = |x1 - x2| - l0 of a spring (Eqs 1, 48) and its gradient (Eq 49): \
-                  unit vectors along the spring, opposite at the two ends, pointing where C grows. Left: a stretched \
-                  spring; right: C against the spring's length."
+    Figure::new(
+        4,
+        "fig04-distance-constraint",
+        "Figure 4. The distance constraint C = |x₁ − x₂| − l₀ of a spring (Eqs 1, 48) and its gradient (Eq 49), \
+         drawn to scale: (a) a stretched spring with the gradients at its ends, unit vectors (1 m long here) along \
+         the spring, opposite at the two ends, pointing where C grows; (b) C against the spring's length."
             .into(),
-        svg: svg(&[left, right], HALF)?,
+        &Chart::new(FULL_WIDTH_MM, 75.0, vec![left, right]),
         csv,
-    })
+    )
 }
 
 /// The peaks of a run inside a window, for markers.
@@ -673,54 +908,6 @@ fn peaks_until(run: &Run, until: f64) -> Vec<(f64, f64)> {
         .filter(|p| p.time_exact <= until)
         .map(|p| (p.time_exact, p.energy))
         .collect()
-}
-
-/// Figure 11: two periods of the reference's kinetic energy, k = 1e6.
-fn figure11(runs: &FigureRuns) -> Result<Figure> {
-    let mut panel = Panel::new(
-        "Backward Euler, k = 1e6 N/m, dt = 0.001 s",
-        Axis::linear("time (s)"),
-        Axis::linear("kinetic energy (J)"),
-    );
-    let mut csv_series = Vec::new();
-    let mut caption_extra = String::new();
-    if let Some((_, run)) = runs.get(BE_STIFF) {
-        // Two periods T = 4 half-periods: up to the fifth kinetic-energy peak.
-        let until = run.peaks.get(4).map_or(1.0, |p| p.time_exact) + 0.02;
-        let ke = energy_series(run, until);
-        let peaks = peaks_until(run, until);
-        if peaks.len() > 1 {
-            let intervals: Vec<String> = peaks.windows(2).map(|w| sig4(w[1].0 - w[0].0)).collect();
-            caption_extra = format!(
-                " Intervals between peaks 1 to 5: {} s (the thesis's T/2 is their mean over the whole run).",
-                intervals.join(", ")
-            );
-        }
-        for (i, &(t, e)) in peaks.iter().enumerate() {
-            panel.label((t - 0.012, e + 0.35), format!("{}", i + 1), BLACK);
-        }
-        panel
-            .series
-            .push(Series::line("kinetic energy", ke.clone(), BLACK));
-        panel.series.push(
-            Series::line("peaks", peaks.clone(), RED)
-                .with_line(Line::None)
-                .with_marker(Marker::Circle, true),
-        );
-        csv_series.push(("kinetic_energy_J".to_string(), ke));
-        csv_series.push(("peak_J".to_string(), peaks));
-    }
-    Ok(Figure {
-        number: 11,
-        stem: "fig11-kinetic-energy-reference".into(),
-        caption: format!(
-            "Figure 11. Two periods of the kinetic energy of Backward Euler (dt = 0.001 s, 5 Newton iterations), \
-             k = 1e6 N/m, from the release at rest: the kinetic energy peaks twice per period of the rope, so two \
-             periods span peaks 1 to 5.{caption_extra}"
-        ),
-        svg: svg(&[panel], PANEL)?,
-        csv: series_csv("time_s", "value", &csv_series),
-    })
 }
 
 /// The five instants of Figure 12: release, first peak, first minimum after it, second
@@ -750,53 +937,84 @@ pub fn five_instants(kinetic_energy: &[f64]) -> Vec<usize> {
     instants
 }
 
+/// Figure 11: two periods of the reference's kinetic energy, k = 10⁶.
+fn figure11(runs: &FigureRuns) -> Result<Figure> {
+    let mut panel = Panel::new(Axis::linear("time (s)"), Axis::linear("kinetic energy (J)"));
+    panel.legend = LegendPlace::Below;
+    let mut csv_series = Vec::new();
+    let mut caption_extra = String::new();
+    if let Some((_, run)) = runs.get(BE_STIFF) {
+        // Two periods T = 4 half-periods: up to the fifth kinetic-energy peak.
+        let until = run.peaks.get(4).map_or(1.0, |p| p.time_exact) + 0.02;
+        let ke = energy_series(run, until);
+        let peaks = peaks_until(run, until);
+        if peaks.len() > 1 {
+            let intervals: Vec<String> = peaks.windows(2).map(|w| sig4(w[1].0 - w[0].0)).collect();
+            caption_extra = format!(
+                " Intervals between peaks 1 to 5: {} s (the thesis's T/2 is their mean over the whole run).",
+                intervals.join(", ")
+            );
+        }
+        for (i, &p) in peaks.iter().enumerate() {
+            panel.label(p, (0.0, 6.0), Align::Middle, format!("{}", i + 1), BLACK);
+        }
+        panel
+            .series
+            .push(Series::line("kinetic energy", ke.clone(), BLACK));
+        panel
+            .series
+            .push(Series::points("peaks", peaks.clone(), RED).with_marker(Marker::Circle, true));
+        csv_series.push(("kinetic_energy_J".to_string(), ke));
+        csv_series.push(("peak_J".to_string(), peaks));
+    }
+    headroom(&mut panel, 0.12);
+    Figure::new(
+        11,
+        "fig11-kinetic-energy-reference",
+        format!(
+            "Figure 11. Two periods of the kinetic energy of Backward Euler (Δt = 0.001 s, 5 Newton iterations), \
+             k = 10⁶ N/m, from the release at rest: the kinetic energy peaks twice per period of the rope, so two \
+             periods span peaks 1 to 5.{caption_extra}"
+        ),
+        &Chart::new(COLUMN_WIDTH_MM, 66.0, vec![panel]),
+        series_csv("time_s", "value", &csv_series),
+    )
+}
+
 /// Figure 12: the kinetic energy over one period with five marked instants, and the rope at
 /// those instants.
 fn figure12(runs: &FigureRuns) -> Result<Figure> {
-    let mut energy = Panel::new(
-        "kinetic energy, k = 1e3 N/m",
-        Axis::linear("time (s)"),
-        Axis::linear("kinetic energy (J)"),
-    );
+    let mut energy = Panel::new(Axis::linear("time (s)"), Axis::linear("kinetic energy (J)"));
     let mut rope = Panel::new(
-        "the rope at the marked instants",
         Axis::linear("x (m)"),
-        Axis::linear("y (m)"),
+        Axis::linear("y (m)").range(-3.6, 0.3),
     );
-    energy.legend = Legend::UpperRight;
-    rope.legend = Legend::LowerRight;
+    energy.legend = LegendPlace::Below;
+    rope.legend = LegendPlace::Below;
     let mut csv = String::from("instant,time_s,kinetic_energy_J,node,x_m,y_m\n");
-    let palette = [
-        GREY,
-        RGBColor(217, 72, 1),
-        RGBColor(35, 139, 69),
-        RGBColor(33, 113, 181),
-        RGBColor(120, 40, 160),
-    ];
-    rope.y = rope.y.clone().range(-3.6, 0.3);
+    let palette = [GREY, Rgb(217, 72, 1), GREEN, BLUE, Rgb(120, 40, 160)];
     if let Some((_, run)) = runs.get(BE_SOFT) {
         let instants = five_instants(&run.kinetic_energy);
-        let top = run
-            .kinetic_energy
-            .iter()
-            .take(instants.last().map_or(0, |&i| i + 1))
-            .fold(0.0, |m: f64, &e| m.max(e));
         let end = instants.last().map_or(1.0, |&i| i as f64 * run.dt) + 0.05;
-        energy.series.push(Series::line(
-            "kinetic energy",
-            energy_series(run, end),
-            BLACK,
-        ));
+        energy
+            .series
+            .push(Series::line("", energy_series(run, end), BLACK));
         for (n, &i) in instants.iter().enumerate() {
             let t = i as f64 * run.dt;
             let e = run.kinetic_energy[i];
             let c = palette[n % palette.len()];
-            energy.series.push(
-                Series::line("", vec![(t, e)], c)
-                    .with_line(Line::None)
-                    .with_marker(Marker::Circle, true),
+            energy
+                .series
+                .push(Series::points("", vec![(t, e)], c).with_marker(Marker::Circle, true));
+            // Peaks labelled above, minima (the curve rises on both sides) below.
+            let offset = if n % 2 == 1 { 6.0 } else { -12.0 };
+            energy.label(
+                (t, e),
+                (0.0, offset),
+                Align::Middle,
+                format!("{}", n + 1),
+                c,
             );
-            energy.label((t - 0.012, e + 0.09 * top), format!("{}", n + 1), c);
             if let Some((_, state)) = run.positions.get(i) {
                 let what = match n {
                     0 => "release",
@@ -809,7 +1027,8 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
                         xy(&state.x),
                         c,
                     )
-                    .with_marker(Marker::Circle, true),
+                    .with_marker(Marker::Circle, true)
+                    .with_marker_scale(0.8),
                 );
                 for (node, p) in state.x.iter().enumerate() {
                     csv += &format!(
@@ -823,23 +1042,27 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
                 }
             }
         }
+        headroom(&mut energy, 0.12);
+        let (lo, hi) = energy.y.range.unwrap_or((0.0, 1.0));
+        // Room under the minima for their labels.
+        energy.y = energy.y.clone().range(lo - 0.12 * (hi - lo), hi);
     }
-    Ok(Figure {
-        number: 12,
-        stem: "fig12-energy-and-motion".into(),
-        caption: "Figure 12. The kinetic energy over one period and the rope's motion, Backward Euler reference, \
-                  k = 1e3 N/m (the softer rope, whose motion is visible at scale). The thesis's five instants are \
-                  not given; we mark 1 the release (straight rope at rest), 2 the first kinetic-energy peak (the rope \
-                  passes its equilibrium going down), 3 the next minimum (lowest turning point), 4 the second peak \
-                  (equilibrium going up) and 5 the next minimum (highest turning point): one full period."
+    Figure::new(
+        12,
+        "fig12-energy-and-motion",
+        "Figure 12. The kinetic energy over one period (a) and the rope's motion (b), Backward Euler reference, \
+         k = 10³ N/m (the softer rope, whose motion is visible at scale). The thesis's five instants are not given; \
+         we mark 1 the release (straight rope at rest), 2 the first kinetic-energy peak (the rope passes its \
+         equilibrium going down), 3 the next minimum (lowest turning point), 4 the second peak (equilibrium going \
+         up) and 5 the next minimum (highest turning point): one full period."
             .into(),
-        svg: svg(&[energy, rope], HALF)?,
+        &Chart::new(FULL_WIDTH_MM, 80.0, vec![energy, rope]),
         csv,
-    })
+    )
 }
 
-/// Sets a linear y range with `fraction` of the data's span free above the curves, for the
-/// legend.
+/// Sets a linear y range with `fraction` of the data's span free above the curves, for
+/// direct labels.
 fn headroom(panel: &mut Panel, fraction: f64) {
     let (lo, hi) = panel
         .series
@@ -860,106 +1083,108 @@ fn headroom(panel: &mut Panel, fraction: f64) {
 
 /// The node whose height Figure 13 follows: the middle free node (the lowest at rest).
 pub const FIGURE13_NODE: usize = 4;
+/// The window of Figure 13, s: four periods of the reference, where its bounces still read.
+pub const FIGURE13_WINDOW_S: f64 = 10.0;
+/// Figure 13 marks every this many Fast m-s steps (the line joins every step).
+const FIGURE13_MARKER_EVERY: usize = 5;
 
-/// Figure 13: the rope's motion over time, Backward Euler against Fast m-s.
+/// Figure 13: the rope's motion over the first seconds, Backward Euler against Fast m-s.
 fn figure13(runs: &FigureRuns) -> Result<Figure> {
     let mut panel = Panel::new(
-        "k = 1e3 N/m: height of node 4",
         Axis::linear("time (s)"),
-        Axis::linear("y of node 4 (m)"),
+        Axis::linear(format!("y of node x{} (m)", subscript(FIGURE13_NODE))),
     );
-    panel.legend = Legend::UpperRight;
     let fms = runs.get(FMS_SOFT_COARSE);
-    let window = fms
-        .map_or(10.0, |(_, r)| r.end_time().max(10.0))
-        .min(crate::report::runs::SOFT_START_S);
     let mut csv_series = Vec::new();
     let height = |run: &Run| -> Vec<(f64, f64)> {
         run.positions
             .iter()
-            .filter(|(t, _)| *t <= window + 1e-9)
+            .filter(|(t, _)| *t <= FIGURE13_WINDOW_S + 1e-9)
             .map(|(t, s)| (*t, s.x[FIGURE13_NODE].y))
             .collect()
     };
-    if let Some((_, run)) = runs.get(BE_SOFT) {
-        let y = height(run);
-        panel.series.push(
-            Series::line(
-                "Backward Euler (dt 0.001 s, 5 it.)",
-                decimate(&y, MAX_BUCKETS),
-                BLACK,
-            )
-            .with_width(1),
-        );
-        csv_series.push(("backward_euler".to_string(), decimate(&y, MAX_BUCKETS)));
-    }
     let mut extra = String::new();
     match fms {
         Some((spec, run)) => {
             let y = height(run);
             panel.series.push(
                 Series::line(
-                    format!("Fast m-s (dt 0.1 s, {} it.)", spec.iterations),
+                    format!("Fast m-s (Δt = 0.1 s, {} it.)", spec.iterations),
                     y.clone(),
                     colour(SolverKind::FastMassSpring, 0),
                 )
-                .with_width(3)
-                .with_marker(Marker::Triangle, true),
+                .with_weight(1.5)
+                .with_marker(Marker::Triangle, true)
+                .with_marker_every(FIGURE13_MARKER_EVERY),
             );
             csv_series.push(("fast_mass_spring".to_string(), y));
             extra = format!(" The Fast m-s run stops at t = {} s.", sig4(run.end_time()));
         }
-        None => panel.label((0.5, -2.6), "(Fast m-s not run in this report)", GREY),
-    }
-    headroom(&mut panel, 0.3);
-    Ok(Figure {
-        number: 13,
-        stem: "fig13-motion-be-vs-fms".into(),
-        caption: format!(
-            "Figure 13. The rope's motion over time, Backward Euler against Fast m-s (k = 1e3 N/m, dt = 0.1 s, 1 \
-             iteration). The thesis does not say what it plots; we plot the height of node 4, a middle node and the \
-             lowest at rest, which shows the bounces directly: the reference oscillates about its rest height while \
-             one Liu iteration per step creeps down with hardly a bounce.{extra} The window is the Fast m-s run, at \
-             least 10 s."
+        None => panel.label(
+            (5.0, -2.6),
+            (0.0, 0.0),
+            Align::Middle,
+            "(Fast m-s not run in this report)",
+            GREY,
         ),
-        svg: svg(&[panel], PANEL)?,
-        csv: series_csv("time_s", "y_m", &csv_series),
-    })
+    }
+    if let Some((_, run)) = runs.get(BE_SOFT) {
+        let y = decimate(&height(run), MAX_BUCKETS);
+        panel.series.push(
+            Series::line("Backward Euler (Δt = 0.001 s, 5 it.)", y.clone(), BLACK).with_weight(0.8),
+        );
+        csv_series.insert(0, ("backward_euler".to_string(), y));
+    }
+    Figure::new(
+        13,
+        "fig13-motion-be-vs-fms",
+        format!(
+            "Figure 13. The rope's motion over the first {} s, Backward Euler against Fast m-s (k = 10³ N/m, \
+             Δt = 0.1 s, 1 iteration). The thesis does not say what it plots; we plot the height of node 4, a middle \
+             node and the lowest at rest, which shows the bounces directly: the reference oscillates about its rest \
+             height while one Liu iteration per step creeps down with hardly a bounce. Markers every {} Fast m-s \
+             steps.{extra}",
+            sig_short(FIGURE13_WINDOW_S),
+            FIGURE13_MARKER_EVERY
+        ),
+        &Chart::new(FULL_WIDTH_MM, 62.0, vec![panel]),
+        series_csv("time_s", "y_m", &csv_series),
+    )
 }
 
-/// Figures 14 and 15: kinetic energy against time, k = 1e6, dt = 0.01, middle iteration
-/// counts; Figure 15 is cut at the time Fast m-s comes to rest.
+/// Figure 14: the kinetic-energy peaks against time on a log axis, k = 10⁶, Δt = 0.01, middle
+/// iteration counts (damping rates are slopes); Figure 15: the kinetic energy itself, cut at
+/// the time Fast m-s comes to rest.
 fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
+    let envelope = number == 14;
     let fms_end = runs.get(STIFF_MIDDLE[1].1).map(|(_, r)| r.end_time());
-    let cut = if number == 15 {
-        fms_end.or(Some(2.0))
-    } else {
+    let cut = if envelope {
         None
+    } else {
+        fms_end.or(Some(2.0))
     };
-    let mut panel = Panel::new(
-        "k = 1e6 N/m, dt = 0.01 s (reference dt = 0.001 s)",
-        Axis::linear("time (s)"),
-        Axis::linear("kinetic energy (J)"),
-    );
+    let mut panel = if envelope {
+        Panel::new(
+            Axis::linear("time (s)"),
+            Axis::log("kinetic-energy peaks (J)"),
+        )
+    } else {
+        Panel::new(Axis::linear("time (s)"), Axis::linear("kinetic energy (J)"))
+    };
     let mut csv_series = Vec::new();
-    let mut add = |label: String, key: &str, run: &Run, color: RGBColor| {
+    let mut drawn = Vec::new();
+    let mut add = |label: String, key: &str, run: &Run, color: Rgb| {
         let until = cut.unwrap_or(run.end_time());
-        let ke = energy_series(run, until);
-        let ke = decimate(&ke, MAX_BUCKETS);
+        let points = if envelope {
+            run.peaks.iter().map(|p| (p.time_exact, p.energy)).collect()
+        } else {
+            decimate(&energy_series(run, until), MAX_BUCKETS)
+        };
         // The reference thin, the solvers thicker, so the short runs stand out.
-        let width = if run.dt < 0.01 { 1 } else { 2 };
-        let s = Series::line(label, ke.clone(), color).with_width(width);
-        panel.series.push(s);
-        csv_series.push((key.to_string(), ke));
+        let weight = if run.dt < 0.01 { 0.8 } else { 1.4 };
+        drawn.push(Series::line(label, points.clone(), color).with_weight(weight));
+        csv_series.push((key.to_string(), points));
     };
-    if let Some((_, run)) = runs.get(BE_STIFF) {
-        add(
-            "Backward Euler (reference)".into(),
-            "backward_euler",
-            run,
-            BLACK,
-        );
-    }
     let mut present = Vec::new();
     for (solver, key) in STIFF_MIDDLE {
         if let Some((spec, run)) = runs.get(key) {
@@ -977,9 +1202,35 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
             ));
         }
     }
+    if let Some((_, run)) = runs.get(BE_STIFF) {
+        add(
+            "Backward Euler (reference)".into(),
+            "backward_euler",
+            run,
+            BLACK,
+        );
+        // The reference first in the data, last (on top) in the drawing.
+        csv_series.rotate_right(1);
+    }
+    panel.series = drawn;
+    if envelope {
+        panel.series.push(
+            Series::line(
+                "stopping threshold",
+                vec![
+                    (0.0, crate::metrics::STOP_THRESHOLD_J),
+                    (panel_end(&panel.series), crate::metrics::STOP_THRESHOLD_J),
+                ],
+                GREY,
+            )
+            .with_line(Line::Dotted),
+        );
+    }
     if present.is_empty() {
         panel.label(
             (0.3, 5.0),
+            (0.0, 0.0),
+            Align::Start,
             "(XPBD, Fast m-s and ADMM not run in this report)",
             GREY,
         );
@@ -997,30 +1248,253 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
                     .map(|p| format!("{name} {} J", sig4(p.energy)))
             })
             .collect();
-    let what = if number == 14 {
-        "over each whole run".to_string()
+    let what = if envelope {
+        "the kinetic energy at each of its peaks (the envelope of the oscillation) over each whole run, on a \
+         logarithmic axis, so that a constant damping rate is a straight line; the dotted line is the stopping \
+         threshold, 0.001 J"
+            .to_string()
     } else {
         format!(
-            "cut at t = {} s, when Fast m-s comes to rest",
+            "the kinetic energy itself, cut at t = {} s, when Fast m-s comes to rest",
             cut.map_or("–".into(), sig4)
         )
     };
-    Ok(Figure {
+    Figure::new(
         number,
-        stem: format!("fig{number}-kinetic-energy-k1e6-dt0.01{}", if number == 15 { "-cut" } else { "" }),
-        caption: format!(
-            "Figure {number}. Kinetic energy against time, k = 1e6 N/m, dt = 0.01 s, the middle iteration count of \
-             each solver ({}), with the Backward Euler reference (dt = 0.001 s), {what}. First peaks: {}. The \
+        format!("fig{number}-kinetic-energy-k1e6-dt0.01{}", if envelope { "" } else { "-cut" }),
+        format!(
+            "Figure {number}. Kinetic energy against time, k = 10⁶ N/m, Δt = 0.01 s, the middle iteration count of \
+             each solver ({}), with the Backward Euler reference (Δt = 0.001 s): {what}. First peaks: {}. The \
              thesis: the reference peaks at about 6 J and XPBD's first peak exceeds 8 J.",
             if present.is_empty() { "not run".to_string() } else { present.join("; ") },
             if first_peaks.is_empty() { "–".to_string() } else { first_peaks.join(", ") }
         ),
-        svg: svg(&[panel], PANEL)?,
-        csv: series_csv("time_s", "kinetic_energy_J", &csv_series),
-    })
+        &Chart::new(FULL_WIDTH_MM, 66.0, vec![panel]),
+        series_csv("time_s", "kinetic_energy_J", &csv_series),
+    )
 }
 
-/// Figures 1-15, in order.
+/// The last x of a panel's series.
+fn panel_end(series: &[Series]) -> f64 {
+    series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.0))
+        .fold(1.0, f64::max)
+}
+
+/// The marks of one class and solver in a parity panel: (class, solver, (published, ours)).
+type ParityGroup = (String, SolverKind, Vec<(f64, f64)>);
+
+/// One row of the parity figure: the published numbers, ours (faithful configuration) and
+/// the row's class.
+struct ParityRow<'a> {
+    published: &'a PublishedRow,
+    ours: &'a Measured,
+    class: String,
+}
+
+/// Points (published, ours) of one quantity, grouped by class and solver in order of first
+/// appearance; rows where either side is missing or not positive are left out.
+fn parity_points(
+    rows: &[ParityRow],
+    pick: impl Fn(&ParityRow) -> Option<(f64, f64)>,
+) -> (Vec<ParityGroup>, usize) {
+    let mut groups: Vec<ParityGroup> = Vec::new();
+    let mut count = 0;
+    for r in rows {
+        let Some(p) = pick(r).filter(|p| p.0 > 0.0 && p.1 > 0.0) else {
+            continue;
+        };
+        count += 1;
+        let solver = r.published.solver;
+        match groups.iter_mut().find(|g| g.0 == r.class && g.1 == solver) {
+            Some(g) => g.2.push(p),
+            None => groups.push((r.class.clone(), solver, vec![p])),
+        }
+    }
+    (groups, count)
+}
+
+/// Log-spaced samples over a panel's extent, for the diagonal and the bands.
+fn log_samples(lo: f64, hi: f64) -> Vec<f64> {
+    let (a, b) = (lo.log10(), hi.log10());
+    (0..=120)
+        .map(|i| 10f64.powf(a + (b - a) * i as f64 / 120.0))
+        .collect()
+}
+
+/// A parity panel: ours against published, y = x, an optional reproduction band
+/// `band(x) -> (lower, upper)`.
+fn parity_panel(
+    quantity: &str,
+    unit: &str,
+    groups: &[ParityGroup],
+    band: Option<&dyn Fn(f64) -> (f64, f64)>,
+) -> Panel {
+    let (lo, hi) = groups
+        .iter()
+        .flat_map(|g| g.2.iter().flat_map(|p| [p.0, p.1]))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    // Room for the markers at both ends: 6 % of the span and 0.1 decade.
+    let (lo, hi) = if lo.is_finite() {
+        let pad = 10f64.powf(0.06 * (hi / lo).log10() + 0.1);
+        (lo / pad, hi * pad)
+    } else {
+        (0.1, 10.0)
+    };
+    let mut panel = Panel::new(
+        Axis::log(format!("published {quantity}{unit}")).range(lo, hi),
+        Axis::log(format!("ours{unit}")).range(lo, hi),
+    );
+    let xs = log_samples(lo, hi);
+    if let Some(band) = band {
+        let (lower, upper): (Vec<_>, Vec<_>) = xs
+            .iter()
+            .map(|&x| {
+                let (l, u) = band(x);
+                ((x, l.max(lo)), (x, u.min(hi)))
+            })
+            .unzip();
+        panel.bands.push(Band {
+            lower,
+            upper,
+            color: Rgb(215, 215, 215),
+        });
+    }
+    panel.series.push(
+        Series::line("", vec![(lo, lo), (hi, hi)], GREY)
+            .with_weight(0.6)
+            .with_line(Line::Dashed),
+    );
+    for (class, solver, points) in groups {
+        panel.series.push(
+            Series::points("", points.clone(), class_colour(class))
+                .with_marker(solver_marker(*solver), true),
+        );
+    }
+    panel
+}
+
+/// The parity figure: ours against published for all 56 rows, one panel each for the peak
+/// count, T/2 and the rest-state error, marks coloured by the row's class.
+fn parity(data: &ReportData) -> Result<Figure> {
+    let rows: Vec<ParityRow> = published_rows()
+        .iter()
+        .filter_map(|p| {
+            measured(&data.results, p).map(|ours| ParityRow {
+                published: p,
+                ours,
+                class: row_class(data, p),
+            })
+        })
+        .collect();
+    let mut csv = String::from(
+        "table,solver,dt_s,iterations,stiffness_N_per_m,class,peaks_published,peaks_ours,half_period_published_s,\
+         half_period_ours_s,error_published_m,error_ours_m\n",
+    );
+    for r in &rows {
+        let p = r.published;
+        csv += &format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            p.table,
+            p.solver.id(),
+            full(p.dt_s),
+            p.iterations,
+            full(p.stiffness),
+            r.class,
+            p.ke_peaks,
+            r.ours.peaks,
+            full(p.half_period_s),
+            full_opt(r.ours.half_period_thesis),
+            full_opt(p.error),
+            full_opt(r.ours.error_sum)
+        );
+    }
+    let (peaks, n_peaks) = parity_points(&rows, |r| {
+        Some((r.published.ke_peaks as f64, r.ours.peaks as f64))
+    });
+    let (half, n_half) = parity_points(&rows, |r| {
+        r.ours
+            .half_period_thesis
+            .map(|t| (r.published.half_period_s, t))
+    });
+    let (error, n_error) = parity_points(&rows, |r| r.published.error.zip(r.ours.error_sum));
+    let peak_band = |x: f64| {
+        let tol = peak_tolerance(x.round() as usize) as f64;
+        (x - tol, x + tol)
+    };
+    let period_band = |x: f64| {
+        (
+            x * (1.0 - HALF_PERIOD_TOLERANCE),
+            x * (1.0 + HALF_PERIOD_TOLERANCE),
+        )
+    };
+    let panels = vec![
+        parity_panel("peak count", "", &peaks, Some(&peak_band)),
+        parity_panel("T/2", " (s)", &half, Some(&period_band)),
+        parity_panel("rest-state error", " (m)", &error, None),
+    ];
+    let mut chart = Chart::new(FULL_WIDTH_MM, 80.0, panels);
+    let mut classes: Vec<String> = rows.iter().map(|r| r.class.clone()).collect();
+    // Strongest class first, as in the forensic chapter.
+    classes.sort_by_key(|c| Evidence::ALL.iter().position(|e| e.id() == c));
+    classes.dedup();
+    for class in &classes {
+        chart.legend.push(Entry {
+            label: class.clone(),
+            style: Series::points("", Vec::new(), class_colour(class))
+                .with_marker(Marker::Circle, true)
+                .style,
+        });
+    }
+    for solver in SolverKind::ALL {
+        chart.legend.push(Entry {
+            label: solver.abbreviation().to_string(),
+            style: Series::points("", Vec::new(), GREY)
+                .with_marker(solver_marker(solver), false)
+                .style,
+        });
+    }
+    chart.legend.push(Entry {
+        label: "ours = published".into(),
+        style: Series::line("", Vec::new(), GREY)
+            .with_weight(0.6)
+            .with_line(Line::Dashed)
+            .style,
+    });
+    chart.legend.push(Entry {
+        label: "reproduction band".into(),
+        style: Style {
+            color: Rgb(215, 215, 215),
+            line: Line::Solid,
+            marker: Marker::None,
+            filled: true,
+            width: 6.0,
+            radius: 0.0,
+        },
+    });
+    Figure::new(
+        16,
+        "parity",
+        format!(
+            "Figure 16. Ours against published for every row, log-log: (a) the kinetic-energy peak count \
+             ({n_peaks} rows), (b) T/2 under the thesis convention ({n_half} rows) and (c) the rest-state error \
+             ({n_error} solver rows; Table 1 has none). Ours are the faithful configuration's numbers; the dashed \
+             line is ours = published and the grey band the reproduction rule (peaks within max(1, round(0.005 × \
+             published)), T/2 within {} %); the rest-state error has no rule. Colour: the row's evidence class of \
+             section 6 ({}), which names the configuration that reproduces it while the mark stays at the faithful \
+             numbers; marker: the solver. Rows where a side is missing or zero are left out.",
+            sig_short(100.0 * HALF_PERIOD_TOLERANCE),
+            classes.join(", ")
+        ),
+        &chart,
+        csv,
+    )
+}
+
+/// Figures 1-15 and the parity figure (16), in order.
 pub fn all(data: &ReportData) -> Result<Vec<Figure>> {
     let pd = [SolverKind::FastMassSpring, SolverKind::AdmmPd];
     let all3 = [
@@ -1044,5 +1518,6 @@ pub fn all(data: &ReportData) -> Result<Vec<Figure>> {
         figure13(&data.runs)?,
         kinetic_energy_middle(&data.runs, 14)?,
         kinetic_energy_middle(&data.runs, 15)?,
+        parity(data)?,
     ])
 }

@@ -2,7 +2,7 @@
 //!
 //! [`ReportData`] gathers everything the report shows, computed once per process: the
 //! result set of the 56 experiments ([`crate::experiments`]), the forensic reproduction of
-//! every row ([`forensics`]), the recorded runs and the cloth
+//! every row ([`forensics`]), the recorded runs and the sheet
 //! of the figures ([`runs`]), the exact catenary ([`rest_state`]), the equation tags and the
 //! solvers' step functions read from `src/` ([`traceability`]) and the dependency versions
 //! ([`versions`]). [`render`] turns it into files (Markdown, SVG, CSV) without computing
@@ -16,7 +16,7 @@ pub mod figures;
 pub mod forensics;
 pub mod format;
 pub mod output;
-mod plot;
+pub mod plot;
 pub mod publish;
 pub mod rest_state;
 pub mod runs;
@@ -345,6 +345,7 @@ fn markdown(
            numbers):\n\n";
     md += &tables::explanations(r, data.forensics.as_ref());
     md += "\n";
+    md += &figure_md(figures, 16);
 
     md += "## 6. Forensic reproduction: how each published number arose\n\n";
     match &data.forensics {
@@ -431,7 +432,9 @@ fn markdown(
          each of at most 1500 buckets).\n\
          - `data/tutorial_*.csv`: the tutorial chapter (section 9): the points of each of its figures \
          (`tutorial_<figure>.csv`), the stability limits, the several-gravities particles and the energy kept at \
-         each bounce, full precision.\n\n",
+         each bounce, full precision.\n\
+         - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
+         peak count, T/2 and rest-state error (Figure 16).\n\n",
         data::RESULTS_HEADER,
         data::REPRODUCTION_HEADER,
         data::CONFIGURATIONS_HEADER,

@@ -1,5 +1,5 @@
 //! The runs the figures need beyond the 56 measured rows: the same experiments with their
-//! kinetic energy and positions recorded (Figures 11-15), and the cloth of Figure 1.
+//! kinetic energy and positions recorded (Figures 11-15), and the sheet of Figure 1.
 //!
 //! Each run is made once per process, for the solvers present in the result set, in
 //! parallel over the available cores.
@@ -8,9 +8,8 @@ use crate::backward_euler::BackwardEuler;
 use crate::error::Result;
 use crate::experiments::{ResultSet, SolverKind};
 use crate::metrics::StoppingRule;
-use crate::particles::scenes::ClothParams;
 use crate::report::tables::iteration_count;
-use crate::scene::RopeParams;
+use crate::scene::{RopeParams, SheetParams, SheetSupport, SHEET_NODES_PER_SIDE};
 use crate::solver::{simulate, Recording, Run, RunOptions};
 use crate::system::{MassSpringSystem, Vec3};
 use std::collections::BTreeMap;
@@ -111,36 +110,36 @@ pub fn run_spec(spec: &FigureRunSpec) -> Result<Run> {
     simulate(solver.as_mut(), system.initial_state(), &options)
 }
 
-/// The cloth of Figure 1: the scene, and its positions at a few instants.
+/// The sheet of Figure 1: the scene, and its positions at a few instants.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ClothFrames {
-    pub params: ClothParams,
+pub struct SheetFrames {
+    pub params: SheetParams,
     pub system: MassSpringSystem,
     pub dt: f64,
     /// (time, positions), the first at t = 0.
     pub frames: Vec<(f64, Vec<Vec3>)>,
 }
 
-/// Particles per side of the cloth of Figure 1.
-pub const CLOTH_SIDE: usize = 15;
-/// Instants of the cloth drawn in Figure 1, s.
-pub const CLOTH_TIMES_S: [f64; 3] = [0.0, 0.25, 1.0];
-/// Time step of the cloth's Backward Euler run, s.
-pub const CLOTH_DT_S: f64 = 1e-3;
+/// Stiffness of the sheet of Figure 1, N/m: the thesis's softer value, whose stretch shows.
+pub const SHEET_FIGURE_STIFFNESS: f64 = 1e3;
+/// Instants of the sheet drawn in Figure 1, s.
+pub const SHEET_TIMES_S: [f64; 4] = [0.0, 0.6, 1.2, 2.4];
+/// Time step of the sheet's Backward Euler run, s.
+pub const SHEET_DT_S: f64 = 2e-3;
 
-/// Simulates the hanging cloth (`particles::scenes`) with Backward Euler and keeps the
-/// frames at [`CLOTH_TIMES_S`].
-pub fn cloth() -> Result<ClothFrames> {
-    let params = ClothParams {
-        nx: CLOTH_SIDE,
-        ny: CLOTH_SIDE,
-        spacing: 1.0 / (CLOTH_SIDE - 1) as f64,
-        ..ClothParams::default()
-    };
-    let system = params.hanging()?;
-    let mut solver = BackwardEuler::reference(&system)?;
-    let last = CLOTH_TIMES_S[CLOTH_TIMES_S.len() - 1];
-    let every = (CLOTH_TIMES_S[1] / CLOTH_DT_S).round() as u64;
+/// Simulates the sheet of `docs/sheet-scene.md` hanging from two corners with Backward Euler
+/// and keeps the frames at [`SHEET_TIMES_S`].
+pub fn sheet() -> Result<SheetFrames> {
+    let params = SheetParams::spec(SHEET_NODES_PER_SIDE, SHEET_FIGURE_STIFFNESS)
+        .with_support(SheetSupport::TwoCorners);
+    let system = params.build()?;
+    let mut solver = BackwardEuler::new(
+        &system,
+        SHEET_DT_S,
+        crate::backward_euler::REFERENCE_NEWTON_ITERATIONS,
+    )?;
+    let last = SHEET_TIMES_S[SHEET_TIMES_S.len() - 1];
+    let every = (SHEET_TIMES_S[1] / SHEET_DT_S).round() as u64;
     let options = RunOptions {
         stop: StoppingRule {
             threshold: f64::MIN_POSITIVE,
@@ -154,28 +153,28 @@ pub fn cloth() -> Result<ClothFrames> {
         },
     };
     let run = simulate(&mut solver, system.initial_state(), &options)?;
-    let frames = CLOTH_TIMES_S
+    let frames = SHEET_TIMES_S
         .iter()
         .filter_map(|&t| {
             run.positions
                 .iter()
-                .find(|(time, _)| (time - t).abs() < 0.5 * CLOTH_DT_S)
+                .find(|(time, _)| (time - t).abs() < 0.5 * SHEET_DT_S)
                 .map(|(time, state)| (*time, state.x.clone()))
         })
         .collect();
-    Ok(ClothFrames {
+    Ok(SheetFrames {
         params,
         system,
-        dt: CLOTH_DT_S,
+        dt: SHEET_DT_S,
         frames,
     })
 }
 
-/// The recorded runs and the cloth.
+/// The recorded runs and the sheet.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FigureRuns {
     pub runs: BTreeMap<&'static str, (FigureRunSpec, Run)>,
-    pub cloth: ClothFrames,
+    pub sheet: SheetFrames,
 }
 
 impl FigureRuns {
@@ -184,19 +183,19 @@ impl FigureRuns {
         self.runs.get(key)
     }
 
-    /// Makes every recorded run whose solver appears in `results`, and the cloth, in
+    /// Makes every recorded run whose solver appears in `results`, and the sheet, in
     /// parallel; `progress(done, total)` after each.
     pub fn compute(results: &ResultSet, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
         let specs: Vec<FigureRunSpec> = figure_run_specs()
             .into_iter()
             .filter(|s| results.rows.iter().any(|m| m.published.solver == s.solver))
             .collect();
-        // Job 0 is the cloth; the longest rope runs (k = 1e6 reference) come first after it.
+        // Job 0 is the sheet; the longest rope runs (k = 1e6 reference) come first after it.
         let total = specs.len() + 1;
         let next = AtomicUsize::new(0);
         let done = AtomicUsize::new(0);
         let runs: Mutex<Vec<Option<Result<Run>>>> = Mutex::new(vec![None; specs.len()]);
-        let cloth_result: Mutex<Option<Result<ClothFrames>>> = Mutex::new(None);
+        let sheet_result: Mutex<Option<Result<SheetFrames>>> = Mutex::new(None);
         let threads = std::thread::available_parallelism()
             .map_or(1, |n| n.get())
             .min(total);
@@ -205,7 +204,7 @@ impl FigureRuns {
                 scope.spawn(|| loop {
                     let job = next.fetch_add(1, Ordering::Relaxed);
                     if job == 0 {
-                        *cloth_result.lock().expect("no panic holding the lock") = Some(cloth());
+                        *sheet_result.lock().expect("no panic holding the lock") = Some(sheet());
                     } else if let Some(spec) = specs.get(job - 1) {
                         let run = run_spec(spec);
                         runs.lock().expect("no panic holding the lock")[job - 1] = Some(run);
@@ -216,15 +215,15 @@ impl FigureRuns {
                 });
             }
         });
-        let cloth = cloth_result
+        let sheet = sheet_result
             .into_inner()
             .expect("no panic holding the lock")
-            .expect("the cloth job ran")?;
+            .expect("the sheet job ran")?;
         let mut map = BTreeMap::new();
         let runs = runs.into_inner().expect("no panic holding the lock");
         for (spec, run) in specs.into_iter().zip(runs) {
             map.insert(spec.key, (spec, run.expect("every job ran")?));
         }
-        Ok(Self { runs: map, cloth })
+        Ok(Self { runs: map, sheet })
     }
 }

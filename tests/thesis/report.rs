@@ -11,11 +11,14 @@ use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::format::sig4;
 use mass_spring_solvers::report::output::OutputFile;
+use mass_spring_solvers::report::plot::Layout;
 use mass_spring_solvers::report::publish::write_report;
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
-use mass_spring_solvers::report::{crate_root, render, solvers_in, tables, ReportData, Sources};
+use mass_spring_solvers::report::{
+    crate_root, figures, render, solvers_in, tables, ReportData, Sources,
+};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -44,6 +47,9 @@ fn files() -> &'static [OutputFile] {
     static FILES: OnceLock<Vec<OutputFile>> = OnceLock::new();
     FILES.get_or_init(|| render(data()).expect("the report renders"))
 }
+
+#[path = "../figure_check/mod.rs"]
+mod figure_check;
 
 fn snapshot(name: &str, text: &str) {
     insta::with_settings!({snapshot_path => "../../snapshots", prepend_module_to_snapshot => false}, {
@@ -168,6 +174,11 @@ fn every_table_figure_and_data_file_is_there() {
         })
         .collect();
     assert_eq!(svgs.len(), 15);
+    assert!(
+        report.contains("figures/parity.svg"),
+        "the parity figure not in REPORT.md"
+    );
+    file("data/parity.csv");
     for f in files() {
         let path = f.path.to_string_lossy();
         if let Some(stem) = path
@@ -230,4 +241,126 @@ fn catenary_csv_holds_both_stiffnesses_at_full_precision() {
     let exact = data().catenary.analytic(1e3).unwrap();
     let y4: f64 = lines[5].split(',').nth(3).unwrap().parse().unwrap();
     assert_eq!(y4, exact[4].y);
+}
+
+/// Every figure of the report as (file stem, layout, SVG): Figures 1-16 and the tutorial
+/// chapter's.
+fn every_figure() -> Vec<(String, Layout, String)> {
+    let thesis = figures::all(data()).unwrap();
+    assert_eq!(thesis.len(), 16);
+    let tutorial = data().tutorial.figures().unwrap();
+    assert_eq!(tutorial.len(), 7);
+    thesis
+        .into_iter()
+        .map(|f| (f.stem, f.layout, f.svg))
+        .chain(
+            tutorial
+                .into_iter()
+                .map(|f| (f.stem.to_string(), f.layout, f.svg)),
+        )
+        .collect()
+}
+
+/// Issue 11's figure test on every figure of the report (see `figure_check`).
+#[test]
+fn every_figure_passes_the_figure_test() {
+    let problems: Vec<String> = every_figure()
+        .iter()
+        .flat_map(|(stem, layout, svg)| figure_check::problems(stem, layout, svg))
+        .collect();
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn parity_csv_has_every_published_row_with_its_class() {
+    let csv = file("data/parity.csv");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let class = header.iter().position(|h| *h == "class").unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), published_rows().len());
+    let forensics = forensic_results();
+    for (row, published) in rows.iter().zip(published_rows()) {
+        let evidence = forensics.evidence_of(published).unwrap().evidence.id();
+        assert_eq!(row[class], evidence, "{row:?}");
+        assert_eq!(row[6], published.ke_peaks.to_string(), "{row:?}");
+    }
+}
+
+/// The canvas boxes of every text of a usvg tree, in document order.
+#[cfg(feature = "render-check")]
+fn text_boxes(group: &resvg::usvg::Group, out: &mut Vec<resvg::usvg::Rect>) {
+    for node in group.children() {
+        match node {
+            resvg::usvg::Node::Group(g) => text_boxes(g, out),
+            resvg::usvg::Node::Text(t) => out.push(t.abs_bounding_box()),
+            _ => {}
+        }
+    }
+}
+
+/// Rasterises every figure with resvg at 150 dpi: each parses, has the pixel size its stated
+/// millimetres give, and is not blank; and every text, laid out by a real font (DejaVu Sans),
+/// runs no longer than the box the figure test gave it from the glyph-width bound. The PNGs go
+/// to `target/figure-png/` to look at.
+#[cfg(feature = "render-check")]
+#[test]
+fn every_figure_rasterises_at_its_stated_size() {
+    let dir = crate_root().join("target/figure-png");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut options = resvg::usvg::Options::default();
+    let fonts = options.fontdb_mut();
+    fonts.load_system_fonts();
+    // The SVGs ask for the generic family; fontdb's default for it (Arial) may be missing.
+    if fonts
+        .faces()
+        .any(|f| f.families.iter().any(|(name, _)| name == "DejaVu Sans"))
+    {
+        fonts.set_sans_serif_family("DejaVu Sans");
+    }
+    let dpi = 150.0;
+    for (stem, layout, svg) in every_figure() {
+        let tree = resvg::usvg::Tree::from_str(&svg, &options).unwrap();
+        // usvg sizes the tree in CSS pixels, 96 per inch.
+        let scale = (dpi / 96.0) as f32;
+        let size = tree.size().to_int_size().scale_by(scale).unwrap();
+        let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
+        resvg::render(
+            &tree,
+            resvg::tiny_skia::Transform::from_scale(scale, scale),
+            &mut pixmap.as_mut(),
+        );
+        // Canvas units per pt (the viewBox is in pt).
+        let per_pt = tree.size().width() as f64 / (layout.width_mm * 72.0 / 25.4);
+        let mut boxes = Vec::new();
+        text_boxes(tree.root(), &mut boxes);
+        assert_eq!(boxes.len(), layout.texts.len(), "{}", stem);
+        for (b, t) in boxes.iter().zip(&layout.texts) {
+            let (x0, x1) = (b.left() as f64 / per_pt, b.right() as f64 / per_pt);
+            let (y0, y1) = (b.top() as f64 / per_pt, b.bottom() as f64 / per_pt);
+            // The run's length must hold to 0.5 pt; across it, the font's line box reaches
+            // above the glyphs that the layout's box bounds.
+            let (sx, sy) = if t.rotated { (3.0, 0.5) } else { (0.5, 3.0) };
+            assert!(
+                x0 >= t.rect.x0 - sx
+                    && x1 <= t.rect.x1 + sx
+                    && y0 >= t.rect.y0 - sy
+                    && y1 <= t.rect.y1 + sy,
+                "{}: {:?} renders at x {x0:.1}-{x1:.1}, y {y0:.1}-{y1:.1} pt, outside its box {:?}",
+                stem,
+                t.text,
+                t.rect
+            );
+        }
+        let expected = (layout.width_mm / 25.4 * dpi).round() as i64;
+        assert!(
+            (size.width() as i64 - expected).abs() <= 1,
+            "{}: {} px wide, expected {expected}",
+            stem,
+            size.width()
+        );
+        let dark = pixmap.pixels().iter().filter(|p| p.red() < 128).count();
+        assert!(dark > 1000, "{} is almost blank", stem);
+        pixmap.save_png(dir.join(format!("{}.png", stem))).unwrap();
+    }
 }

@@ -1,39 +1,52 @@
-//! The tutorial chapter's figures (SVG, drawn with the report's plot layer) and the CSV of the
-//! points each one draws. Geometry (the pendulum's frames, the falling cloth) is drawn to
-//! scale.
+//! The tutorial chapter's figures, in the report's figure style ([`crate::report::plot`]:
+//! printed size, no in-plot titles, (a)/(b) tags, legends outside the data), and the CSV of
+//! the points each one draws. Geometry (the pendulum's frames, the falling cloth) is drawn
+//! to scale, with equal x and y scales.
 
 use super::studies::{
-    AdaptiveStudy, ClothDropRun, ConvergenceSeries, DragFall, EnergyRun, Method, PendulumRun,
-    SpringPairRun, CONVERGENCE_TIME, FORCE_DT, PAIR_DT, REFERENCE_TOLERANCE,
+    AdaptiveRun, AdaptiveStudy, ClothDropRun, ConvergenceSeries, DragFall, EnergyRun, Method,
+    PendulumRun, SpringPairRun, FORCE_DT, PAIR_DT, REFERENCE_TOLERANCE,
 };
 use crate::error::Result;
 use crate::particles::Integrator;
-use crate::report::format::{full, short, sig, sig4};
-use crate::report::plot::{height_to_scale, svg, Axis, Legend, Line, Marker, Panel, Series};
+use crate::report::format::{full, short, sig4};
+use crate::report::plot::{
+    layout, power_of_ten, Align, Axis, Chart, Entry, Layout, LegendPlace, Line, Marker, Panel, Rgb,
+    Series, COLUMN_WIDTH_MM, FULL_WIDTH_MM,
+};
 use crate::system::Vec3;
-use plotters::style::RGBColor;
 
-/// One figure of the chapter: file stem (`tutorial_convergence`), SVG and CSV.
+/// One figure of the chapter: file stem (`tutorial_convergence`), layout, SVG and CSV.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TutorialFigure {
     pub stem: &'static str,
+    /// Every text box, data mark and axes rectangle, for the figure test.
+    pub layout: Layout,
     pub svg: String,
     pub csv: String,
 }
 
-const PANEL: (u32, u32) = (760, 520);
-const HALF: (u32, u32) = (600, 500);
-const THIRD: (u32, u32) = (480, 440);
+impl TutorialFigure {
+    fn new(stem: &'static str, chart: &Chart, csv: String) -> Result<Self> {
+        let layout = layout(chart)?;
+        Ok(Self {
+            stem,
+            svg: layout.svg(),
+            layout,
+            csv,
+        })
+    }
+}
 
-const BLACK: RGBColor = RGBColor(0, 0, 0);
-const GREY: RGBColor = RGBColor(150, 150, 150);
-const RED: RGBColor = RGBColor(200, 30, 30);
-const BLUE: RGBColor = RGBColor(33, 113, 181);
-const GREEN: RGBColor = RGBColor(35, 139, 69);
-const PURPLE: RGBColor = RGBColor(117, 60, 160);
+const BLACK: Rgb = Rgb(0, 0, 0);
+const GREY: Rgb = Rgb(120, 120, 120);
+const RED: Rgb = Rgb(200, 30, 30);
+const BLUE: Rgb = Rgb(33, 113, 181);
+const GREEN: Rgb = Rgb(35, 139, 69);
+const PURPLE: Rgb = Rgb(117, 60, 160);
 
 /// Colour and marker of each method, the same in every figure.
-pub fn style(method: Method) -> (RGBColor, Marker) {
+fn method_style(method: Method) -> (Rgb, Marker) {
     match method {
         Method::Tutorial(Integrator::ExplicitEuler) => (RED, Marker::Triangle),
         Method::Tutorial(Integrator::SymplecticEuler) => (BLUE, Marker::Circle),
@@ -43,17 +56,22 @@ pub fn style(method: Method) -> (RGBColor, Marker) {
     }
 }
 
-/// Figure: global error against h, log-log.
+/// `10⁻¹¹` for an exact power of ten, else four significant digits.
+fn typeset(x: f64) -> String {
+    let e = x.log10().round();
+    if (10f64.powf(e) - x).abs() <= 1e-9 * x {
+        power_of_ten(e as i32)
+    } else {
+        sig4(x)
+    }
+}
+
+/// Figure T1: global error against h, log-log, one line per method.
 pub fn convergence(series: &[ConvergenceSeries]) -> Result<TutorialFigure> {
-    let mut panel = Panel::new(
-        format!("global error at t = {} s", full(CONVERGENCE_TIME)),
-        Axis::log("h (s)"),
-        Axis::log("phase-plane error (m)"),
-    );
-    panel.legend = Legend::LowerRight;
+    let mut panel = Panel::new(Axis::log("h (s)"), Axis::log("phase-plane error (m)"));
     let mut csv = String::from("method,zeta,h_s,error_m\n");
     for s in series {
-        let (color, marker) = style(s.method);
+        let (color, marker) = method_style(s.method);
         panel.series.push(
             Series::line(
                 format!(
@@ -77,24 +95,42 @@ pub fn convergence(series: &[ConvergenceSeries]) -> Result<TutorialFigure> {
             );
         }
     }
-    Ok(TutorialFigure {
-        stem: "tutorial_convergence",
-        svg: svg(&[panel], PANEL)?,
+    TutorialFigure::new(
+        "tutorial_convergence",
+        &Chart::new(FULL_WIDTH_MM, 70.0, vec![panel]),
         csv,
-    })
+    )
 }
 
-/// Figure: energy of the undamped oscillator against time just below and above each limit.
+/// The extent of the y values of `runs`, widened by `pad` decades at both ends.
+fn log_extent(runs: &[EnergyRun], pad: f64) -> (f64, f64) {
+    let (lo, hi) = runs
+        .iter()
+        .flat_map(|r| r.points.iter().map(|p| p.1))
+        .filter(|e| e.is_finite() && *e > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+            (lo.min(e), hi.max(e))
+        });
+    if lo.is_finite() {
+        (lo / 10f64.powf(pad), hi * 10f64.powf(pad))
+    } else {
+        (0.1, 10.0)
+    }
+}
+
+/// Figure T2: energy of the undamped oscillator against time just below and above each
+/// limit, one panel per integrator on a common log axis.
 pub fn stability_energy(runs: &[EnergyRun]) -> Result<TutorialFigure> {
+    let (lo, hi) = log_extent(runs, 0.3);
     let mut panels = Vec::new();
     let mut csv = String::from("integrator,h_omega,periods,energy_ratio\n");
     for integrator in Integrator::ALL {
         let mut panel = Panel::new(
-            integrator.to_string(),
             Axis::linear("t ω / 2π (periods)"),
-            Axis::log("E / E₀").range(1e-8, 1e8),
+            Axis::log("E / E₀").range(lo, hi),
         );
-        panel.legend = Legend::UpperLeft;
+        panel.legend = LegendPlace::Below;
+        panel.heading = integrator.to_string();
         for (k, run) in runs
             .iter()
             .filter(|r| r.integrator == integrator)
@@ -125,80 +161,74 @@ pub fn stability_energy(runs: &[EnergyRun]) -> Result<TutorialFigure> {
         }
         panels.push(panel);
     }
-    Ok(TutorialFigure {
-        stem: "tutorial_stability_energy",
-        svg: svg(&panels, THIRD)?,
+    TutorialFigure::new(
+        "tutorial_stability_energy",
+        &Chart::new(FULL_WIDTH_MM, 62.0, panels),
         csv,
-    })
+    )
 }
 
-/// Figure: the drag fall and the damped spring pair against their closed forms.
+/// The pair's RK4 stretch is marked every this many samples (0.1 s); the closed form is the
+/// line under it.
+const PAIR_MARKER_EVERY: usize = 100;
+
+/// Figure T3: (a) the drag fall and (b) the damped spring pair against their closed forms.
 pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<TutorialFigure> {
-    let mut left = Panel::new(
-        "(a) falling with drag f = −k_f v",
-        Axis::linear("t (s)"),
-        Axis::linear("downward speed (m/s)"),
-    );
-    left.legend = Legend::LowerRight;
+    let mut left = Panel::new(Axis::linear("t (s)"), Axis::linear("downward speed (m/s)"));
+    left.legend = LegendPlace::Below;
     let closed: Vec<(f64, f64)> = drag.samples.iter().map(|s| (s.0, s.2)).collect();
     let ours: Vec<(f64, f64)> = drag.samples.iter().map(|s| (s.0, s.1)).collect();
     let t_end = drag.samples.last().map_or(0.0, |s| s.0);
-    left.series.push(Series::line(
-        "(m g / k_f)(1 − e^(−k_f t / m))",
-        closed,
-        BLACK,
-    ));
-    left.series.push(
-        Series::line(format!("RK4, h = {} s", short(FORCE_DT)), ours, GREEN)
-            .with_line(Line::None)
-            .with_marker(Marker::Circle, false),
-    );
     left.series.push(
         Series::line(
-            format!("terminal m g / k_f = {} m/s", sig4(drag.terminal)),
+            format!("terminal speed m g / k_f = {} m/s", sig4(drag.terminal)),
             vec![(0.0, drag.terminal), (t_end, drag.terminal)],
             GREY,
         )
         .with_line(Line::Dashed),
     );
-    let mut right = Panel::new(
-        "(b) two particles on a damped spring",
-        Axis::linear("t (s)"),
-        Axis::linear("stretch |x_a − x_b| − r (m)"),
+    left.series.push(Series::line("closed form", closed, BLACK));
+    left.series.push(
+        Series::points(format!("RK4, h = {} s", short(FORCE_DT)), ours, GREEN)
+            .with_marker(Marker::Circle, false),
     );
+    let mut right = Panel::new(
+        Axis::linear("t (s)"),
+        Axis::linear("stretch u = |Δx| − r (m)"),
+    );
+    right.legend = LegendPlace::Below;
     let p = pair.pair;
     let closed: Vec<(f64, f64)> = pair.samples.iter().map(|s| (s.0, s.2)).collect();
-    let ours: Vec<(f64, f64)> = pair.samples.iter().step_by(5).map(|s| (s.0, s.1)).collect();
-    let step = pair.samples.get(1).map_or(0.0, |s| s.0);
+    let ours: Vec<(f64, f64)> = pair.samples.iter().map(|s| (s.0, s.1)).collect();
+    let spacing = pair.samples.get(1).map_or(0.0, |s| s.0);
     let envelope = |sign: f64| -> Vec<(f64, f64)> {
         pair.samples
             .iter()
             .map(|s| (s.0, sign * p.stretch * (-p.decay_rate() * s.0).exp()))
             .collect()
     };
+    right.series.push(
+        Series::line("envelope ±u₀ exp(−k_d t / 2μ)", envelope(1.0), GREY).with_line(Line::Dashed),
+    );
     right
         .series
-        .push(Series::line("closed form", closed, BLACK).with_width(1));
+        .push(Series::line("", envelope(-1.0), GREY).with_line(Line::Dashed));
+    right
+        .series
+        .push(Series::line("closed form", closed, BLACK).with_weight(0.7));
     right.series.push(
-        Series::line(
+        Series::points(
             format!(
-                "RK4, h = {} s (every {} s)",
-                short(PAIR_DT),
-                short(5.0 * step)
+                "RK4, h = {} s (a marker every {} s)",
+                typeset(PAIR_DT),
+                sig_short(PAIR_MARKER_EVERY as f64 * spacing)
             ),
             ours,
             GREEN,
         )
-        .with_line(Line::None)
         .with_marker(Marker::Circle, false)
-        .with_marker_size(2),
+        .with_marker_every(PAIR_MARKER_EVERY),
     );
-    right
-        .series
-        .push(Series::line("± u₀ e^(−k_d t / 2μ)", envelope(1.0), GREY).with_line(Line::Dashed));
-    right
-        .series
-        .push(Series::line("", envelope(-1.0), GREY).with_line(Line::Dashed));
     let mut csv = String::from("study,time_s,ours,closed_form\n");
     for (t, a, b) in &drag.samples {
         csv += &format!(
@@ -211,92 +241,99 @@ pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<TutorialFigure> {
     for (t, a, b) in &pair.samples {
         csv += &format!("spring_stretch_m,{},{},{}\n", full(*t), full(*a), full(*b));
     }
-    Ok(TutorialFigure {
-        stem: "tutorial_forces",
-        svg: svg(&[left, right], HALF)?,
+    TutorialFigure::new(
+        "tutorial_forces",
+        &Chart::new(FULL_WIDTH_MM, 72.0, vec![left, right]),
         csv,
-    })
+    )
 }
 
-/// A chain of particles as a polyline with markers, shifted by `offset`.
-fn chain(points: &[Vec3], offset: (f64, f64)) -> Vec<(f64, f64)> {
-    points
-        .iter()
-        .map(|p| (p.x + offset.0, p.y + offset.1))
-        .collect()
+/// A chain of particles as (x, y) points: the side view.
+fn side_view(points: &[Vec3]) -> Vec<(f64, f64)> {
+    points.iter().map(|p| (p.x, p.y)).collect()
 }
 
-/// A horizontal scale bar of `length` m at `at`.
-fn scale_bar(panel: &mut Panel, at: (f64, f64), length: f64) {
-    panel
-        .series
-        .push(Series::line("", vec![at, (at.0 + length, at.1)], BLACK).with_width(3));
-    panel.label((at.0, at.1 + 0.35), format!("{} m", full(length)), BLACK);
+/// The height, mm, of a figure `width_mm` wide whose `columns` × `rows` frameless panels show
+/// a `w` × `h` m extent each at equal scales, with room for the tags and a legend row.
+fn to_scale_height_mm(width_mm: f64, columns: usize, rows: usize, w: f64, h: f64) -> f64 {
+    // A frameless panel's cell loses about 4 mm across to margins and 5 mm down to its tag.
+    let panel_w = width_mm / columns as f64 - 4.0;
+    rows as f64 * (panel_w * h / w + 5.0) + 8.0
 }
 
-/// Figure: the pendulum's six frames, to scale, in two rows.
+/// Figure T4: the pendulum's six frames, one panel each, to scale.
 pub fn pendulum_frames(run: &PendulumRun) -> Result<TutorialFigure> {
     let reach = run.params.particles as f64 * run.params.segment_length;
-    let (cell_w, cell_h) = (2.0 * reach + 0.6, run.params.pivot_height + 1.0);
-    let mut panel = Panel::new(
-        "the pendulum bouncing on the floor (to scale)",
-        Axis::linear("").range(-0.3, 3.0 * cell_w - 0.3),
-        Axis::linear("").range(-0.6, 2.0 * cell_h - 0.3),
-    );
-    panel.mesh = false;
+    let x_range = (-reach - 0.3, reach + 0.3);
+    let y_range = (-0.6, run.params.pivot_height + 0.3);
+    let bar = (-reach, -0.35);
+    let chain_style =
+        |label: &str| Series::line(label, Vec::new(), BLUE).with_marker(Marker::Circle, true);
+    let pivot_style = |label: &str| {
+        Series::points(label, Vec::new(), RED)
+            .with_marker(Marker::Square, true)
+            .with_marker_scale(1.1)
+    };
+    let floor_style = |label: &str| Series::line(label, Vec::new(), GREY).with_weight(2.0);
+    let mut panels = Vec::new();
     let mut csv = String::from("time_s,particle,x_m,y_m\n");
     for (k, (t, x)) in run.frames.iter().enumerate() {
-        let (col, row) = (k % 3, 1 - k / 3);
-        let offset = (col as f64 * cell_w + reach + 0.3, row as f64 * cell_h);
-        let floor_y = offset.1;
-        panel.series.push(
-            Series::line(
-                "",
-                vec![
-                    (offset.0 - reach - 0.2, floor_y),
-                    (offset.0 + reach + 0.2, floor_y),
-                ],
-                GREY,
-            )
-            .with_width(3),
+        let mut panel = Panel::new(
+            Axis::linear("").range(x_range.0, x_range.1),
+            Axis::linear("").range(y_range.0, y_range.1),
         );
-        panel.series.push(
-            Series::line(
-                if k == 0 { "chain" } else { "" },
-                chain(&x[1..], offset),
-                BLUE,
-            )
-            .with_marker(Marker::Circle, true),
-        );
-        panel.series.push(
-            Series::line(
-                if k == 0 { "pivot (anchored)" } else { "" },
-                chain(&x[..1], offset),
-                RED,
-            )
-            .with_line(Line::None)
-            .with_marker(Marker::Square, true),
-        );
-        panel
-            .series
-            .push(Series::line("", chain(&x[..2], offset), BLUE).with_width(2));
-        panel.label(
-            (offset.0 - reach, floor_y + run.params.pivot_height + 0.6),
-            format!("({}) t = {} s", k + 1, sig_short(*t)),
-            BLACK,
-        );
+        panel.frame = false;
+        panel.equal_aspect = true;
+        panel.heading = format!("t = {} s", sig_short(*t));
+        let mut floor = floor_style("");
+        floor.points = vec![(-reach - 0.2, 0.0), (reach + 0.2, 0.0)];
+        panel.series.push(floor);
+        let mut chain = chain_style("");
+        chain.points = side_view(x);
+        panel.series.push(chain);
+        let mut pivot = pivot_style("");
+        pivot.points = side_view(&x[..1]);
+        panel.series.push(pivot);
+        if k == 0 {
+            panel
+                .series
+                .push(Series::line("", vec![bar, (bar.0 + 1.0, bar.1)], BLACK).with_weight(1.5));
+            panel.label(
+                (bar.0 + 1.0, bar.1),
+                (4.0, -3.0),
+                Align::Start,
+                "1 m",
+                BLACK,
+            );
+        }
         for (i, p) in x.iter().enumerate() {
             csv += &format!("{},{i},{},{}\n", full(*t), full(p.x), full(p.y));
         }
+        panels.push(panel);
     }
-    scale_bar(&mut panel, (0.0, -0.45), 1.0);
-    let width = 1000;
-    let height = height_to_scale(&panel, width)?;
-    Ok(TutorialFigure {
-        stem: "tutorial_pendulum_frames",
-        svg: svg(&[panel], (width, height))?,
-        csv,
+    let columns = 3;
+    let rows = panels.len().div_ceil(columns);
+    let height = to_scale_height_mm(
+        FULL_WIDTH_MM,
+        columns,
+        rows,
+        x_range.1 - x_range.0,
+        y_range.1 - y_range.0,
+    );
+    let mut chart = Chart::new(FULL_WIDTH_MM, height, panels);
+    chart.columns = columns;
+    chart.legend = [
+        ("chain (particles on springs)", chain_style("")),
+        ("pivot (anchored)", pivot_style("")),
+        ("floor", floor_style("")),
+    ]
+    .into_iter()
+    .map(|(label, s)| Entry {
+        label: label.into(),
+        style: s.style,
     })
+    .collect();
+    TutorialFigure::new("tutorial_pendulum_frames", &chart, csv)
 }
 
 /// A short decimal for labels and captions (`0.5`, `1.432`).
@@ -309,28 +346,24 @@ pub fn sig_short(x: f64) -> String {
     }
 }
 
-/// Figure: the pendulum's mechanical energy against time, with the steps where the floor
+/// Figure T5: the pendulum's mechanical energy against time, with the steps where the floor
 /// acted.
 pub fn pendulum_energy(run: &PendulumRun) -> Result<TutorialFigure> {
-    let mut panel = Panel::new(
-        "pendulum: mechanical energy",
-        Axis::linear("t (s)"),
-        Axis::linear("E = kinetic + gravitational + elastic (J)"),
-    );
+    let mut panel = Panel::new(Axis::linear("t (s)"), Axis::linear("mechanical energy (J)"));
+    panel.legend = LegendPlace::Below;
     panel.series.push(Series::line(
         format!("RK4, h = {} s", short(run.dt)),
         run.energy.clone(),
         BLACK,
     ));
     panel.series.push(
-        Series::line(
+        Series::points(
             "a step in which the floor acted",
             run.contacts.iter().map(|c| (c.0, c.3)).collect(),
             RED,
         )
-        .with_line(Line::None)
         .with_marker(Marker::Circle, true)
-        .with_marker_size(2),
+        .with_marker_scale(0.6),
     );
     let mut csv = String::from("series,time_s,particle,energy_J,energy_before_step_J\n");
     for (t, e) in &run.energy {
@@ -344,38 +377,59 @@ pub fn pendulum_energy(run: &PendulumRun) -> Result<TutorialFigure> {
             full(*before)
         );
     }
-    Ok(TutorialFigure {
-        stem: "tutorial_pendulum_energy",
-        svg: svg(&[panel], PANEL)?,
+    TutorialFigure::new(
+        "tutorial_pendulum_energy",
+        &Chart::new(COLUMN_WIDTH_MM, 70.0, vec![panel]),
         csv,
-    })
+    )
 }
 
-/// Figure: the cloth falling 10 m, side view to scale, each frame shifted along x.
+/// Figure T6: the cloth falling 10 m, side view to scale, each frame shifted along x.
 pub fn cloth_drop(run: &ClothDropRun) -> Result<TutorialFigure> {
     let width_m = (run.params.cloth.nx - 1) as f64 * run.params.cloth.spacing;
-    let shift = width_m + 0.6;
-    let frames = run.frames.len() as f64;
+    // A metre between frames leaves room for each frame's time above it.
+    let shift = width_m + 1.0;
+    let x_end = (run.frames.len() as f64 - 1.0) * shift + width_m + 0.5;
     let mut panel = Panel::new(
-        "the cloth dropped from 10 m (side view, to scale)",
-        Axis::linear(format!("x (m), frame k shifted by {} m", sig_short(shift)))
-            .range(-0.4, frames * shift),
-        Axis::linear("height y (m)").range(-0.5, run.params.height + 0.8),
+        Axis::linear(format!(
+            "x (m), frame k shifted by k × {} m",
+            sig_short(shift)
+        ))
+        .range(-0.5, x_end),
+        Axis::linear("height y (m)").range(-0.5, run.params.height + 1.0),
     );
+    panel.equal_aspect = true;
+    panel.legend = LegendPlace::Below;
     panel
         .series
-        .push(Series::line("floor", vec![(-0.4, 0.0), (frames * shift, 0.0)], GREY).with_width(3));
+        .push(Series::line("floor", vec![(-0.5, 0.0), (x_end, 0.0)], GREY).with_weight(2.0));
     let mut csv = String::from("time_s,particle,x_m,y_m,z_m\n");
     for (k, (t, x)) in run.frames.iter().enumerate() {
         let dx = k as f64 * shift;
-        for &(a, b) in &run.springs {
-            panel.series.push(
-                Series::line("", vec![(x[a].x + dx, x[a].y), (x[b].x + dx, x[b].y)], BLUE)
-                    .with_width(1),
-            );
-        }
+        // Every spring of the frame in one series, a NaN point between springs.
+        let springs = run
+            .springs
+            .iter()
+            .flat_map(|&(a, b)| {
+                [
+                    (x[a].x + dx, x[a].y),
+                    (x[b].x + dx, x[b].y),
+                    (f64::NAN, f64::NAN),
+                ]
+            })
+            .collect();
+        let label = if k == 0 { "springs (side view)" } else { "" };
+        panel
+            .series
+            .push(Series::line(label, springs, BLUE).with_weight(0.8));
         let top = x.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
-        panel.label((dx, top + 0.7), format!("t = {} s", sig_short(*t)), BLACK);
+        panel.label(
+            (dx + width_m / 2.0, top),
+            (0.0, 5.0),
+            Align::Middle,
+            format!("{} s", sig_short(*t)),
+            BLACK,
+        );
         for (i, p) in x.iter().enumerate() {
             csv += &format!(
                 "{},{i},{},{},{}\n",
@@ -386,61 +440,62 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<TutorialFigure> {
             );
         }
     }
-    let width = 700;
-    let height = height_to_scale(&panel, width)?;
-    Ok(TutorialFigure {
-        stem: "tutorial_cloth_drop",
-        svg: svg(&[panel], (width, height))?,
+    TutorialFigure::new(
+        "tutorial_cloth_drop",
+        &Chart::new(COLUMN_WIDTH_MM, 100.0, vec![panel]),
         csv,
-    })
+    )
 }
 
-/// Figure: the adaptive integrator's error and work against the tolerance.
+/// (tolerance, f(run)) of each run.
+fn against_tolerance(runs: &[AdaptiveRun], f: impl Fn(&AdaptiveRun) -> f64) -> Vec<(f64, f64)> {
+    runs.iter().map(|r| (r.tolerance, f(r))).collect()
+}
+
+/// Figure T7: (a) the adaptive integrator's error and (b) its work against the tolerance.
 pub fn adaptive(study: &AdaptiveStudy) -> Result<TutorialFigure> {
-    let mut error = Panel::new(
-        "(a) error against tolerance",
-        Axis::log("tolerance T"),
-        Axis::log("error (m)"),
-    );
-    error.legend = Legend::LowerRight;
-    let tolerances: Vec<f64> = study.pendulum.iter().map(|r| r.tolerance).collect();
-    let points = |runs: &[super::studies::AdaptiveRun],
-                  f: &dyn Fn(&super::studies::AdaptiveRun) -> f64| {
-        runs.iter().map(|r| (r.tolerance, f(r))).collect::<Vec<_>>()
-    };
+    let mut error = Panel::new(Axis::log("tolerance T"), Axis::log("error (m)"));
+    error.legend = LegendPlace::Below;
     error.series.push(
         Series::line(
-            format!("pendulum, against T = {}", sig(REFERENCE_TOLERANCE, 1)),
-            points(&study.pendulum, &|r| r.error),
+            "error = T",
+            study
+                .pendulum
+                .iter()
+                .map(|r| (r.tolerance, r.tolerance))
+                .collect(),
+            GREY,
+        )
+        .with_line(Line::Dashed),
+    );
+    error.series.push(
+        Series::line(
+            format!(
+                "pendulum, against the run at T = {}",
+                typeset(REFERENCE_TOLERANCE)
+            ),
+            against_tolerance(&study.pendulum, |r| r.error),
             PURPLE,
         )
         .with_marker(Marker::Circle, true),
     );
     error.series.push(
         Series::line(
-            "dropped particle, against the closed form",
-            points(&study.drop, &|r| r.error),
+            "dropped particle, against its closed form",
+            against_tolerance(&study.drop, |r| r.error),
             GREEN,
         )
         .with_marker(Marker::Square, true),
     );
-    error.series.push(
-        Series::line(
-            "error = T",
-            tolerances.iter().map(|&t| (t, t)).collect(),
-            GREY,
-        )
-        .with_line(Line::Dashed),
-    );
     let mut work = Panel::new(
-        "(b) work against tolerance",
         Axis::log("tolerance T"),
-        Axis::log("count"),
+        Axis::log("force evaluations, steps"),
     );
+    work.legend = LegendPlace::Below;
     work.series.push(
         Series::line(
             "pendulum: force evaluations",
-            points(&study.pendulum, &|r| r.stats.evaluations as f64),
+            against_tolerance(&study.pendulum, |r| r.stats.evaluations as f64),
             PURPLE,
         )
         .with_marker(Marker::Circle, true),
@@ -448,7 +503,7 @@ pub fn adaptive(study: &AdaptiveStudy) -> Result<TutorialFigure> {
     work.series.push(
         Series::line(
             "pendulum: accepted steps",
-            points(&study.pendulum, &|r| r.stats.accepted as f64),
+            against_tolerance(&study.pendulum, |r| r.stats.accepted as f64),
             PURPLE,
         )
         .with_line(Line::Dashed)
@@ -457,7 +512,7 @@ pub fn adaptive(study: &AdaptiveStudy) -> Result<TutorialFigure> {
     work.series.push(
         Series::line(
             "dropped particle: force evaluations",
-            points(&study.drop, &|r| r.stats.evaluations as f64),
+            against_tolerance(&study.drop, |r| r.stats.evaluations as f64),
             GREEN,
         )
         .with_marker(Marker::Square, true),
@@ -484,9 +539,9 @@ pub fn adaptive(study: &AdaptiveStudy) -> Result<TutorialFigure> {
             );
         }
     }
-    Ok(TutorialFigure {
-        stem: "tutorial_adaptive",
-        svg: svg(&[error, work], HALF)?,
+    TutorialFigure::new(
+        "tutorial_adaptive",
+        &Chart::new(FULL_WIDTH_MM, 75.0, vec![error, work]),
         csv,
-    })
+    )
 }
