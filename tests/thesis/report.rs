@@ -330,7 +330,7 @@ fn every_figure_rasterises_at_its_stated_size() {
             resvg::tiny_skia::Transform::from_scale(scale, scale),
             &mut pixmap.as_mut(),
         );
-        // Canvas units per pt (the viewBox is in pt).
+        // Canvas units per pt (the viewBox has 100 units per pt).
         let per_pt = tree.size().width() as f64 / (layout.width_mm * 72.0 / 25.4);
         let mut boxes = Vec::new();
         text_boxes(tree.root(), &mut boxes);
