@@ -66,66 +66,102 @@ pub fn dual_update(u_bar: Vec3, d_x: Vec3, z: Vec3) -> Vec3 {
     u_bar + d_x - z
 }
 
-/// Line 2.1: $`\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ (Eq 35's $`\tilde x`$) into
-/// `x_tilde`, and $`M\tilde x`$ (for Eq 40) into `m_x_tilde`, both column-major. Fixed nodes
-/// predict their own position: they never move.
-pub fn predict(
-    system: &MassSpringSystem,
-    state: &State,
-    dt: f64,
-    x_tilde: &mut [f64],
-    m_x_tilde: &mut [f64],
-) {
-    let n = state.x.len();
-    for (i, node) in system.nodes().iter().enumerate() {
-        let x = if node.fixed {
-            state.x[i]
-        } else {
-            state.x[i] + dt * state.v[i] + dt * dt / node.mass * system.external_force(i)
-        };
-        for c in 0..3 {
-            x_tilde[c * n + i] = x[c];
-            m_x_tilde[c * n + i] = node.mass * x[c];
+/// The iteration of Algorithm 4 within one step (lines 2.1-2.10): its iterate, its auxiliary
+/// and dual variables and the per-spring data they need. [`AdmmPd`] and the forensic variants
+/// of `crate::forensics::admm_variants` step through it; its buffers are column-major (3n) or
+/// one `Vec3` per spring, so that a step allocates nothing.
+#[derive(Debug, Clone)]
+pub struct AdmmIterate {
+    /// $`D`$ of Eq (54), stored per spring.
+    d: SpringIncidence,
+    /// $`\omega_i`$, the diagonal of $`W`$.
+    omega: Vec<f64>,
+    /// $`dt^2\,\omega_i^2`$, the factor of $`D_i^\top`$ in Eq (40)'s right-hand side.
+    dt2_omega2: Vec<f64>,
+    /// The positions $`x_n`$ at the start of the step; the fixed nodes keep them.
+    pub x_n: Vec<f64>,
+    /// $`\tilde x`$.
+    pub x_tilde: Vec<f64>,
+    /// $`M\tilde x`$.
+    m_x_tilde: Vec<f64>,
+    /// The iterate $`x`$.
+    pub x: Vec<f64>,
+    /// $`z`$, one per spring.
+    z: Vec<Vec3>,
+    /// The scaled dual $`\bar u`$, one per spring.
+    pub u_bar: Vec<Vec3>,
+}
+
+impl AdmmIterate {
+    /// Buffers for `system` with the weights `omega` (one per spring) and time step `dt`.
+    pub fn new(system: &MassSpringSystem, dt: f64, omega: Vec<f64>) -> Self {
+        let (n, s) = (system.len(), system.springs().len());
+        Self {
+            d: reduction_matrix(system),
+            dt2_omega2: omega.iter().map(|w| dt * dt * (w * w)).collect(),
+            omega,
+            x_n: vec![0.0; 3 * n],
+            x_tilde: vec![0.0; 3 * n],
+            m_x_tilde: vec![0.0; 3 * n],
+            x: vec![0.0; 3 * n],
+            z: vec![Vec3::zeros(); s],
+            u_bar: vec![Vec3::zeros(); s],
         }
     }
-}
 
-/// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$ (Eq 42), from
-/// the current iterate `x` (column-major).
-pub fn local_step(
-    system: &MassSpringSystem,
-    d: &SpringIncidence,
-    omega: &[f64],
-    x: &[f64],
-    z: &mut [Vec3],
-    u_bar: &mut [Vec3],
-) {
-    for (i, ((z, u_bar), s)) in z
-        .iter_mut()
-        .zip(u_bar.iter_mut())
-        .zip(system.springs())
-        .enumerate()
-    {
-        let d_x = d.apply_row(i, x);
-        *z = z_minimisation(d_x + *u_bar, s.rest_length, s.stiffness, omega[i]);
-        *u_bar = dual_update(*u_bar, d_x, *z);
+    /// The weights $`\omega_i`$.
+    pub fn omega(&self) -> &[f64] {
+        &self.omega
     }
-}
 
-/// Eq. (40): $`(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$;
-/// forms the right-hand side into `rhs` (column-major), with `dt2_omega2` $`= dt^2\,\omega_i^2`$
-/// per spring, for the prefactored solve of the step.
-pub fn global_rhs(
-    m_x_tilde: &[f64],
-    d: &SpringIncidence,
-    dt2_omega2: &[f64],
-    z: &[Vec3],
-    u_bar: &[Vec3],
-    rhs: &mut [f64],
-) {
-    rhs.copy_from_slice(m_x_tilde);
-    for (i, ((z, u_bar), &w)) in z.iter().zip(u_bar).zip(dt2_omega2).enumerate() {
-        d.add_row_transposed(i, w * (z - u_bar), rhs);
+    /// Line 2.1: $`x_n`$, and $`\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ (Eq 35's
+    /// $`\tilde x`$) with $`M\tilde x`$ for Eq (40). Fixed nodes predict their own position:
+    /// they never move.
+    pub fn predict(&mut self, system: &MassSpringSystem, state: &State, dt: f64) {
+        to_columns(&state.x, &mut self.x_n);
+        let n = state.x.len();
+        for (i, node) in system.nodes().iter().enumerate() {
+            let x = if node.fixed {
+                state.x[i]
+            } else {
+                state.x[i] + dt * state.v[i] + dt * dt / node.mass * system.external_force(i)
+            };
+            for c in 0..3 {
+                self.x_tilde[c * n + i] = x[c];
+                self.m_x_tilde[c * n + i] = node.mass * x[c];
+            }
+        }
+    }
+
+    /// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$
+    /// (Eq 42), from the current iterate $`x`$.
+    pub fn local_step(&mut self, system: &MassSpringSystem) {
+        for (i, ((z, u_bar), s)) in self
+            .z
+            .iter_mut()
+            .zip(self.u_bar.iter_mut())
+            .zip(system.springs())
+            .enumerate()
+        {
+            let d_x = self.d.apply_row(i, &self.x);
+            *z = z_minimisation(d_x + *u_bar, s.rest_length, s.stiffness, self.omega[i]);
+            *u_bar = dual_update(*u_bar, d_x, *z);
+        }
+    }
+
+    /// Eq. (40): $`(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$;
+    /// forms the right-hand side in $`x`$, for the prefactored solve of the step.
+    pub fn global_rhs(&mut self) {
+        self.x.copy_from_slice(&self.m_x_tilde);
+        for (i, ((z, u_bar), &w)) in self
+            .z
+            .iter()
+            .zip(&self.u_bar)
+            .zip(&self.dt2_omega2)
+            .enumerate()
+        {
+            self.d.add_row_transposed(i, w * (z - u_bar), &mut self.x);
+        }
     }
 }
 
@@ -135,22 +171,9 @@ pub struct AdmmPd {
     system: MassSpringSystem,
     dt: f64,
     iterations: usize,
-    /// $`D`$ of Eq (54), stored per spring.
-    d: SpringIncidence,
-    /// $`\omega_i = \sqrt{k_i}`$, the diagonal of $`W`$.
-    omega: Vec<f64>,
-    /// $`dt^2\,\omega_i^2`$, the factor of $`D_i^\top`$ in Eq (40)'s right-hand side.
-    dt2_omega2: Vec<f64>,
     /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (line 1.5).
     a: GlobalSolve,
-    // Per-step buffers (column-major, 3n; one Vec3 per spring), so that a step allocates nothing.
-    x_n: Vec<f64>,
-    x_tilde: Vec<f64>,
-    /// $`M\tilde x`$.
-    m_x_tilde: Vec<f64>,
-    x: Vec<f64>,
-    z: Vec<Vec3>,
-    u_bar: Vec<Vec3>,
+    iterate: AdmmIterate,
 }
 
 impl AdmmPd {
@@ -162,23 +185,14 @@ impl AdmmPd {
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
-        let (n, s) = (system.len(), system.springs().len());
         let omega = default_omega(system);
         let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
         Ok(Self {
             system: system.clone(),
             dt,
             iterations,
-            d: reduction_matrix(system),
-            dt2_omega2: omega2.iter().map(|w2| dt * dt * w2).collect(),
             a: GlobalSolve::new(system, dt, &omega2)?,
-            omega,
-            x_n: vec![0.0; 3 * n],
-            x_tilde: vec![0.0; 3 * n],
-            m_x_tilde: vec![0.0; 3 * n],
-            x: vec![0.0; 3 * n],
-            z: vec![Vec3::zeros(); s],
-            u_bar: vec![Vec3::zeros(); s],
+            iterate: AdmmIterate::new(system, dt, omega),
         })
     }
 
@@ -189,7 +203,7 @@ impl AdmmPd {
 
     /// The weights $`\omega_i`$.
     pub fn omega(&self) -> &[f64] {
-        &self.omega
+        self.iterate.omega()
     }
 }
 
@@ -209,40 +223,20 @@ impl TimeStepper for AdmmPd {
     /// Algorithm 4, run-time part.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
-        to_columns(&state.x, &mut self.x_n);
-        // 2.1: x⁰ = x̃.
-        predict(
-            &self.system,
-            state,
-            self.dt,
-            &mut self.x_tilde,
-            &mut self.m_x_tilde,
-        );
-        self.x.copy_from_slice(&self.x_tilde);
+        let it = &mut self.iterate;
+        // 2.1: x̃, and x⁰ = x̃.
+        it.predict(&self.system, state, self.dt);
+        it.x.copy_from_slice(&it.x_tilde);
         // 2.2: ū = 0 every step.
-        self.u_bar.fill(Vec3::zeros());
+        it.u_bar.fill(Vec3::zeros());
         // 2.3-2.10
         for _ in 0..self.iterations {
-            local_step(
-                &self.system,
-                &self.d,
-                &self.omega,
-                &self.x,
-                &mut self.z,
-                &mut self.u_bar,
-            );
-            global_rhs(
-                &self.m_x_tilde,
-                &self.d,
-                &self.dt2_omega2,
-                &self.z,
-                &self.u_bar,
-                &mut self.x,
-            );
-            self.a.solve(&mut self.x, &self.x_n);
+            it.local_step(&self.system);
+            it.global_rhs();
+            self.a.solve(&mut it.x, &it.x_n);
         }
         // 2.11
-        finish_step(state, &self.x, self.dt);
+        finish_step(state, &it.x, self.dt);
         Ok(())
     }
     // endregion: step

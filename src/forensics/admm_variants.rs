@@ -17,13 +17,11 @@
 //! [`AdmmVariant::PRINTED`] is Algorithm 4 as printed, bit for bit [`AdmmPd`](crate::admm::AdmmPd)
 //! (a test checks it).
 
-use crate::admm::{default_omega, global_rhs, local_step, predict};
+use crate::admm::{default_omega, AdmmIterate};
 use crate::boundary::EliminatedSystem;
 use crate::error::{require_positive, Error, Result};
 use crate::linear::Factorization;
-use crate::projective::{
-    finish_step, reduction_matrix, system_matrix, to_columns, GlobalSolve, SpringIncidence,
-};
+use crate::projective::{finish_step, system_matrix, GlobalSolve};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
 
@@ -188,16 +186,8 @@ pub struct VariantAdmm {
     dt: f64,
     iterations: usize,
     variant: AdmmVariant,
-    d: SpringIncidence,
-    omega: Vec<f64>,
-    dt2_omega2: Vec<f64>,
     a: GlobalMatrix,
-    x_n: Vec<f64>,
-    x_tilde: Vec<f64>,
-    m_x_tilde: Vec<f64>,
-    x: Vec<f64>,
-    z: Vec<Vec3>,
-    u_bar: Vec<Vec3>,
+    iterate: AdmmIterate,
     /// Eq (40)'s right-hand side of the step's first iteration (`stale_rhs` only).
     first_rhs: Vec<f64>,
 }
@@ -215,7 +205,6 @@ impl VariantAdmm {
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
-        let (n, s) = (system.len(), system.springs().len());
         let omega = variant.weights.omega(system);
         let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
         Ok(Self {
@@ -223,25 +212,25 @@ impl VariantAdmm {
             dt,
             iterations,
             variant,
-            d: reduction_matrix(system),
-            dt2_omega2: omega2.iter().map(|w2| dt * dt * w2).collect(),
             a: GlobalMatrix::new(system, dt, &omega2, variant.fixed_nodes)?,
-            omega,
-            x_n: vec![0.0; 3 * n],
-            x_tilde: vec![0.0; 3 * n],
-            m_x_tilde: vec![0.0; 3 * n],
-            x: vec![0.0; 3 * n],
-            z: vec![Vec3::zeros(); s],
-            u_bar: vec![Vec3::zeros(); s],
-            first_rhs: vec![0.0; if variant.stale_rhs { 3 * n } else { 0 }],
+            iterate: AdmmIterate::new(system, dt, omega),
+            first_rhs: vec![
+                0.0;
+                if variant.stale_rhs {
+                    3 * system.len()
+                } else {
+                    0
+                }
+            ],
         })
     }
 
     /// Line 2.1's first iterate under [`StartPoint`].
     fn start(&mut self, state: &State) {
+        let it = &mut self.iterate;
         match self.variant.start {
-            StartPoint::Prediction => self.x.copy_from_slice(&self.x_tilde),
-            StartPoint::Previous => self.x.copy_from_slice(&self.x_n),
+            StartPoint::Prediction => it.x.copy_from_slice(&it.x_tilde),
+            StartPoint::Previous => it.x.copy_from_slice(&it.x_n),
             StartPoint::Inertial => {
                 let n = state.x.len();
                 for (i, node) in self.system.nodes().iter().enumerate() {
@@ -251,7 +240,7 @@ impl VariantAdmm {
                         state.x[i] + self.dt * state.v[i]
                     };
                     for c in 0..3 {
-                        self.x[c * n + i] = x0[c];
+                        it.x[c * n + i] = x0[c];
                     }
                 }
             }
@@ -277,45 +266,25 @@ impl TimeStepper for VariantAdmm {
     }
 
     fn step(&mut self, state: &mut State) -> Result<()> {
-        to_columns(&state.x, &mut self.x_n);
-        predict(
-            &self.system,
-            state,
-            self.dt,
-            &mut self.x_tilde,
-            &mut self.m_x_tilde,
-        );
+        self.iterate.predict(&self.system, state, self.dt);
         self.start(state);
+        let it = &mut self.iterate;
         if !self.variant.carry_dual {
-            self.u_bar.fill(Vec3::zeros());
+            it.u_bar.fill(Vec3::zeros());
         }
         for iteration in 0..self.iterations {
-            local_step(
-                &self.system,
-                &self.d,
-                &self.omega,
-                &self.x,
-                &mut self.z,
-                &mut self.u_bar,
-            );
+            it.local_step(&self.system);
             if self.variant.stale_rhs && iteration > 0 {
-                self.x.copy_from_slice(&self.first_rhs);
+                it.x.copy_from_slice(&self.first_rhs);
             } else {
-                global_rhs(
-                    &self.m_x_tilde,
-                    &self.d,
-                    &self.dt2_omega2,
-                    &self.z,
-                    &self.u_bar,
-                    &mut self.x,
-                );
+                it.global_rhs();
                 if self.variant.stale_rhs {
-                    self.first_rhs.copy_from_slice(&self.x);
+                    self.first_rhs.copy_from_slice(&it.x);
                 }
             }
-            self.a.solve(&mut self.x, &self.x_n);
+            self.a.solve(&mut it.x, &it.x_n);
         }
-        finish_step(state, &self.x, self.dt);
+        finish_step(state, &it.x, self.dt);
         Ok(())
     }
 }
