@@ -55,6 +55,14 @@ pub struct State {
 }
 
 impl State {
+    /// `n` nodes at the origin, at rest (scratch for the integrators' stages).
+    pub fn zeros(n: usize) -> Self {
+        Self {
+            x: vec![Vec3::zeros(); n],
+            v: vec![Vec3::zeros(); n],
+        }
+    }
+
     /// Kinetic energy $`\frac12\sum_i m_i |v_i|^2`$ (thesis §4.2, convention 1).
     pub fn kinetic_energy(&self, system: &MassSpringSystem) -> f64 {
         system

@@ -119,10 +119,7 @@ impl AdaptiveStepper {
         require_positive("dt", interval)?;
         require_positive("tolerance", tolerance)?;
         let n = particles.system().len();
-        let zeros = State {
-            x: vec![Vec3::zeros(); n],
-            v: vec![Vec3::zeros(); n],
-        };
+        let zeros = State::zeros(n);
         Ok(Self {
             particles,
             interval,

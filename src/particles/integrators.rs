@@ -101,10 +101,7 @@ impl ParticleStepper {
     pub fn new(particles: ParticleSystem, integrator: Integrator, dt: f64) -> Result<Self> {
         require_positive("dt", dt)?;
         let n = particles.system().len();
-        let zeros = State {
-            x: vec![Vec3::zeros(); n],
-            v: vec![Vec3::zeros(); n],
-        };
+        let zeros = State::zeros(n);
         Ok(Self {
             particles,
             integrator,

@@ -111,6 +111,14 @@ pub struct ReportData {
     pub sources: Sources,
 }
 
+/// A figure's two files: `figures/<stem>.svg` and the points it draws, `data/<stem>.csv`.
+pub fn figure_files(stem: &str, svg: &str, csv: &str) -> [OutputFile; 2] {
+    [
+        OutputFile::text(format!("figures/{stem}.svg"), svg.to_string()),
+        OutputFile::text(format!("data/{stem}.csv"), csv.to_string()),
+    ]
+}
+
 /// The report's files: `REPORT.md`, `figures/*.svg`, `data/*.csv` (not `run-info.md`).
 pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let figures = figures::all(data)?;
@@ -121,14 +129,7 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     )];
     files.extend(data.tutorial.files(&tutorial_figures));
     for f in &figures {
-        files.push(OutputFile::text(
-            format!("figures/{}.svg", f.stem),
-            f.svg.clone(),
-        ));
-        files.push(OutputFile::text(
-            format!("data/{}.csv", f.stem),
-            f.csv.clone(),
-        ));
+        files.extend(figure_files(&f.stem, &f.svg, &f.csv));
     }
     files.push(OutputFile::text(
         "data/results.csv",

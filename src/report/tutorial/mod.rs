@@ -65,17 +65,10 @@ impl TutorialChapter {
 
     /// The chapter's files: `figures/tutorial_*.svg` and `data/tutorial_*.csv`.
     pub fn files(&self, figures: &[TutorialFigure]) -> Vec<OutputFile> {
-        let mut files = Vec::new();
-        for f in figures {
-            files.push(OutputFile::text(
-                format!("figures/{}.svg", f.stem),
-                f.svg.clone(),
-            ));
-            files.push(OutputFile::text(
-                format!("data/{}.csv", f.stem),
-                f.csv.clone(),
-            ));
-        }
+        let mut files: Vec<OutputFile> = figures
+            .iter()
+            .flat_map(|f| crate::report::figure_files(f.stem, &f.svg, &f.csv))
+            .collect();
         files.push(OutputFile::text(
             "data/tutorial_stability.csv",
             self.stability_csv(),
