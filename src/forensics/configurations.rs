@@ -200,7 +200,7 @@ impl AdmmCandidate {
             AdmmCandidate::StaleRhs => {
                 "§3.2 suggests moving the b − A·u work to the precomputation"
             }
-            _ => "a plausible implementation slip (issue 5)",
+            _ => "a plausible implementation slip, tried in issue 5",
         }
     }
 }

@@ -106,14 +106,14 @@ pub fn free_choices() -> Vec<FreeChoice> {
             scope: "Fast m-s",
             choice: "first iterate x⁰ = x_n (Algorithm 3 is silent; the other reading is y = x_n + dt·v_n)",
             kind: "interpretation",
-            how: "one open point, two readings, both run on the 18 Liu rows".into(),
+            how: "one open point, two readings, both run on every Liu row".into(),
         },
         FreeChoice {
             scope: "Fast m-s",
             choice: "first-peak exemption, velocity damping c, threshold at k = 1e6 (findings 2-4)",
             kind: "predicted / fitted",
             how: format!(
-                "3 parameters on a grid of {} points, fitted on the 18 Liu rows' peak counts; \
+                "3 parameters on a grid of {} points, fitted on the Liu rows' peak counts; \
                  leave-one-out for each row",
                 LiuHypothesis::grid().len()
             ),
@@ -123,7 +123,7 @@ pub fn free_choices() -> Vec<FreeChoice> {
             choice: "first iterate x⁰ = x_n + dt·v_n instead of the printed x̃ (line 2.1)",
             kind: "selected",
             how: format!(
-                "1 departure selected from {} candidates tried on the 18 ADMM rows",
+                "1 departure selected from {} candidates tried on the ADMM rows",
                 AdmmCandidate::ALL.len()
             ),
         },
@@ -225,7 +225,10 @@ pub fn classify(c: &Candidates) -> RowEvidence {
                     Evidence::Predicted,
                     ConfigurationId::Liu(left_out.hypothesis),
                     &left_out.measured,
-                    "3 parameters fitted on the other 17 Liu rows",
+                    &format!(
+                        "3 parameters fitted on the other {} Liu rows",
+                        fit.left_out.len() - 1
+                    ),
                     format!("left out, the fit picks {}", left_out.hypothesis.label()),
                 );
             }
@@ -234,7 +237,7 @@ pub fn classify(c: &Candidates) -> RowEvidence {
                     Evidence::Fitted,
                     ConfigurationId::Liu(fit.in_sample),
                     in_sample,
-                    "3 parameters fitted on the 18 Liu rows",
+                    &format!("3 parameters fitted on the {} Liu rows", fit.left_out.len()),
                     format!(
                         "left out, the fit picks {} and gives {}",
                         left_out.hypothesis.label(),
@@ -255,7 +258,10 @@ pub fn classify(c: &Candidates) -> RowEvidence {
                     Evidence::Selected,
                     ConfigurationId::Admm(*candidate),
                     m,
-                    "1 departure selected from 8 candidates",
+                    &format!(
+                        "1 departure selected from {} candidates",
+                        AdmmCandidate::ALL.len()
+                    ),
                     format!("the printed x̃ start gives {}", outcome(c.faithful)),
                 );
             }

@@ -9,8 +9,8 @@
 //! number in the prose comes from the runs.
 
 use crate::experiments::{
-    better_time_convention, published_rows, Measured, PublishedRow, ResultSet, SolverKind,
-    TimeConvention, MARGINAL_HALF_PERIOD,
+    better_time_convention, published_rows, same_experiment, Measured, PublishedRow, ResultSet,
+    SolverKind, TimeConvention, MARGINAL_HALF_PERIOD,
 };
 use crate::forensics::configurations::{
     LiuHypothesis, LIU_DAMPING_GRID, VARIANT_MAX_ITERATIONS, VARIANT_TIME_FACTOR,
@@ -262,10 +262,6 @@ fn short_error(e: &str) -> String {
     what.split(':').next().unwrap_or(what).trim().to_string()
 }
 
-fn same_row(a: &PublishedRow, b: &PublishedRow) -> bool {
-    a.table == b.table && a.dt_s == b.dt_s && a.iterations == b.iterations && a.solver == b.solver
-}
-
 /// Every ADMM configuration tried (the faithful one first), with the rows it reproduces.
 pub fn variants_table(f: &Forensics, faithful: &ResultSet) -> MarkdownTable {
     let mut t = MarkdownTable::new(&[
@@ -296,7 +292,7 @@ pub fn variants_table(f: &Forensics, faithful: &ResultSet) -> MarkdownTable {
                 .collect();
             let misses_reproduced = reproduced
                 .iter()
-                .filter(|r| misses.iter().any(|m| same_row(m, r)))
+                .filter(|r| misses.iter().any(|m| same_experiment(m, r)))
                 .count();
             let mut trouble: Vec<String> = failed
                 .iter()
@@ -311,8 +307,8 @@ pub fn variants_table(f: &Forensics, faithful: &ResultSet) -> MarkdownTable {
                 trouble.push(format!("cut: {}", label_list(&limited)));
             }
             let departure = match id {
-                ConfigurationId::Faithful => "none (Algorithm 4 as printed)".to_string(),
-                _ => id.summary(),
+                ConfigurationId::Admm(c) => format!("{} ({})", c.variant().label(), c.origin()),
+                _ => "none (Algorithm 4 as printed)".to_string(),
             };
             t.row(vec![
                 id.id(),
@@ -483,7 +479,7 @@ pub fn leave_one_out_table(f: &Forensics) -> MarkdownTable {
     let mut t = MarkdownTable::new(&[
         "left out",
         ">k (N/m)",
-        "fitted on the other 17",
+        "fitted on the other rows",
         ">peaks pub.",
         ">peaks ours",
         ">T/2 pub. (s)",
@@ -694,7 +690,7 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
            published T/2 lies closer to our f32 detection-step value and how many to our exact value.\n\n";
     md += &time_convention_table(faithful).render();
     md += "\n### 6.4 Liu 2013: the open first iterate and the fitted hypothesis\n\n";
-    md += "Algorithm 3 does not say where each step's iteration starts. Both readings were run on the 18 Liu rows; \
+    md += "Algorithm 3 does not say where each step's iteration starts. Both readings were run on every Liu row; \
            a row reproduced by one only is an interpretation.\n\n";
     md += &liu_readings_table(f, faithful).render();
     md += "\nStarted at y with one iteration, Liu's step is almost ADMM's with the start x⁰ = x_n + dt·v_n (section \
@@ -730,13 +726,15 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
         }
     );
     let in_sample = f.liu.point(f.liu.in_sample);
+    let n = f.liu.left_out.len();
     md += &format!(
-        "In sample (all 18 rows) the fit picks **{}**: {} of 18 peak counts within tolerance, {} rows meeting the \
-         full rule. Left out one at a time (fitted on the other 17 rows' peak counts, then run on the left-out \
-         row), it predicts **{} of 18** rows under the full rule:\n\n",
+        "In sample (all {n} rows) the fit picks **{}**: {} of {n} peak counts within tolerance, {} rows meeting \
+         the full rule. Left out one at a time (fitted on the other {} rows' peak counts, then run on the \
+         left-out row), it predicts **{} of {n}** rows under the full rule:\n\n",
         f.liu.in_sample.label(),
         in_sample.rows.iter().filter(|m| peaks_within_tolerance(m)).count(),
         in_sample.rows.iter().filter(|m| m.reproduces()).count(),
+        n - 1,
         f.liu.predicted(),
     );
     md += &leave_one_out_table(f).render();
@@ -744,15 +742,17 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
     let (n, of) = admm_start_inertial_count(f);
     md += &format!(
         "The published ADMM rows at dt = 0.1 and 0.01 s keep oscillating longer than the faithful method (forensic \
-         finding 6). Eight labelled departures from Algorithm 4 (`forensics::admm_variants`) were tried on the \
+         finding 6). {} labelled departures from Algorithm 4 (`forensics::admm_variants`) were tried on the \
          same ADMM rows; all but the start x⁰ = x_n + dt·v_n skip rows costing more than \
          {VARIANT_MAX_ITERATIONS:e} solver iterations (Table 6's dt = 0.001 s rows with 20 and 50 iterations, \
          which the faithful method already reproduces), and every run stops at {} times the published run's \
          duration (a run still going then cannot reproduce its row). Algorithm 4 line 2.1 prints the start \
          x̃, the prediction with gravity; the start x_n + dt·v_n leaves gravity out of the first iterate only. \
-         It reproduces **{n} of the {of}** ADMM rows: a departure *selected* from the 8 candidates on the rows it \
+         It reproduces **{n} of the {of}** ADMM rows: a departure *selected* from the {} candidates on the rows it \
          explains, not read off the text. A documented negative result is a result.\n\n",
-        short(VARIANT_TIME_FACTOR)
+        AdmmCandidate::ALL.len(),
+        short(VARIANT_TIME_FACTOR),
+        AdmmCandidate::ALL.len(),
     );
     md += &variants_table(f, faithful).render();
     md += "\nTried earlier with an independent prototype and not re-implemented here (all failed, issue 5): z \
