@@ -24,6 +24,7 @@ pub mod output_file;
 pub mod particles;
 pub mod pbd;
 pub mod projective;
+pub mod registry;
 pub mod report;
 pub mod scene;
 pub mod scene_file;

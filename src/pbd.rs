@@ -116,7 +116,8 @@ impl Pbd {
     }
 }
 
-fn require_factor(field: impl Into<String>, factor: f64) -> Result<f64> {
+/// Checks a dimensionless stiffness factor: in [0, 1].
+pub fn require_factor(field: impl Into<String>, factor: f64) -> Result<f64> {
     if (0.0..=1.0).contains(&factor) {
         Ok(factor)
     } else {

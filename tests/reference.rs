@@ -4,9 +4,8 @@
 use mass_spring_solvers::backward_euler::{
     converged_step, velocity_residual, BackwardEuler, ConvergedStepOptions,
 };
-use mass_spring_solvers::experiments::{
-    published_rows, reproduces, run_all, Configuration, SolverKind,
-};
+use mass_spring_solvers::experiments::{published_rows, reproduces, run_all, Configuration};
+use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::solver::{simulate, Recording, RunOptions, TimeStepper};
 use mass_spring_solvers::{MassSpringSystem, State, Vec3};
@@ -149,7 +148,7 @@ fn table_1_reproduces() {
             m.published.half_period_s,
             m.end_time
         );
-        assert_eq!(m.published.solver, SolverKind::BackwardEuler);
+        assert_eq!(m.published.solver, SolverId::BackwardEuler);
         assert!(
             m.reproduces(),
             "Table 1 row k={} does not reproduce",

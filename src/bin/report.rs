@@ -6,10 +6,9 @@
 //! stderr (a live counter too when stderr is a terminal).
 
 use clap::Parser;
-use mass_spring_solvers::experiments::{
-    published_rows, run_all, Configuration, PublishedRow, SolverKind,
-};
+use mass_spring_solvers::experiments::{published_rows, run_all, Configuration, PublishedRow};
 use mass_spring_solvers::forensics::{Evidence, Forensics};
+use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::report::output::{OutputFile, RunInfo};
 use mass_spring_solvers::report::publish::{fixture, ReportTarget};
 use mass_spring_solvers::report::rest_state::Catenary;
@@ -105,7 +104,7 @@ fn run(args: Args) -> Result<String> {
         .cloned()
         .collect();
     // Read the sources first, so that a missing region marker fails before the long runs.
-    let solvers: Vec<SolverKind> = SolverKind::ALL
+    let solvers: Vec<SolverId> = SolverId::THESIS_TABLES
         .into_iter()
         .filter(|s| rows.iter().any(|r| r.solver == *s))
         .collect();

@@ -13,7 +13,7 @@ pub mod rule;
 
 pub use pool::run_parallel;
 pub use published::{
-    published_cost, published_reference, published_rows, same_experiment, PublishedRow, SolverKind,
+    published_cost, published_reference, published_rows, same_experiment, PublishedRow,
     PUBLISHED_CSV,
 };
 pub use rule::{
@@ -24,6 +24,7 @@ pub use rule::{
 use crate::error::Result;
 use crate::forensics::SolverChoice;
 use crate::metrics::{rest_error_l1, rest_error_l2, rest_error_max, rest_error_sum, StoppingRule};
+use crate::registry::SolverId;
 use crate::scene::{RopeParams, THESIS_GRAVITY};
 use crate::solver::{simulate, Run, RunOptions};
 use crate::system::Vec3;
@@ -113,8 +114,7 @@ impl ResultSet {
         self.rows
             .iter()
             .find(|r| {
-                r.published.solver == SolverKind::BackwardEuler
-                    && r.published.stiffness == stiffness
+                r.published.solver == SolverId::BackwardEuler && r.published.stiffness == stiffness
             })
             .expect("the result set holds both references")
     }
@@ -123,7 +123,7 @@ impl ResultSet {
 /// Runs one published experiment from the thesis rope at rest.
 pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Result<Run> {
     let mut params = RopeParams::thesis(row.stiffness);
-    params.gravity = if row.solver == SolverKind::BackwardEuler {
+    params.gravity = if row.solver == SolverId::BackwardEuler {
         configuration.reference_gravity
     } else {
         configuration.gravity
@@ -190,7 +190,7 @@ pub fn run_all(
     .collect::<Result<Vec<Run>>>()?;
     let reference = |k: f64| {
         rows.iter()
-            .position(|r| r.solver == SolverKind::BackwardEuler && r.stiffness == k)
+            .position(|r| r.solver == SolverId::BackwardEuler && r.stiffness == k)
             .map(|i| Reference {
                 final_positions: &runs[i].final_state.x,
                 half_period_thesis: runs[i].half_period_thesis(),
@@ -201,7 +201,7 @@ pub fn run_all(
         .zip(&runs)
         .map(|(row, run)| {
             let reference =
-                reference(row.stiffness).filter(|_| row.solver != SolverKind::BackwardEuler);
+                reference(row.stiffness).filter(|_| row.solver != SolverId::BackwardEuler);
             measure(row, run, reference)
         })
         .collect();

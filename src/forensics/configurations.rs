@@ -4,8 +4,9 @@
 
 use super::admm_variants::{AdmmVariant, FixedNodes, StartPoint, Weights};
 use super::SolverChoice;
-use crate::experiments::{published_cost, Configuration, PublishedRow, SolverKind};
+use crate::experiments::{published_cost, Configuration, PublishedRow};
 use crate::fast_mass_spring::FirstIterate;
+use crate::registry::SolverId;
 
 /// The velocity damping values c (s⁻¹) of the Liu hypothesis's grid (forensic finding 3); 0 is
 /// the printed method.
@@ -217,13 +218,13 @@ impl ConfigurationId {
     }
 
     /// The solver it applies to; None for the faithful configuration (every solver).
-    pub fn solver(self) -> Option<SolverKind> {
+    pub fn solver(self) -> Option<SolverId> {
         match self {
             ConfigurationId::Faithful => None,
             ConfigurationId::LiuStartInertial | ConfigurationId::Liu(_) => {
-                Some(SolverKind::FastMassSpring)
+                Some(SolverId::FastMassSpring)
             }
-            ConfigurationId::Admm(_) => Some(SolverKind::AdmmPd),
+            ConfigurationId::Admm(_) => Some(SolverId::AdmmPd),
         }
     }
 
@@ -266,9 +267,9 @@ impl ConfigurationId {
     pub fn concerns(self, row: &PublishedRow) -> bool {
         match self {
             ConfigurationId::Faithful => true,
-            ConfigurationId::Admm(AdmmCandidate::StartInertial) => row.solver == SolverKind::AdmmPd,
+            ConfigurationId::Admm(AdmmCandidate::StartInertial) => row.solver == SolverId::AdmmPd,
             ConfigurationId::Admm(_) => {
-                row.solver == SolverKind::AdmmPd && published_cost(row) <= VARIANT_MAX_ITERATIONS
+                row.solver == SolverId::AdmmPd && published_cost(row) <= VARIANT_MAX_ITERATIONS
             }
             _ => self.solver() == Some(row.solver),
         }

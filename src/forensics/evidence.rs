@@ -8,7 +8,8 @@
 use super::configurations::{AdmmCandidate, ConfigurationId, LiuHypothesis};
 use super::liu_fit::LiuFit;
 use super::{ConfigurationRun, NOISE_PEAK_J};
-use crate::experiments::{Measured, PublishedRow, SolverKind};
+use crate::experiments::{Measured, PublishedRow};
+use crate::registry::SolverId;
 
 /// How a published row is reproduced, strongest first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -175,7 +176,7 @@ pub fn classify(c: &Candidates) -> RowEvidence {
     let mut noise_candidates: Vec<(ConfigurationId, &Measured)> =
         vec![(ConfigurationId::Faithful, c.faithful)];
     match row.solver {
-        SolverKind::FastMassSpring => {
+        SolverId::FastMassSpring => {
             let y = c
                 .liu_start_inertial
                 .expect("every Liu row runs both readings");
@@ -252,7 +253,7 @@ pub fn classify(c: &Candidates) -> RowEvidence {
             ));
             noise_candidates.push((ConfigurationId::Liu(fit.in_sample), in_sample));
         }
-        SolverKind::AdmmPd if !c.faithful.reproduces() => {
+        SolverId::AdmmPd if !c.faithful.reproduces() => {
             if let Some((candidate, m)) = c.admm.iter().find(|(_, m)| m.reproduces()) {
                 return evidence(
                     Evidence::Selected,

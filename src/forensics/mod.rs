@@ -28,9 +28,10 @@ pub use liu_fit::LiuFit;
 use crate::error::Result;
 use crate::experiments::{
     faithful_results, measure, published_cost, run_experiment, run_parallel, same_experiment,
-    Configuration, Measured, PublishedRow, Reference, ResultSet, SolverKind,
+    Configuration, Measured, PublishedRow, Reference, ResultSet,
 };
 use crate::fast_mass_spring::{FastMassSpring, FirstIterate};
+use crate::registry::{SolverId, SolverSpec};
 use crate::solver::{Run, TimeStepper};
 use crate::system::MassSpringSystem;
 use evidence::{classify, run_of, Candidates};
@@ -56,19 +57,19 @@ impl SolverChoice {
     /// The solver of a `kind` row.
     pub fn build(
         &self,
-        kind: SolverKind,
+        kind: SolverId,
         system: &MassSpringSystem,
         dt: f64,
         iterations: usize,
     ) -> Result<Box<dyn TimeStepper + Send>> {
         Ok(match (self, kind) {
-            (SolverChoice::LiuFirstIterate(first), SolverKind::FastMassSpring) => {
+            (SolverChoice::LiuFirstIterate(first), SolverId::FastMassSpring) => {
                 Box::new(FastMassSpring::new(system, dt, iterations)?.with_first_iterate(*first))
             }
-            (SolverChoice::Admm(variant), SolverKind::AdmmPd) => {
+            (SolverChoice::Admm(variant), SolverId::AdmmPd) => {
                 Box::new(VariantAdmm::new(system, dt, iterations, *variant)?)
             }
-            _ => kind.build(system, dt, iterations)?,
+            _ => SolverSpec::new(kind, iterations).build_send(system, dt)?,
         })
     }
 }
@@ -150,7 +151,7 @@ impl Forensics {
         let liu_rows: Vec<&PublishedRow> = rows
             .iter()
             .copied()
-            .filter(|r| r.solver == SolverKind::FastMassSpring)
+            .filter(|r| r.solver == SolverId::FastMassSpring)
             .collect();
         let measure_against = |row: &PublishedRow, run: &Run| {
             measure(row, run, Some(reference_of(faithful, row.stiffness)))
@@ -186,9 +187,9 @@ impl Forensics {
         }
         let admm_one_iteration: Vec<PublishedRow> = rows
             .iter()
-            .filter(|r| r.solver == SolverKind::AdmmPd && r.iterations == 1)
+            .filter(|r| r.solver == SolverId::AdmmPd && r.iterations == 1)
             .map(|r| PublishedRow {
-                solver: SolverKind::FastMassSpring,
+                solver: SolverId::FastMassSpring,
                 ..(*r).clone()
             })
             .collect();
@@ -238,7 +239,7 @@ impl Forensics {
             let admm_row = rows
                 .iter()
                 .find(|r| {
-                    r.solver == SolverKind::AdmmPd
+                    r.solver == SolverId::AdmmPd
                         && r.table == row.table
                         && r.dt_s == row.dt_s
                         && r.iterations == 1
@@ -304,7 +305,7 @@ impl Forensics {
                 classify(&Candidates {
                     faithful: m,
                     liu_start_inertial: run_of(&runs, ConfigurationId::LiuStartInertial, row),
-                    liu_fit: (row.solver == SolverKind::FastMassSpring).then_some(&liu),
+                    liu_fit: (row.solver == SolverId::FastMassSpring).then_some(&liu),
                     admm: AdmmCandidate::ALL
                         .into_iter()
                         .filter_map(|c| Some((c, run_of(&runs, ConfigurationId::Admm(c), row)?)))
@@ -318,7 +319,7 @@ impl Forensics {
         for e in &evidence {
             let row = &e.measured.published;
             let mut c = e.configuration.configuration(row);
-            if row.solver == SolverKind::BackwardEuler {
+            if row.solver == SolverId::BackwardEuler {
                 c.reference_gravity = MISMATCHED_GRAVITY;
             } else {
                 c.gravity = MISMATCHED_GRAVITY;
@@ -330,7 +331,7 @@ impl Forensics {
         let mut solver_runs = Vec::new();
         for (e, run) in evidence.iter().zip(outcomes) {
             let run = run?;
-            if e.measured.published.solver == SolverKind::BackwardEuler {
+            if e.measured.published.solver == SolverId::BackwardEuler {
                 mismatched_references.push(measure(&e.measured.published, &run, None));
             } else {
                 solver_runs.push((e, run));

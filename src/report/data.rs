@@ -4,8 +4,9 @@
 //! the figures) one CSV per figure. Numbers are written as the shortest decimal that
 //! round-trips the `f64`.
 
-use crate::experiments::{better_time_convention, Measured, PublishedRow, ResultSet, SolverKind};
+use crate::experiments::{better_time_convention, Measured, PublishedRow, ResultSet};
 use crate::forensics::Forensics;
+use crate::registry::SolverId;
 use crate::report::format::{full, full_opt};
 use crate::report::rest_state::Catenary;
 use crate::report::tables::half_period_deviation;
@@ -47,7 +48,7 @@ pub fn table1_csv(results: &ResultSet) -> String {
     for m in results
         .rows
         .iter()
-        .filter(|m| m.published.table == 1 && m.published.solver == SolverKind::BackwardEuler)
+        .filter(|m| m.published.table == 1 && m.published.solver == SolverId::BackwardEuler)
     {
         out += &row(m);
     }

@@ -9,9 +9,10 @@
 
 use crate::error::Result;
 use crate::experiments::{
-    peak_tolerance, published_rows, Measured, PublishedRow, SolverKind, HALF_PERIOD_TOLERANCE,
+    peak_tolerance, published_rows, Measured, PublishedRow, HALF_PERIOD_TOLERANCE,
 };
 use crate::forensics::Evidence;
+use crate::registry::SolverId;
 use crate::report::format::{full, full_opt, sig4};
 use crate::report::plot::{
     layout, power_of_ten, Align, Arrow, Axis, Band, Chart, Entry, Layout, LegendPlace, Line,
@@ -70,23 +71,44 @@ const BLUE: Rgb = Rgb(33, 113, 181);
 const GREEN: Rgb = Rgb(35, 139, 69);
 
 /// The colour of a solver at its `index`-th iteration count (0 = fewest, darkest).
-pub fn colour(solver: SolverKind, index: usize) -> Rgb {
+pub fn colour(solver: SolverId, index: usize) -> Rgb {
     let shades: [Rgb; 3] = match solver {
-        SolverKind::BackwardEuler => [BLACK, BLACK, BLACK],
-        SolverKind::Xpbd => [Rgb(8, 48, 107), Rgb(33, 113, 181), Rgb(107, 174, 214)],
-        SolverKind::FastMassSpring => [Rgb(127, 39, 4), Rgb(217, 72, 1), Rgb(253, 141, 60)],
-        SolverKind::AdmmPd => [Rgb(0, 68, 27), Rgb(35, 139, 69), Rgb(116, 196, 118)],
+        SolverId::BackwardEuler => [BLACK, BLACK, BLACK],
+        SolverId::Xpbd => [Rgb(8, 48, 107), Rgb(33, 113, 181), Rgb(107, 174, 214)],
+        SolverId::FastMassSpring => [Rgb(127, 39, 4), Rgb(217, 72, 1), Rgb(253, 141, 60)],
+        SolverId::AdmmPd => [Rgb(0, 68, 27), Rgb(35, 139, 69), Rgb(116, 196, 118)],
+        // The solvers the thesis's figures do not show: one Okabe-Ito colour each.
+        other => [OTHER_SOLVERS[registry_index(other) % OTHER_SOLVERS.len()]; 3],
     };
     shades[index.min(2)]
 }
 
-fn solver_marker(solver: SolverKind) -> Marker {
+fn solver_marker(solver: SolverId) -> Marker {
     match solver {
-        SolverKind::BackwardEuler => Marker::Square,
-        SolverKind::Xpbd => Marker::Circle,
-        SolverKind::FastMassSpring => Marker::Triangle,
-        SolverKind::AdmmPd => Marker::Cross,
+        SolverId::BackwardEuler => Marker::Square,
+        SolverId::Xpbd => Marker::Circle,
+        SolverId::FastMassSpring => Marker::Triangle,
+        SolverId::AdmmPd => Marker::Cross,
+        other => [Marker::Circle, Marker::Triangle, Marker::Square][registry_index(other) % 3],
     }
+}
+
+/// The colours of the solvers outside the thesis's tables (Okabe-Ito, black and the thesis
+/// solvers' hues left out).
+const OTHER_SOLVERS: [Rgb; 5] = [
+    Rgb(230, 159, 0),
+    Rgb(86, 180, 233),
+    Rgb(204, 121, 167),
+    Rgb(213, 94, 0),
+    Rgb(0, 114, 178),
+];
+
+/// A solver's position in the registry, which fixes its colour and marker.
+fn registry_index(solver: SolverId) -> usize {
+    SolverId::ALL
+        .iter()
+        .position(|&s| s == solver)
+        .expect("SolverId::ALL lists every solver")
 }
 
 /// The marker of the `index`-th iteration count inside one solver's panel.
@@ -245,7 +267,7 @@ fn error_against_dt(
     data: &ReportData,
     number: u8,
     stiffness: f64,
-    solvers: &[SolverKind],
+    solvers: &[SolverId],
 ) -> Result<Figure> {
     let k = stiffness_label(stiffness);
     let mut csv_rows = String::from("solver,iterations,dt_s,error_published_m,error_ours_m\n");
@@ -424,11 +446,11 @@ fn rest_state_xpbd(data: &ReportData, number: u8, stiffness: f64) -> Result<Figu
         shapes.push(("backward_euler".to_string(), r.final_positions.clone()));
     }
     for index in 0..3 {
-        let Some(iterations) = iteration_count(SolverKind::Xpbd, index) else {
+        let Some(iterations) = iteration_count(SolverId::Xpbd, index) else {
             continue;
         };
         let row = published_rows().iter().find(|r| {
-            r.solver == SolverKind::Xpbd
+            r.solver == SolverId::Xpbd
                 && r.stiffness == stiffness
                 && r.dt_s == 0.1
                 && r.iterations == iterations
@@ -441,7 +463,7 @@ fn rest_state_xpbd(data: &ReportData, number: u8, stiffness: f64) -> Result<Figu
                         opt_sig(m.error_sum)
                     ),
                     xy(&m.final_positions),
-                    colour(SolverKind::Xpbd, index),
+                    colour(SolverId::Xpbd, index),
                 )
                 .with_marker(iteration_marker(index), true),
             );
@@ -669,7 +691,7 @@ fn figure2(data: &ReportData) -> Result<Figure> {
 
 fn reference(data: &ReportData, stiffness: f64) -> Option<&Measured> {
     data.results.rows.iter().find(|m| {
-        m.published.solver == SolverKind::BackwardEuler && m.published.stiffness == stiffness
+        m.published.solver == SolverId::BackwardEuler && m.published.stiffness == stiffness
     })
 }
 
@@ -1111,7 +1133,7 @@ fn figure13(runs: &FigureRuns) -> Result<Figure> {
                 Series::line(
                     format!("Fast m-s (Δt = 0.1 s, {} it.)", spec.iterations),
                     y.clone(),
-                    colour(SolverKind::FastMassSpring, 0),
+                    colour(SolverId::FastMassSpring, 0),
                 )
                 .with_weight(1.5)
                 .with_marker(Marker::Triangle, true)
@@ -1283,7 +1305,7 @@ fn panel_end(series: &[Series]) -> f64 {
 }
 
 /// The marks of one class and solver in a parity panel: (class, solver, (published, ours)).
-type ParityGroup = (String, SolverKind, Vec<(f64, f64)>);
+type ParityGroup = (String, SolverId, Vec<(f64, f64)>);
 
 /// One row of the parity figure: the published numbers, ours (faithful configuration) and
 /// the row's class.
@@ -1449,7 +1471,7 @@ fn parity(data: &ReportData) -> Result<Figure> {
                 .style,
         });
     }
-    for solver in SolverKind::ALL {
+    for solver in SolverId::THESIS_TABLES {
         chart.legend.push(Entry {
             label: solver.abbreviation().to_string(),
             style: Series::points("", Vec::new(), GREY)
@@ -1496,12 +1518,8 @@ fn parity(data: &ReportData) -> Result<Figure> {
 
 /// Figures 1-15 and the parity figure (16), in order.
 pub fn all(data: &ReportData) -> Result<Vec<Figure>> {
-    let pd = [SolverKind::FastMassSpring, SolverKind::AdmmPd];
-    let all3 = [
-        SolverKind::Xpbd,
-        SolverKind::FastMassSpring,
-        SolverKind::AdmmPd,
-    ];
+    let pd = [SolverId::FastMassSpring, SolverId::AdmmPd];
+    let all3 = [SolverId::Xpbd, SolverId::FastMassSpring, SolverId::AdmmPd];
     Ok(vec![
         figure1(data)?,
         figure2(data)?,

@@ -10,7 +10,7 @@
 
 use crate::experiments::{
     better_time_convention, published_rows, same_experiment, Measured, PublishedRow, ResultSet,
-    SolverKind, TimeConvention, MARGINAL_HALF_PERIOD,
+    TimeConvention, MARGINAL_HALF_PERIOD,
 };
 use crate::forensics::configurations::{
     LiuHypothesis, LIU_DAMPING_GRID, VARIANT_MAX_ITERATIONS, VARIANT_TIME_FACTOR,
@@ -19,6 +19,7 @@ use crate::forensics::evidence::free_choices;
 use crate::forensics::gravity::{Hypothesis, SELECTION_STIFFNESS, SUPPORT_FRACTION};
 use crate::forensics::liu_fit::peaks_within_tolerance;
 use crate::forensics::{AdmmCandidate, ConfigurationId, Evidence, Forensics, MISMATCHED_GRAVITY};
+use crate::registry::SolverId;
 use crate::report::format::{full, opt4, percent, short, sig4, MarkdownTable};
 use crate::report::tables::{
     half_period_deviation, printed, published_table, stiffness_label, ERROR_CHECK_ABOVE,
@@ -276,7 +277,7 @@ pub fn variants_table(f: &Forensics, faithful: &ResultSet) -> MarkdownTable {
     let faithful_rows: Vec<&Measured> = faithful
         .rows
         .iter()
-        .filter(|m| m.published.solver == SolverKind::AdmmPd)
+        .filter(|m| m.published.solver == SolverId::AdmmPd)
         .collect();
     let misses: Vec<&PublishedRow> = faithful_rows
         .iter()
@@ -341,7 +342,7 @@ pub fn variants_table(f: &Forensics, faithful: &ResultSet) -> MarkdownTable {
 pub fn admm_start_inertial_count(f: &Forensics) -> (usize, usize) {
     let admm_rows = published_rows()
         .iter()
-        .filter(|r| r.solver == SolverKind::AdmmPd)
+        .filter(|r| r.solver == SolverId::AdmmPd)
         .count();
     let reproduced = f
         .run(ConfigurationId::Admm(AdmmCandidate::StartInertial))

@@ -27,9 +27,10 @@ pub mod versions;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use crate::error::Result;
-use crate::experiments::{published_rows, ResultSet, SolverKind, HALF_PERIOD_TOLERANCE};
+use crate::experiments::{published_rows, ResultSet, HALF_PERIOD_TOLERANCE};
 use crate::forensics::Forensics;
 use crate::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
+use crate::registry::SolverId;
 use crate::report::format::{short, MarkdownTable};
 use crate::report::output::OutputFile;
 use crate::report::rest_state::Catenary;
@@ -70,14 +71,14 @@ pub fn repository_containing(start: &Path) -> Option<PathBuf> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sources {
     pub tags: Vec<Tag>,
-    pub quotes: Vec<(SolverKind, Quote)>,
+    pub quotes: Vec<(SolverId, Quote)>,
     pub versions: Versions,
 }
 
 impl Sources {
     /// Reads the crate at `root`; quotes the step functions of `solvers`. A missing region
     /// marker is an error naming the file and the marker.
-    pub fn read(root: &Path, solvers: &[SolverKind]) -> Result<Self> {
+    pub fn read(root: &Path, solvers: &[SolverId]) -> Result<Self> {
         let quotes = solvers
             .iter()
             .map(|&s| traceability::solver_step(root, s).map(|q| (s, q)))
@@ -91,8 +92,8 @@ impl Sources {
 }
 
 /// The solvers that appear in a result set, in table order.
-pub fn solvers_in(results: &ResultSet) -> Vec<SolverKind> {
-    SolverKind::ALL
+pub fn solvers_in(results: &ResultSet) -> Vec<SolverId> {
+    SolverId::THESIS_TABLES
         .into_iter()
         .filter(|s| results.rows.iter().any(|m| m.published.solver == *s))
         .collect()
@@ -267,7 +268,7 @@ fn markdown(
            (git-ignored).\n\n";
     let run = r.rows.len();
     if run < published_rows().len() {
-        let missing: Vec<&str> = SolverKind::ALL
+        let missing: Vec<&str> = SolverId::THESIS_TABLES
             .into_iter()
             .filter(|s| !solvers_in(r).contains(s))
             .map(|s| s.abbreviation())

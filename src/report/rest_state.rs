@@ -4,7 +4,8 @@
 
 use crate::catenary::ElasticChain;
 use crate::error::{Error, Result};
-use crate::experiments::{ResultSet, SolverKind};
+use crate::experiments::ResultSet;
+use crate::registry::SolverId;
 use crate::report::format::{sig, sig4, MarkdownTable};
 use crate::report::tables::stiffness_label;
 use crate::scene::THESIS_STIFFNESSES;
@@ -63,9 +64,11 @@ pub fn comparison(results: &ResultSet, catenary: &Catenary) -> String {
     ]);
     let mut details = String::new();
     for k in THESIS_STIFFNESSES {
-        let Some(reference) = results.rows.iter().find(|m| {
-            m.published.solver == SolverKind::BackwardEuler && m.published.stiffness == k
-        }) else {
+        let Some(reference) = results
+            .rows
+            .iter()
+            .find(|m| m.published.solver == SolverId::BackwardEuler && m.published.stiffness == k)
+        else {
             continue;
         };
         let Some(exact) = catenary.analytic(k) else {

@@ -6,8 +6,9 @@
 
 use crate::backward_euler::BackwardEuler;
 use crate::error::Result;
-use crate::experiments::{ResultSet, SolverKind};
+use crate::experiments::ResultSet;
 use crate::metrics::StoppingRule;
+use crate::registry::{SolverId, SolverSpec};
 use crate::report::tables::iteration_count;
 use crate::scene::{RopeParams, SheetParams, SheetSupport, SHEET_NODES_PER_SIDE};
 use crate::solver::{simulate, Recording, Run, RunOptions};
@@ -21,7 +22,7 @@ use std::sync::Mutex;
 pub struct FigureRunSpec {
     /// Key the figures look the run up by.
     pub key: &'static str,
-    pub solver: SolverKind,
+    pub solver: SolverId,
     pub stiffness: f64,
     pub dt: f64,
     pub iterations: usize,
@@ -41,17 +42,17 @@ pub const BE_STIFF: &str = "be-stiff";
 /// Key of Fast m-s at k = 1e3, dt = 0.1 s, fewest iterations (Figure 13).
 pub const FMS_SOFT_COARSE: &str = "fms-soft-coarse";
 /// Keys of the k = 1e6, dt = 0.01 s runs with the middle iteration count (Figures 14-15).
-pub const STIFF_MIDDLE: [(SolverKind, &str); 3] = [
-    (SolverKind::Xpbd, "xpbd-stiff-middle"),
-    (SolverKind::FastMassSpring, "fms-stiff-middle"),
-    (SolverKind::AdmmPd, "admm-stiff-middle"),
+pub const STIFF_MIDDLE: [(SolverId, &str); 3] = [
+    (SolverId::Xpbd, "xpbd-stiff-middle"),
+    (SolverId::FastMassSpring, "fms-stiff-middle"),
+    (SolverId::AdmmPd, "admm-stiff-middle"),
 ];
 
 /// Every recorded run the figures use.
 pub fn figure_run_specs() -> Vec<FigureRunSpec> {
     let reference = |key, stiffness, max_time, positions| FigureRunSpec {
         key,
-        solver: SolverKind::BackwardEuler,
+        solver: SolverId::BackwardEuler,
         stiffness,
         dt: crate::backward_euler::REFERENCE_DT,
         iterations: crate::backward_euler::REFERENCE_NEWTON_ITERATIONS,
@@ -62,10 +63,10 @@ pub fn figure_run_specs() -> Vec<FigureRunSpec> {
         reference(BE_SOFT, 1e3, Some(SOFT_START_S), true),
         reference(BE_STIFF, 1e6, None, false),
     ];
-    if let Some(iterations) = iteration_count(SolverKind::FastMassSpring, 0) {
+    if let Some(iterations) = iteration_count(SolverId::FastMassSpring, 0) {
         specs.push(FigureRunSpec {
             key: FMS_SOFT_COARSE,
-            solver: SolverKind::FastMassSpring,
+            solver: SolverId::FastMassSpring,
             stiffness: 1e3,
             dt: 0.1,
             iterations,
@@ -92,7 +93,7 @@ pub fn figure_run_specs() -> Vec<FigureRunSpec> {
 /// Runs one recorded experiment from the thesis rope at rest, faithful configuration.
 pub fn run_spec(spec: &FigureRunSpec) -> Result<Run> {
     let system = RopeParams::thesis(spec.stiffness).build()?;
-    let mut solver = spec.solver.build(&system, spec.dt, spec.iterations)?;
+    let mut solver = SolverSpec::new(spec.solver, spec.iterations).build_send(&system, spec.dt)?;
     let mut stop = StoppingRule::default();
     if let Some(t) = spec.max_time {
         // Only the time limit ends the run: the figure shows a fixed window.

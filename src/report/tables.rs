@@ -7,10 +7,11 @@
 //! ours with [`SIGNIFICANT_DIGITS`] significant digits.
 
 use crate::experiments::{
-    peak_tolerance, published_rows, Measured, PublishedRow, ResultSet, SolverKind,
-    HALF_PERIOD_TOLERANCE, PUBLISHED_CSV,
+    peak_tolerance, published_rows, Measured, PublishedRow, ResultSet, HALF_PERIOD_TOLERANCE,
+    PUBLISHED_CSV,
 };
 use crate::metrics::STOP_THRESHOLD_J;
+use crate::registry::SolverId;
 use crate::report::format::{full, opt4, percent, sig4, signed, MarkdownTable, SIGNIFICANT_DIGITS};
 use std::sync::OnceLock;
 
@@ -84,12 +85,13 @@ pub fn stiffness_label(k: f64) -> String {
 }
 
 /// The name of a solver as in the thesis.
-pub fn solver_name(kind: SolverKind) -> &'static str {
+pub fn solver_name(kind: SolverId) -> &'static str {
     match kind {
-        SolverKind::BackwardEuler => "Backward Euler (implicit, Newton-Raphson)",
-        SolverKind::Xpbd => "XPBD (Extended Position-Based Dynamics)",
-        SolverKind::FastMassSpring => "Fast Simulation of Mass-Spring Systems (Liu 2013)",
-        SolverKind::AdmmPd => "ADMM ⊇ Projective Dynamics (Overby 2017)",
+        SolverId::BackwardEuler => "Backward Euler (implicit, Newton-Raphson)",
+        SolverId::Xpbd => "XPBD (Extended Position-Based Dynamics)",
+        SolverId::FastMassSpring => "Fast Simulation of Mass-Spring Systems (Liu 2013)",
+        SolverId::AdmmPd => "ADMM ⊇ Projective Dynamics (Overby 2017)",
+        other => other.info().summary,
     }
 }
 
@@ -220,7 +222,7 @@ pub fn results_table(results: &ResultSet, table: u8) -> MarkdownTable {
 }
 
 /// The $`i`$-th iteration count (ascending) of a solver in the published tables.
-pub fn iteration_count(solver: SolverKind, index: usize) -> Option<usize> {
+pub fn iteration_count(solver: SolverId, index: usize) -> Option<usize> {
     let mut counts: Vec<usize> = published_rows()
         .iter()
         .filter(|r| r.solver == solver)
@@ -234,11 +236,7 @@ pub fn iteration_count(solver: SolverKind, index: usize) -> Option<usize> {
 /// The published rows a view (Tables 9-12) shows: per iteration index, XPBD, Fast m-s and
 /// ADMM at `stiffness` and `dt`.
 pub fn view_rows(stiffness: f64, dt: f64, indices: &[usize]) -> Vec<&'static PublishedRow> {
-    let solvers = [
-        SolverKind::Xpbd,
-        SolverKind::FastMassSpring,
-        SolverKind::AdmmPd,
-    ];
+    let solvers = [SolverId::Xpbd, SolverId::FastMassSpring, SolverId::AdmmPd];
     indices
         .iter()
         .flat_map(|&i| solvers.iter().map(move |&s| (s, i)))
@@ -268,16 +266,17 @@ pub fn view_selection(table: u8) -> Option<(f64, f64, &'static [usize])> {
 pub fn table8() -> MarkdownTable {
     let mut t = MarkdownTable::new(&["abbreviation", "solver", "colour in the figures"]);
     for kind in [
-        SolverKind::Xpbd,
-        SolverKind::FastMassSpring,
-        SolverKind::AdmmPd,
-        SolverKind::BackwardEuler,
+        SolverId::Xpbd,
+        SolverId::FastMassSpring,
+        SolverId::AdmmPd,
+        SolverId::BackwardEuler,
     ] {
         let colour = match kind {
-            SolverKind::BackwardEuler => "black (reference)",
-            SolverKind::Xpbd => "blue, darker for fewer iterations",
-            SolverKind::FastMassSpring => "orange, darker for fewer iterations",
-            SolverKind::AdmmPd => "green, darker for fewer iterations",
+            SolverId::BackwardEuler => "black (reference)",
+            SolverId::Xpbd => "blue, darker for fewer iterations",
+            SolverId::FastMassSpring => "orange, darker for fewer iterations",
+            SolverId::AdmmPd => "green, darker for fewer iterations",
+            _ => "one colour of its own",
         };
         t.row(vec![
             kind.abbreviation().into(),
@@ -525,12 +524,10 @@ pub fn explain(m: &Measured, evidence: Option<&RowEvidence>) -> String {
             e.configuration.summary()
         ),
         (Some(e), _) => format!("section 6 classes it {}", e.evidence.id()),
-        (None, SolverKind::Xpbd) => {
-            "not expected: an independent prototype and a third-party XPBD \
+        (None, SolverId::Xpbd) => "not expected: an independent prototype and a third-party XPBD \
              kernel reproduce every published XPBD row"
-                .into()
-        }
-        (None, SolverKind::BackwardEuler) => {
+            .into(),
+        (None, SolverId::BackwardEuler) => {
             "not expected: round-off alone moves the k = 1e3 peak count by about ±2".into()
         }
         (None, _) => "the forensic chapter was not computed for this partial report".into(),

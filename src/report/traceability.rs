@@ -10,7 +10,7 @@
 //! with the same name in one file are quoted in order.
 
 use crate::error::{Error, Result};
-use crate::experiments::SolverKind;
+use crate::registry::SolverId;
 use crate::report::format::MarkdownTable;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -447,13 +447,8 @@ pub fn summary(tags: &[Tag]) -> String {
 pub const STEP_REGION: &str = "step";
 
 /// The source file of each solver of the thesis's tables.
-pub fn solver_file(kind: SolverKind) -> &'static str {
-    match kind {
-        SolverKind::BackwardEuler => "src/backward_euler.rs",
-        SolverKind::Xpbd => "src/xpbd.rs",
-        SolverKind::FastMassSpring => "src/fast_mass_spring.rs",
-        SolverKind::AdmmPd => "src/admm.rs",
-    }
+pub fn solver_file(kind: SolverId) -> &'static str {
+    kind.info().file
 }
 
 /// A region of source text quoted in the report.
@@ -541,7 +536,7 @@ fn dedent(lines: &[&str]) -> String {
 }
 
 /// The step region of a solver, read from the crate at `root`.
-pub fn solver_step(root: &Path, kind: SolverKind) -> Result<Quote> {
+pub fn solver_step(root: &Path, kind: SolverId) -> Result<Quote> {
     let file = solver_file(kind);
     extract_region(file, &read_source(root, file)?, STEP_REGION)
 }

@@ -11,7 +11,7 @@
 use mass_spring_solvers::admm::{default_omega, dual_update, z_minimisation, AdmmPd};
 use mass_spring_solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
 use mass_spring_solvers::experiments::{
-    faithful_results, published_rows, Configuration, Measured, PublishedRow, SolverKind,
+    faithful_results, published_rows, Configuration, Measured, PublishedRow,
 };
 use mass_spring_solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use mass_spring_solvers::forensics::configurations::LIU_DAMPING_GRID;
@@ -21,6 +21,7 @@ use mass_spring_solvers::forensics::{
     LiuHypothesis, StartPoint, VariantAdmm, Weights, NOISE_PEAK_J,
 };
 use mass_spring_solvers::projective::{finish_step, reduction_matrix, to_columns, GlobalSolve};
+use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::report::data::{reproduction_csv, REPRODUCTION_HEADER};
 use mass_spring_solvers::report::forensics::{
     admm_start_inertial_count, counts_table, damping_scan, evidence_table, gravity_split_table,
@@ -361,12 +362,12 @@ fn every_row_has_a_justified_class() {
         match e.evidence {
             Evidence::Faithful => {
                 assert_eq!(e.configuration, ConfigurationId::Faithful, "{name}");
-                if row.solver == SolverKind::FastMassSpring {
+                if row.solver == SolverId::FastMassSpring {
                     assert!(y.row(row).unwrap().reproduces(), "{name}: both readings");
                 }
             }
             Evidence::Interpretation => {
-                assert_eq!(row.solver, SolverKind::FastMassSpring, "{name}");
+                assert_eq!(row.solver, SolverId::FastMassSpring, "{name}");
                 assert_ne!(
                     faithful.reproduces(),
                     y.row(row).unwrap().reproduces(),
@@ -493,7 +494,7 @@ fn liu_from_y_gives_the_admm_one_iteration_rows() {
     let f = forensic_results();
     assert_eq!(f.liu_as_admm.len(), 6);
     for m in &f.liu_as_admm {
-        assert_eq!(m.published.solver, SolverKind::AdmmPd);
+        assert_eq!(m.published.solver, SolverId::AdmmPd);
         assert!(m.reproduces(), "{}", label(&m.published));
     }
     assert_eq!(row(6, 0.1, 1).ke_peaks, 11);

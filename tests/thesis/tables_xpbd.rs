@@ -3,7 +3,8 @@
 //!
 //! Run with `cargo test --test thesis tables_xpbd -- --nocapture` to see the measured tables.
 
-use mass_spring_solvers::experiments::{faithful_results, Measured, ResultSet, SolverKind};
+use mass_spring_solvers::experiments::{faithful_results, Measured, ResultSet};
+use mass_spring_solvers::registry::SolverId;
 
 /// Prints Tables 1-3 (the rows of the other tables are left out).
 fn print_tables(tables: &ResultSet) {
@@ -51,7 +52,7 @@ fn xpbd_rows() -> impl Iterator<Item = &'static Measured> {
     faithful_results()
         .rows
         .iter()
-        .filter(|r| r.published.solver == SolverKind::Xpbd)
+        .filter(|r| r.published.solver == SolverId::Xpbd)
 }
 
 #[test]

@@ -9,6 +9,7 @@ use super::studies::{
 };
 use crate::error::Result;
 use crate::particles::Integrator;
+use crate::registry::SolverId;
 use crate::report::format::{full, short, sig4};
 use crate::report::plot::{
     layout, power_of_ten, Align, Axis, Chart, Entry, Layout, LegendPlace, Line, Marker, Panel, Rgb,
@@ -48,11 +49,13 @@ const PURPLE: Rgb = Rgb(117, 60, 160);
 /// Colour and marker of each method, the same in every figure.
 fn method_style(method: Method) -> (Rgb, Marker) {
     match method {
-        Method::Tutorial(Integrator::ExplicitEuler) => (RED, Marker::Triangle),
-        Method::Tutorial(Integrator::SymplecticEuler) => (BLUE, Marker::Circle),
-        Method::Tutorial(Integrator::Rk4) => (GREEN, Marker::Square),
-        Method::BackwardEuler => (BLACK, Marker::Cross),
-        Method::DormandPrince => (PURPLE, Marker::Circle),
+        Method(SolverId::ExplicitEuler) => (RED, Marker::Triangle),
+        Method(SolverId::SymplecticEuler) => (BLUE, Marker::Circle),
+        Method(SolverId::Rk4) => (GREEN, Marker::Square),
+        Method(SolverId::BackwardEuler) => (BLACK, Marker::Cross),
+        Method(SolverId::Rk45) => (PURPLE, Marker::Circle),
+        // The study runs only the five above.
+        Method(_) => (GREY, Marker::None),
     }
 }
 

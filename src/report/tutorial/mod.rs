@@ -10,6 +10,7 @@ pub mod studies;
 use crate::error::Result;
 use crate::particles::adaptive::{MAX_GROWTH, MAX_SHRINK, SAFETY};
 use crate::particles::Integrator;
+use crate::registry::SolverId;
 use crate::report::format::{full, short, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
 use figures::{sig_short, TutorialFigure};
@@ -238,7 +239,7 @@ impl TutorialChapter {
         let euler = self
             .convergence
             .iter()
-            .find(|s| s.method == studies::Method::Tutorial(Integrator::ExplicitEuler))
+            .find(|s| s.method == studies::Method(SolverId::ExplicitEuler))
             .map_or(f64::NAN, |s| s.slope);
         md += &format!(
             "\nThe tutorial's \"Euler es un Runge-Kutta de orden 2\" does not hold: explicit Euler's error falls \

@@ -2,13 +2,13 @@
 //! bound: convergence orders, stability limits, forces, collisions and the adaptive integrator.
 //! Every function runs the crate's own integrators; nothing here is a published number.
 
-use crate::backward_euler::BackwardEuler;
 use crate::error::Result;
 use crate::particles::scenes::{ClothDropParams, PendulumParams};
 use crate::particles::{
     AdaptiveStats, AdaptiveStepper, DampedSprings, Drag, Gravity, Ground, Integrator,
     ParticleStepper, ParticleSystem, Particles,
 };
+use crate::registry::{SolverId, SolverSpec};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, Node, Spring, State, Vec3};
 
@@ -98,45 +98,37 @@ impl Oscillator {
     }
 }
 
-/// The methods of the convergence study: the tutorial's three, the thesis's reference and the
-/// fifth-order solution of the adaptive pair used with a fixed step.
+/// A method of the convergence study: a registry solver as the study runs it (the thesis's
+/// Backward Euler with 10 Newton iterations; rk45's fifth-order solution with a fixed step).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    Tutorial(Integrator),
-    BackwardEuler,
-    DormandPrince,
-}
+pub struct Method(pub SolverId);
 
 impl Method {
     pub const ALL: [Method; 5] = [
-        Method::Tutorial(Integrator::ExplicitEuler),
-        Method::Tutorial(Integrator::SymplecticEuler),
-        Method::Tutorial(Integrator::Rk4),
-        Method::BackwardEuler,
-        Method::DormandPrince,
+        Method(SolverId::ExplicitEuler),
+        Method(SolverId::SymplecticEuler),
+        Method(SolverId::Rk4),
+        Method(SolverId::BackwardEuler),
+        Method(SolverId::Rk45),
     ];
 
     /// The order of the global error at a fixed time, from the method's theory.
     pub fn expected_order(self) -> u32 {
-        match self {
-            Method::Tutorial(i) => i.order(),
-            Method::BackwardEuler => 1,
-            Method::DormandPrince => 5,
+        match self.0.integrator() {
+            Some(i) => i.order(),
+            None if self.0 == SolverId::Rk45 => 5,
+            None => 1,
         }
     }
 
-    /// A short identifier for CSV files.
+    /// The registry identifier, for CSV files.
     pub fn id(self) -> &'static str {
-        match self {
-            Method::Tutorial(i) => i.key(),
-            Method::BackwardEuler => "backward-euler",
-            Method::DormandPrince => "dormand-prince-5",
-        }
+        self.0.id()
     }
 
     /// Backward Euler in this crate is the thesis's, which models undamped springs only.
     pub fn models_damping(self) -> bool {
-        self != Method::BackwardEuler
+        self.0 != SolverId::BackwardEuler
     }
 
     /// Runs the oscillator from 0 to `duration` with `steps` fixed steps; the final state.
@@ -144,26 +136,21 @@ impl Method {
         let h = duration / steps as f64;
         let system = oscillator.system();
         let mut state = system.initial_state();
-        match self {
-            Method::Tutorial(integrator) => {
-                let mut s =
-                    ParticleStepper::new(ParticleSystem::from_system(system), integrator, h)?;
-                for _ in 0..steps {
-                    s.step(&mut state)?;
-                }
+        if self.0 == SolverId::Rk45 {
+            let mut s = AdaptiveStepper::new(ParticleSystem::from_system(system), h, 1.0)?;
+            for _ in 0..steps {
+                s.fixed_step(&mut state, h);
             }
-            Method::BackwardEuler => {
-                let mut s = BackwardEuler::new(&system, h, 10)?;
-                for _ in 0..steps {
-                    s.step(&mut state)?;
-                }
-            }
-            Method::DormandPrince => {
-                let mut s = AdaptiveStepper::new(ParticleSystem::from_system(system), h, 1.0)?;
-                for _ in 0..steps {
-                    s.fixed_step(&mut state, h);
-                }
-            }
+            return Ok(state);
+        }
+        let iterations = if self.0 == SolverId::BackwardEuler {
+            10
+        } else {
+            1
+        };
+        let mut s = SolverSpec::new(self.0, iterations).build(&system, h)?;
+        for _ in 0..steps {
+            s.step(&mut state)?;
         }
         Ok(state)
     }
@@ -171,10 +158,10 @@ impl Method {
 
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Method::Tutorial(i) => write!(f, "{i}"),
-            Method::BackwardEuler => f.write_str("Backward Euler"),
-            Method::DormandPrince => f.write_str("Dormand-Prince 5 (fixed h)"),
+        match self.0.integrator() {
+            Some(i) => write!(f, "{i}"),
+            None if self.0 == SolverId::Rk45 => f.write_str("Dormand-Prince 5 (fixed h)"),
+            None => f.write_str("Backward Euler"),
         }
     }
 }
@@ -213,8 +200,8 @@ pub struct ConvergenceSeries {
 /// Step counts of each method: five halvings in its asymptotic range (above roundoff).
 fn convergence_steps(method: Method) -> Vec<usize> {
     let coarsest = match method {
-        Method::Tutorial(Integrator::Rk4) => 50,
-        Method::DormandPrince => 20,
+        Method(SolverId::Rk4) => 50,
+        Method(SolverId::Rk45) => 20,
         _ => 1000,
     };
     (0..5).map(|j| coarsest << j).collect()

@@ -1,0 +1,550 @@
+//! The command line: the options, their checks and the limits of a run.
+
+use crate::scene::scene_name;
+use crate::Failure;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{Parser, ValueEnum};
+use mass_spring_solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
+use mass_spring_solvers::error::Error;
+use mass_spring_solvers::metrics::{StoppingRule, MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
+use mass_spring_solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::scene::THESIS_STIFFNESSES;
+use mass_spring_solvers::scene_file::LIMITS;
+use mass_spring_solvers::solver::{Recording, RunOptions};
+use std::path::PathBuf;
+
+/// Iterations per step when `--iterations` is not given (the reference's Newton iterations).
+pub(crate) const DEFAULT_ITERATIONS: usize = REFERENCE_NEWTON_ITERATIONS;
+/// Steps between recorded positions when `--positions-every` is not given: keeps the series of
+/// a long run (hundreds of thousands of steps) small.
+pub(crate) const DEFAULT_POSITIONS_EVERY: u64 = 10;
+/// Stiffness of the built-in ropes when `--stiffness` is not given, N/m (the thesis's stiffer).
+pub(crate) const DEFAULT_ROPE_STIFFNESS: f64 = THESIS_STIFFNESSES[1];
+/// Spring updates (steps × iterations × springs) a run may need unless `--max-work` says
+/// more: about a quarter of an hour of the slowest solver on this machine's kind.
+pub(crate) const DEFAULT_MAX_WORK: f64 = 1e11;
+/// Memory a node may need at most, in bytes, in any scene and solver: the bound of `--nodes`
+/// and of a scene file's node count against the memory available.
+pub(crate) const BYTES_PER_NODE: u64 = 4096;
+/// The memory assumed available where the system does not say (`/proc/meminfo`), in bytes.
+pub(crate) const ASSUMED_MEMORY: u64 = 1 << 32;
+
+pub(crate) const AFTER_HELP: &str = "\
+Output: the number of kinetic-energy peaks (a peak is a step whose KE is above the previous
+one's and at least the next one's), T/2 under the thesis convention (last peak's detection
+time, accumulated in f32, divided by the number of peaks) and the exact one (mean interval
+between peaks), the end time and whether the time limit was hit. On the thesis rope with the
+thesis's parameters the published row (Tables 1-7) is shown beside ours.
+
+Scene file (--scene-file, TOML, SI units; see scenes/*.toml):
+  gravity = [0.0, -9.81, 0.0]
+  [[nodes]]    mass = 1.0, position = [x, y, z], velocity = [..] (optional), fixed = true|false
+  [[springs]]  a = 0, b = 1 (node indices), stiffness = 1e6, rest_length (optional, default:
+               the initial distance), damping (optional, N·s/m, tutorial integrators only)
+  [forces]     drag = k_f (N·s/m), ground = { height = 0.0, restitution = 0.5 }
+               (tutorial integrators only)
+
+Examples:
+  mss --scene thesis --solver xpbd --stiffness 1e6 --dt 1e-3 --iterations 20
+  mss --scene rope --nodes 30 --solver fast_mass_spring --iterations 30 --compare-reference --json
+  mss --scene pendulum --solver rk4 --dt 1e-4 --max-time 10 --positions-csv pendulum.csv
+  mss --scene-file scenes/hanging-cloth.toml --solver admm_pd --iterations 20 --ke-csv ke.csv
+
+Output files (--ke-csv, --positions-csv) are checked before the run: a directory, a read-only
+file, a path whose directory is missing or not writable, the scene file, or one file given to
+both options is bad input (exit 2). A new or existing regular file (links followed) is replaced
+only when the run succeeds, and an interrupted run leaves nothing beside it; a path under /dev
+or any other file that is not a regular file (a device, a named pipe) is written in place.
+
+Limits (bad input, exit 2, before the run): a run needing more than --max-work spring updates
+(steps × iterations × springs, the reference run's included); more nodes than the available
+memory holds at 4 KiB a node; --dt longer than --max-time; a scene file over 16 MiB; values
+outside the plausible ranges: masses 1e-9 to 1e9 kg, coordinates and rest lengths within 1e6 m,
+velocities within 1e6 m/s, gravity within 1e4 m/s², stiffness up to 1e12 N/m, damping and drag
+up to 1e9 N·s/m.
+
+Exit status: 0 success; 1 the run failed (diverged or a step failed); 2 bad input.";
+
+/// One-off runs of the thesis's mass-spring solvers and the tutorial's integrators.
+#[derive(Debug, Parser)]
+#[command(name = "mss", version, after_help = AFTER_HELP)]
+pub(crate) struct Cli {
+    /// Time-stepping method (`--list-solvers` describes each)
+    #[arg(
+        long,
+        default_value = "backward_euler",
+        value_parser = SolverParser,
+        help_heading = "Solver"
+    )]
+    pub(crate) solver: SolverId,
+
+    /// Print every solver, one line each (identifier, source, iterations, options), and exit
+    #[arg(long, help_heading = "Solver")]
+    pub(crate) list_solvers: bool,
+
+    /// Time step dt, in s (> 0)
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1e-3,
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) dt: f64,
+
+    /// Iterations per time step, an integer >= 1: Newton iterations (backward_euler), sweeps
+    /// over the springs (pbd, xpbd), local/global iterations (fast_mass_spring, admm_pd). Not
+    /// accepted by the tutorial's integrators. [default: 5]
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) iterations: Option<i64>,
+
+    /// rk45 only: error tolerance T (> 0) of each adaptive step, relative to 1 + |component| of
+    /// every position (m) and velocity (m/s); a bounce is located to within T m [default: 1e-6]
+    #[arg(
+        long,
+        value_name = "T",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) tolerance: Option<f64>,
+
+    /// pbd only: dimensionless stiffness factor in [0, 1] scaling each constraint's correction
+    /// (not the stiffness in N/m) [default: 1]
+    #[arg(
+        long,
+        value_name = "F",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) stiffness_factor: Option<f64>,
+
+    /// Built-in scene
+    #[arg(long, value_enum, default_value_t = SceneArg::Thesis, help_heading = "Scene")]
+    pub(crate) scene: SceneArg,
+
+    /// Read the scene from this TOML file instead (format below); conflicts with --scene
+    #[arg(
+        long,
+        value_name = "PATH",
+        conflicts_with = "scene",
+        help_heading = "Scene"
+    )]
+    pub(crate) scene_file: Option<PathBuf>,
+
+    /// Stiffness k of every spring, in N/m (> 0) [default: the scene's: 1e6 for thesis and
+    /// rope, the cloth's and the pendulum's own, a scene file's own values]
+    #[arg(
+        long,
+        value_name = "N/M",
+        allow_negative_numbers = true,
+        help_heading = "Scene"
+    )]
+    pub(crate) stiffness: Option<f64>,
+
+    /// Gravity along -y, in m/s² (finite; >= 0 for the cloths and the pendulum); replaces a
+    /// scene file's gravity vector by (0, -G, 0) [default: the scene's, 9.81 for the built-in
+    /// scenes]
+    #[arg(
+        long,
+        value_name = "M/S2",
+        allow_negative_numbers = true,
+        help_heading = "Scene"
+    )]
+    pub(crate) gravity: Option<f64>,
+
+    /// rope: number of nodes, an integer >= 3 (the first and last are fixed) [default: 10]
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        help_heading = "Scene"
+    )]
+    pub(crate) nodes: Option<i64>,
+
+    /// rope: rest length of every spring, in m (> 0) [default: 1]
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        help_heading = "Scene"
+    )]
+    pub(crate) rest_length: Option<f64>,
+
+    /// rope: mass of every node, in kg (> 0) [default: 1]
+    #[arg(
+        long,
+        value_name = "KG",
+        allow_negative_numbers = true,
+        help_heading = "Scene"
+    )]
+    pub(crate) node_mass: Option<f64>,
+
+    /// rope: distance between the two fixed ends along x, in m (> 0); the rope starts straight
+    /// and at rest [default: (nodes - 1) x rest length, every spring at its rest length]
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        help_heading = "Scene"
+    )]
+    pub(crate) span: Option<f64>,
+
+    /// Stop at the first kinetic-energy peak below this, in J (> 0); that peak is counted
+    #[arg(long, value_name = "J", default_value_t = STOP_THRESHOLD_J, allow_negative_numbers = true, help_heading = "Stopping rule")]
+    pub(crate) threshold: f64,
+
+    /// Stop when the simulated time reaches this, in s (> 0); reported as "hit time limit"
+    #[arg(long, value_name = "S", default_value_t = MAX_SIMULATED_TIME_S, allow_negative_numbers = true, help_heading = "Stopping rule")]
+    pub(crate) max_time: f64,
+
+    /// Variant (not the thesis's rule): the first kinetic-energy peak never stops the run
+    #[arg(long, help_heading = "Stopping rule")]
+    pub(crate) exempt_first_peak: bool,
+
+    /// Variant (not the thesis's method): velocity damping c, in 1/s (>= 0), applied after
+    /// every step as v <- v·exp(-c·dt); 0 is the faithful method
+    #[arg(
+        long,
+        value_name = "PER_S",
+        default_value_t = 0.0,
+        allow_negative_numbers = true,
+        help_heading = "Variants"
+    )]
+    pub(crate) velocity_damping: f64,
+
+    /// Also run the Backward Euler reference of the same scene as the report runs it (dt = 1e-3
+    /// s, 5 Newton iterations, the thesis's stopping rule, no damping, whatever this run's
+    /// stopping options) and report the rest-state error of the final
+    /// positions against it (sum, L2 and max over nodes of |x_i - x_ref_i|, in m) and the
+    /// relative T/2 error (thesis convention)
+    #[arg(long, help_heading = "Output")]
+    pub(crate) compare_reference: bool,
+
+    /// Print the metrics as one JSON object instead of text
+    #[arg(long, help_heading = "Output")]
+    pub(crate) json: bool,
+
+    /// Write the kinetic energy of every step to this CSV file (columns time_s,kinetic_energy_j;
+    /// from t = 0)
+    #[arg(long, value_name = "PATH", help_heading = "Output")]
+    pub(crate) ke_csv: Option<PathBuf>,
+
+    /// Write node positions to this CSV file (columns time_s,node,x_m,y_m,z_m; t = 0, every
+    /// --positions-every steps, and the final state)
+    #[arg(long, value_name = "PATH", help_heading = "Output")]
+    pub(crate) positions_csv: Option<PathBuf>,
+
+    /// Refuse, before it starts, a run needing more than this many spring updates (steps ×
+    /// iterations × springs, the reference run's included); raise it for a long run on purpose
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_WORK, help_heading = "Limits")]
+    pub(crate) max_work: f64,
+
+    /// With --positions-csv: write the positions every N steps, an integer >= 1 [default: 10]
+    #[arg(
+        long,
+        value_name = "N",
+        requires = "positions_csv",
+        allow_negative_numbers = true,
+        help_heading = "Output"
+    )]
+    pub(crate) positions_every: Option<i64>,
+}
+
+/// The built-in scenes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[value(rename_all = "snake_case")]
+pub(crate) enum SceneArg {
+    /// The thesis rope (§3.1): 10 nodes of 1 kg, ends fixed 9 m apart, 1 m springs,
+    /// g = 9.81 m/s², straight and at rest
+    Thesis,
+    /// A straight rope of --nodes nodes between two fixed ends (--rest-length, --node-mass,
+    /// --span), at rest
+    Rope,
+    /// A square cloth pinned at its two top corners, undamped springs on the triangle edges,
+    /// released at rest
+    HangingCloth,
+    /// The tutorial's cloth dropped flat from 10 m onto the floor y = 0, with damped springs,
+    /// drag and restitution (tutorial integrators only)
+    ClothDrop,
+    /// The tutorial's pendulum: a chain of damped springs released horizontal from a pivot,
+    /// bouncing on the floor (tutorial integrators only)
+    Pendulum,
+}
+
+impl SceneArg {
+    pub(crate) fn id(self) -> String {
+        self.to_possible_value()
+            .map_or_else(String::new, |v| v.get_name().to_string())
+    }
+}
+
+/// The `--solver` values: every registered solver, with its summary as help; dashes read as
+/// underscores (`explicit-euler`).
+#[derive(Clone)]
+pub(crate) struct SolverParser;
+
+impl SolverParser {
+    fn values() -> impl Iterator<Item = PossibleValue> {
+        SolverId::ALL
+            .into_iter()
+            .map(|s| PossibleValue::new(s.id()).help(s.info().summary))
+    }
+}
+
+impl TypedValueParser for SolverParser {
+    type Value = SolverId;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<SolverId, clap::Error> {
+        let normalised = std::ffi::OsString::from(value.to_string_lossy().replace('-', "_"));
+        let id = PossibleValuesParser::new(Self::values()).parse_ref(cmd, arg, &normalised)?;
+        Ok(SolverId::from_id(&id).expect("the possible values are the registry's"))
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(Self::values()))
+    }
+}
+
+/// The solver options given on the command line, by their registry name.
+fn solver_options(cli: &Cli) -> [(&'static str, Option<f64>); 2] {
+    [
+        ("tolerance", cli.tolerance),
+        ("stiffness_factor", cli.stiffness_factor),
+    ]
+}
+
+/// The solver with its iterations and options, each checked against the registry's entry.
+fn solver_spec(cli: &Cli) -> Result<SolverSpec, Failure> {
+    let info = cli.solver.info();
+    let iterations = match (info.iteration, cli.iterations) {
+        (Some(_), None) => DEFAULT_ITERATIONS,
+        (Some(_), Some(n)) => check_count("--iterations", n, 1)?,
+        (None, None) => 1,
+        (None, Some(n)) => {
+            return Err(Error::invalid(
+                "--iterations",
+                n,
+                &format!("not given: {} takes no iterations", info.id),
+            )
+            .into())
+        }
+    };
+    let mut spec = SolverSpec::new(cli.solver, iterations);
+    for (name, value) in solver_options(cli) {
+        let Some(value) = value else { continue };
+        let option = format!("--{}", name.replace('_', "-"));
+        if !info.options.iter().any(|o| o.name == name) {
+            let takers: Vec<&str> = SolverId::ALL
+                .iter()
+                .filter(|s| s.info().options.iter().any(|o| o.name == name))
+                .map(|s| s.id())
+                .collect();
+            return Err(Error::invalid(
+                option,
+                value,
+                &format!(
+                    "not given: {} has no such option ({} has)",
+                    info.id,
+                    takers.join(", ")
+                ),
+            )
+            .into());
+        }
+        spec.params.set(name, value).map_err(|e| match e {
+            Error::InvalidParameter { value, allowed, .. } => Error::InvalidParameter {
+                field: option,
+                value,
+                allowed,
+            },
+            e => e,
+        })?;
+    }
+    Ok(spec)
+}
+
+/// `--list-solvers`: one line a solver.
+pub(crate) fn list_solvers() -> String {
+    let mut out = String::new();
+    for id in SolverId::ALL {
+        let info = id.info();
+        let iterations = info.iteration.map_or_else(
+            || "no iterations".to_string(),
+            |i| format!("iteration: {i}"),
+        );
+        let options: Vec<String> = info
+            .options
+            .iter()
+            .map(|o| format!("--{} ({})", o.name.replace('_', "-"), o.help))
+            .collect();
+        let options = if options.is_empty() {
+            String::new()
+        } else {
+            format!("; options: {}", options.join(", "))
+        };
+        out += &format!(
+            "{:<18} {} [{}; {iterations}{options}]\n",
+            info.id, info.summary, info.source
+        );
+    }
+    out
+}
+
+/// Rejects `value` unless it is finite and in range, naming the option and its unit.
+pub(crate) fn check(option: &str, value: f64, ok: bool, allowed: &str) -> Result<f64, Failure> {
+    if value.is_finite() && ok {
+        Ok(value)
+    } else {
+        Err(Error::invalid(option, value, allowed).into())
+    }
+}
+
+/// Rejects an integer below `min`, naming the option.
+pub(crate) fn check_count(option: &str, value: i64, min: i64) -> Result<usize, Failure> {
+    usize::try_from(value)
+        .ok()
+        .filter(|_| value >= min)
+        .ok_or_else(|| Error::invalid(option, value, &format!("an integer >= {min}")).into())
+}
+
+/// The memory available to a new process, in bytes (`MemAvailable` on Linux).
+pub(crate) fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuses more nodes than the available memory holds at [`BYTES_PER_NODE`], naming `option`.
+pub(crate) fn check_memory(option: &str, nodes: usize) -> Result<(), Failure> {
+    let memory = available_memory().unwrap_or(ASSUMED_MEMORY);
+    let max_nodes = memory / BYTES_PER_NODE;
+    if nodes as u64 <= max_nodes {
+        return Ok(());
+    }
+    Err(Failure::input(format!(
+        "invalid {option}: {nodes} nodes (allowed: at most {max_nodes}, what the {} MiB of \
+         memory available hold at {BYTES_PER_NODE} bytes a node)",
+        memory >> 20
+    )))
+}
+
+/// Refuses, before it starts, a run that needs more than `--max-work` spring updates.
+pub(crate) fn check_work(cli: &Cli, settings: &Settings, springs: usize) -> Result<(), Failure> {
+    let max_time = settings.options.stop.max_time;
+    let springs = springs.max(1) as f64;
+    let steps = (max_time / cli.dt).ceil();
+    let mut work = steps * settings.spec.iterations as f64 * springs;
+    let mut parts = format!(
+        "{steps:.3e} steps (--max-time / --dt) × {} iterations × {springs} springs",
+        settings.spec.iterations
+    );
+    if cli.compare_reference {
+        let reference_steps = (max_time / REFERENCE_DT).ceil();
+        work += reference_steps * REFERENCE_NEWTON_ITERATIONS as f64 * springs;
+        parts += ", and the reference run's";
+    }
+    if work <= cli.max_work {
+        return Ok(());
+    }
+    Err(Failure::input(format!(
+        "invalid --max-work: the run needs about {work:.3e} spring updates ({parts}), more than \
+         the budget of {:e}; take a larger --dt, a shorter --max-time or fewer --iterations, or \
+         raise --max-work",
+        cli.max_work
+    )))
+}
+
+/// The options, checked: every value in range, every option used by the chosen scene and method.
+#[derive(Debug)]
+pub(crate) struct Settings {
+    pub(crate) spec: SolverSpec,
+    pub(crate) options: RunOptions,
+}
+
+pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
+    let spec = solver_spec(cli)?;
+    check("--dt", cli.dt, cli.dt > 0.0, "a number > 0, in s")?;
+    if let Some(k) = cli.stiffness {
+        check("--stiffness", k, k > 0.0, "a number > 0, in N/m")?;
+        LIMITS.stiffness.check("--stiffness", k)?;
+    }
+    if let Some(g) = cli.gravity {
+        LIMITS.gravity.check("--gravity", g)?;
+    }
+    check(
+        "--max-work",
+        cli.max_work,
+        cli.max_work >= 1.0,
+        "a number >= 1, in spring updates",
+    )?;
+    let rope_only = [
+        ("--nodes", cli.nodes.is_some()),
+        ("--rest-length", cli.rest_length.is_some()),
+        ("--node-mass", cli.node_mass.is_some()),
+        ("--span", cli.span.is_some()),
+    ];
+    if cli.scene != SceneArg::Rope || cli.scene_file.is_some() {
+        if let Some((option, _)) = rope_only.iter().find(|(_, given)| *given) {
+            return Err(Failure::input(format!(
+                "{option} applies to --scene rope only (the scene is {})",
+                scene_name(cli)
+            )));
+        }
+    }
+    let threshold = check(
+        "--threshold",
+        cli.threshold,
+        cli.threshold > 0.0,
+        "a number > 0, in J",
+    )?;
+    let max_time = check(
+        "--max-time",
+        cli.max_time,
+        cli.max_time > 0.0,
+        "a number > 0, in s",
+    )?;
+    if cli.dt > max_time {
+        return Err(Error::invalid(
+            "--dt",
+            cli.dt,
+            &format!("at most --max-time ({max_time} s): a longer step is never taken"),
+        )
+        .into());
+    }
+    let velocity_damping = check(
+        "--velocity-damping",
+        cli.velocity_damping,
+        cli.velocity_damping >= 0.0,
+        "a number >= 0, in 1/s",
+    )?;
+    let positions_every = match (&cli.positions_csv, cli.positions_every) {
+        (None, _) => None,
+        (Some(_), None) => Some(DEFAULT_POSITIONS_EVERY),
+        (Some(_), Some(n)) => Some(check_count("--positions-every", n, 1)? as u64),
+    };
+    Ok(Settings {
+        spec,
+        options: RunOptions {
+            stop: StoppingRule {
+                threshold,
+                max_time,
+                exempt_first_peak: cli.exempt_first_peak,
+            },
+            velocity_damping,
+            recording: Recording {
+                kinetic_energy: cli.ke_csv.is_some(),
+                positions_every,
+            },
+        },
+    })
+}

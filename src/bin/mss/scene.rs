@@ -1,0 +1,162 @@
+//! The scene of a run and its time stepper.
+
+use crate::args::{check, check_count, check_memory, Cli, SceneArg, DEFAULT_ROPE_STIFFNESS};
+use crate::output::{AppliedForces, GroundSummary};
+use crate::Failure;
+use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
+use mass_spring_solvers::particles::ParticleSystem;
+use mass_spring_solvers::registry::{Builder, SolverSpec};
+use mass_spring_solvers::scene::{RopeParams, THESIS_GRAVITY, THESIS_NODES};
+use mass_spring_solvers::scene_file::{self, SceneFile, LIMITS};
+use mass_spring_solvers::solver::TimeStepper;
+use mass_spring_solvers::system::{MassSpringSystem, Vec3};
+
+/// What a scene is made of: a plain mass-spring system (every method runs it), a scene file
+/// (which may ask for the tutorial's forces) or a tutorial particle system (drag and ground:
+/// the tutorial's integrators only).
+pub(crate) enum Model {
+    Springs(MassSpringSystem),
+    File(SceneFile),
+    Particles(ParticleSystem),
+}
+
+impl Model {
+    pub(crate) fn system(&self) -> &MassSpringSystem {
+        match self {
+            Model::Springs(system) => system,
+            Model::File(file) => &file.system,
+            Model::Particles(particles) => particles.system(),
+        }
+    }
+
+    /// The system for the thesis's solvers, which model undamped springs and gravity only.
+    pub(crate) fn springs_only(&self, scene: &str) -> Result<MassSpringSystem, Failure> {
+        match self {
+            Model::Springs(system) => Ok(system.clone()),
+            Model::File(file) => {
+                file.require_springs_and_gravity_only().map_err(|e| {
+                    Failure::input(format!(
+                        "{scene}: {e}; explicit_euler, symplectic_euler, rk4 and rk45 model it"
+                    ))
+                })?;
+                Ok(file.system.clone())
+            }
+            Model::Particles(_) => Err(Failure::input(format!(
+                "invalid --scene: {scene} (allowed with the thesis's solvers and with \
+                 --compare-reference: thesis, rope, hanging_cloth or a scene file without drag, \
+                 ground or spring damping; {scene} needs explicit_euler, symplectic_euler, rk4 or rk45)"
+            ))),
+        }
+    }
+
+    /// The tutorial's particle system of the scene.
+    pub(crate) fn into_particles(self) -> Result<ParticleSystem, Failure> {
+        Ok(match self {
+            Model::Springs(system) => ParticleSystem::from_system(system),
+            Model::File(file) => file.particle_system()?,
+            Model::Particles(particles) => particles,
+        })
+    }
+}
+
+pub(crate) fn scene_name(cli: &Cli) -> String {
+    match &cli.scene_file {
+        Some(path) => format!("scene file {}", path.display()),
+        None => cli.scene.id(),
+    }
+}
+
+/// Builds the scene with the stiffness and gravity overrides.
+pub(crate) fn build_scene(cli: &Cli) -> Result<Model, Failure> {
+    let g = cli.gravity;
+    if let Some(path) = &cli.scene_file {
+        let mut file = scene_file::load(path)?;
+        check_memory("--scene-file", file.system.len())?;
+        if let Some(k) = cli.stiffness {
+            file.system = file.system.with_stiffness(k)?;
+        }
+        if let Some(g) = g {
+            file.system = file.system.with_gravity(Vec3::new(0.0, -g, 0.0))?;
+        }
+        return Ok(Model::File(file));
+    }
+    let k = cli.stiffness;
+    Ok(match cli.scene {
+        SceneArg::Thesis => {
+            let mut rope = RopeParams::thesis(k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
+            rope.gravity = g.unwrap_or(THESIS_GRAVITY);
+            Model::Springs(rope.build()?)
+        }
+        SceneArg::Rope => {
+            let mut rope = RopeParams::thesis(k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
+            rope.nodes = match cli.nodes {
+                Some(n) => check_count("--nodes", n, 3)?,
+                None => THESIS_NODES,
+            };
+            check_memory("--nodes", rope.nodes)?;
+            if let Some(l) = cli.rest_length {
+                rope.rest_length = LIMITS.rest_length.check("--rest-length", l)?;
+            }
+            if let Some(m) = cli.node_mass {
+                rope.node_mass = LIMITS.mass.check("--node-mass", m)?;
+            }
+            let span = match cli.span {
+                Some(s) => {
+                    check("--span", s, s > 0.0, "a number > 0, in m")?;
+                    LIMITS.coordinate.check("--span", s)?
+                }
+                None => (rope.nodes - 1) as f64 * rope.rest_length,
+            };
+            rope.anchor_right = rope.anchor_left + Vec3::new(span, 0.0, 0.0);
+            rope.gravity = g.unwrap_or(THESIS_GRAVITY);
+            Model::Springs(rope.build()?)
+        }
+        SceneArg::HangingCloth => {
+            let defaults = ClothParams::default();
+            let cloth = ClothParams {
+                stiffness: k.unwrap_or(defaults.stiffness),
+                // The thesis's solvers model undamped springs; every method runs the same scene.
+                damping: 0.0,
+                gravity: g.unwrap_or(defaults.gravity),
+                ..defaults
+            };
+            Model::Springs(cloth.hanging()?)
+        }
+        SceneArg::ClothDrop => {
+            let mut drop = ClothDropParams::tutorial();
+            drop.cloth.stiffness = k.unwrap_or(drop.cloth.stiffness);
+            drop.cloth.gravity = g.unwrap_or(drop.cloth.gravity);
+            Model::Particles(drop.build()?)
+        }
+        SceneArg::Pendulum => {
+            let mut pendulum = PendulumParams::tutorial();
+            pendulum.stiffness = k.unwrap_or(pendulum.stiffness);
+            pendulum.gravity = g.unwrap_or(pendulum.gravity);
+            Model::Particles(pendulum.build()?)
+        }
+    })
+}
+
+/// The time stepper of `spec` on the scene, and the tutorial's force objects and ground it
+/// applies (none for the solvers of springs and gravity).
+pub(crate) fn build_stepper(
+    spec: &SolverSpec,
+    model: Model,
+    scene: &str,
+    dt: f64,
+) -> Result<(Box<dyn TimeStepper>, Option<AppliedForces>), Failure> {
+    Ok(match spec.id.info().builder {
+        Builder::Springs(build) => (build(&model.springs_only(scene)?, dt, spec)?, None),
+        Builder::Particles(build) => {
+            let particles = model.into_particles()?;
+            let applied = AppliedForces {
+                forces: particles.forces().iter().map(|f| f.name()).collect(),
+                ground: particles.ground().map(|g| GroundSummary {
+                    height_m: g.height(),
+                    restitution: g.restitution(),
+                }),
+            };
+            (build(particles, dt, spec)?, Some(applied))
+        }
+    })
+}

@@ -1,0 +1,451 @@
+//! The solver registry: one identifier per solver, with its parameters, used by the library's
+//! experiments, `mss`, the report and the benches.
+//!
+//! [`SolverId`] names a solver; [`SolverId::info`] is the list of every solver, one entry each
+//! (its names, its source, what its iterations mean, its options and how it is built), so
+//! adding a solver is one variant and one entry there. [`SolverSpec`] is a solver with its
+//! parameters: the iteration count and the options of [`SolverParams`].
+//!
+//! What the registry does not hold, on purpose: the forensic readings of the thesis's open
+//! points ([`crate::forensics::SolverChoice`], which builds departures from the printed
+//! algorithms for the forensic chapter only) and the stopping rule and recording of a run
+//! ([`crate::solver::RunOptions`]), which belong to the run, not to the solver.
+
+use crate::admm::AdmmPd;
+use crate::backward_euler::BackwardEuler;
+use crate::error::{require_positive, Error, Result};
+use crate::fast_mass_spring::FastMassSpring;
+use crate::particles::adaptive::AdaptiveStepper;
+use crate::particles::integrators::{Integrator, ParticleStepper};
+use crate::particles::ParticleSystem;
+use crate::pbd::Pbd;
+use crate::solver::TimeStepper;
+use crate::system::MassSpringSystem;
+use crate::xpbd::Xpbd;
+use serde::{Deserialize, Serialize};
+
+/// One identifier per solver: the thesis's (§2), the tutorial's integrators and the newer
+/// solvers of the thesis's future work (§5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverId {
+    BackwardEuler,
+    Pbd,
+    Xpbd,
+    FastMassSpring,
+    AdmmPd,
+    ExplicitEuler,
+    SymplecticEuler,
+    Rk4,
+    Rk45,
+}
+
+/// Where a solver comes from, which decides where the report shows it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// A solver of the thesis (§2).
+    Thesis,
+    /// One of the tutorial's integrators (or the adaptive pair beyond it).
+    Tutorial,
+    /// A solver after the thesis, from its future work (§5).
+    Beyond,
+}
+
+/// What a solver is built from: a mass-spring system (springs and gravity only, the thesis's
+/// model) or the tutorial's particle system (with drag, spring damping and a ground).
+#[derive(Clone, Copy)]
+pub enum Builder {
+    Springs(fn(&MassSpringSystem, f64, &SolverSpec) -> Result<Box<dyn TimeStepper + Send>>),
+    Particles(fn(ParticleSystem, f64, &SolverSpec) -> Result<Box<dyn TimeStepper>>),
+}
+
+/// A solver's option beyond the time step and the iteration count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OptionInfo {
+    /// The name in [`SolverParams`] and, with dashes, on the command line.
+    pub name: &'static str,
+    /// What it is, its unit and its allowed range.
+    pub help: &'static str,
+}
+
+/// A registry entry.
+#[derive(Clone, Copy)]
+pub struct SolverInfo {
+    /// The identifier in CSV files and on the command line.
+    pub id: &'static str,
+    /// The abbreviation of thesis Table 8 (or a short one of its kind).
+    pub abbreviation: &'static str,
+    /// A one-line description.
+    pub summary: &'static str,
+    /// The section, algorithm or paper it implements.
+    pub source: &'static str,
+    /// The module that implements it.
+    pub file: &'static str,
+    pub family: Family,
+    /// What one iteration is (Newton iteration, sweep, ...), or `None` for a solver without
+    /// iterations.
+    pub iteration: Option<&'static str>,
+    pub options: &'static [OptionInfo],
+    pub builder: Builder,
+}
+
+impl std::fmt::Debug for SolverInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SolverInfo").field("id", &self.id).finish()
+    }
+}
+
+impl SolverId {
+    /// Every solver, in the order `mss --list-solvers` prints them.
+    pub const ALL: [SolverId; 9] = [
+        SolverId::BackwardEuler,
+        SolverId::Pbd,
+        SolverId::Xpbd,
+        SolverId::FastMassSpring,
+        SolverId::AdmmPd,
+        SolverId::ExplicitEuler,
+        SolverId::SymplecticEuler,
+        SolverId::Rk4,
+        SolverId::Rk45,
+    ];
+
+    /// The four solvers of the thesis's tables, in table order.
+    pub const THESIS_TABLES: [SolverId; 4] = [
+        SolverId::BackwardEuler,
+        SolverId::Xpbd,
+        SolverId::FastMassSpring,
+        SolverId::AdmmPd,
+    ];
+
+    /// The registry: every solver's entry.
+    pub fn info(self) -> SolverInfo {
+        match self {
+            SolverId::BackwardEuler => SolverInfo {
+                id: "backward_euler",
+                abbreviation: "BE",
+                summary: "Backward Euler with Newton-Raphson, the thesis's reference",
+                source: "thesis §2.1, Eqs 1-12",
+                file: "src/backward_euler.rs",
+                family: Family::Thesis,
+                iteration: Some("Newton iteration"),
+                options: &[],
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(BackwardEuler::new(system, dt, spec.iterations)?))
+                }),
+            },
+            SolverId::Pbd => SolverInfo {
+                id: "pbd",
+                abbreviation: "PBD",
+                summary: "Position-Based Dynamics, Gauss-Seidel over the springs",
+                source: "thesis §2.2, Algorithm 1, Eqs 13-14",
+                file: "src/pbd.rs",
+                family: Family::Thesis,
+                iteration: Some("sweep over the springs"),
+                options: &[OptionInfo {
+                    name: "stiffness_factor",
+                    help: "dimensionless factor in [0, 1] scaling each correction (not k)",
+                }],
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(Pbd::new(
+                        system,
+                        dt,
+                        spec.iterations,
+                        spec.params.stiffness_factor,
+                    )?))
+                }),
+            },
+            SolverId::Xpbd => SolverInfo {
+                id: "xpbd",
+                abbreviation: "XPBD",
+                summary: "Extended PBD, compliance 1/k",
+                source: "thesis §2.2.1, Algorithm 2, Eqs 15-19, 48-51",
+                file: "src/xpbd.rs",
+                family: Family::Thesis,
+                iteration: Some("sweep over the springs"),
+                options: &[],
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(Xpbd::new(system, dt, spec.iterations)?))
+                }),
+            },
+            SolverId::FastMassSpring => SolverInfo {
+                id: "fast_mass_spring",
+                abbreviation: "Fast m-s",
+                summary: "Liu et al. 2013, fast simulation of mass-spring systems",
+                source: "thesis §2.3.1, Algorithm 3, Eqs 20-29, 52-53",
+                file: "src/fast_mass_spring.rs",
+                family: Family::Thesis,
+                iteration: Some("local/global iteration"),
+                options: &[],
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(FastMassSpring::new(system, dt, spec.iterations)?))
+                }),
+            },
+            SolverId::AdmmPd => SolverInfo {
+                id: "admm_pd",
+                abbreviation: "ADMM",
+                summary: "Overby et al. 2017, ADMM ⊇ Projective Dynamics, weights sqrt(k)",
+                source: "thesis §2.3.2, Algorithm 4, Eqs 30-42, 54-56",
+                file: "src/admm.rs",
+                family: Family::Thesis,
+                iteration: Some("ADMM iteration"),
+                options: &[],
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(AdmmPd::new(system, dt, spec.iterations)?))
+                }),
+            },
+            SolverId::ExplicitEuler => tutorial_integrator(
+                "explicit_euler",
+                "Euler",
+                "explicit Euler (order 1; grows without damping at every dt)",
+            ),
+            SolverId::SymplecticEuler => tutorial_integrator(
+                "symplectic_euler",
+                "SE",
+                "symplectic Euler (order 1; stable for omega·dt < 2)",
+            ),
+            SolverId::Rk4 => tutorial_integrator(
+                "rk4",
+                "RK4",
+                "classical Runge-Kutta (order 4; stable for omega·dt < 2·sqrt(2))",
+            ),
+            SolverId::Rk45 => SolverInfo {
+                id: "rk45",
+                abbreviation: "RK45",
+                summary: "Dormand-Prince 5(4) with error control; dt is the sampling interval",
+                source: "beyond the tutorial: Dormand & Prince 1980",
+                file: "src/particles/adaptive.rs",
+                family: Family::Tutorial,
+                iteration: None,
+                options: &[OptionInfo {
+                    name: "tolerance",
+                    help: "error tolerance (> 0) of each adaptive step, relative to \
+                           1 + |component|",
+                }],
+                builder: Builder::Particles(|particles, dt, spec| {
+                    Ok(Box::new(AdaptiveStepper::new(
+                        particles,
+                        dt,
+                        spec.params.tolerance,
+                    )?))
+                }),
+            },
+        }
+    }
+
+    /// The identifier used in CSV files and on the command line.
+    pub fn id(self) -> &'static str {
+        self.info().id
+    }
+
+    /// The abbreviation of thesis Table 8.
+    pub fn abbreviation(self) -> &'static str {
+        self.info().abbreviation
+    }
+
+    /// Parses an identifier of [`SolverId::id`] (dashes read as underscores).
+    pub fn from_id(id: &str) -> Result<Self> {
+        let normalised = id.replace('-', "_");
+        Self::ALL
+            .into_iter()
+            .find(|s| s.id() == normalised)
+            .ok_or_else(|| {
+                let ids: Vec<&str> = Self::ALL.iter().map(|s| s.id()).collect();
+                Error::invalid("solver", id, &format!("one of {}", ids.join(", ")))
+            })
+    }
+
+    /// The tutorial's integrator this solver is, if it is one.
+    pub fn integrator(self) -> Option<Integrator> {
+        match self {
+            SolverId::ExplicitEuler => Some(Integrator::ExplicitEuler),
+            SolverId::SymplecticEuler => Some(Integrator::SymplecticEuler),
+            SolverId::Rk4 => Some(Integrator::Rk4),
+            _ => None,
+        }
+    }
+}
+
+impl std::fmt::Display for SolverId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.id())
+    }
+}
+
+impl std::str::FromStr for SolverId {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        Self::from_id(s)
+    }
+}
+
+/// The entry of a tutorial integrator with a fixed step.
+fn tutorial_integrator(
+    id: &'static str,
+    abbreviation: &'static str,
+    summary: &'static str,
+) -> SolverInfo {
+    SolverInfo {
+        id,
+        abbreviation,
+        summary,
+        source: "tutorial (seed 004): Baraff & Witkin's particle system",
+        file: "src/particles/integrators.rs",
+        family: Family::Tutorial,
+        iteration: None,
+        options: &[],
+        builder: Builder::Particles(|particles, dt, spec| {
+            let integrator = spec
+                .id
+                .integrator()
+                .expect("the tutorial's entries are its integrators");
+            Ok(Box::new(ParticleStepper::new(particles, integrator, dt)?))
+        }),
+    }
+}
+
+/// The options of the solvers that have any; each solver reads its own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverParams {
+    /// PBD: the dimensionless factor in [0, 1] scaling each constraint's correction.
+    pub stiffness_factor: f64,
+    /// rk45: the error tolerance of each adaptive step.
+    pub tolerance: f64,
+}
+
+impl SolverParams {
+    /// Sets the option `name` (an [`OptionInfo::name`]) to `value`, checked against its range.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<()> {
+        match name {
+            "stiffness_factor" => {
+                self.stiffness_factor = crate::pbd::require_factor(name, value)?;
+            }
+            "tolerance" => self.tolerance = require_positive(name, value)?,
+            _ => {
+                let names: Vec<&str> = SolverId::ALL
+                    .iter()
+                    .flat_map(|s| s.info().options.iter().map(|o| o.name))
+                    .collect();
+                return Err(Error::invalid(
+                    "option",
+                    name,
+                    &format!("one of {}", names.join(", ")),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        Self {
+            stiffness_factor: 1.0,
+            tolerance: 1e-6,
+        }
+    }
+}
+
+/// A solver with its parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverSpec {
+    pub id: SolverId,
+    /// Iterations per step (see [`SolverInfo::iteration`]); 1 for a solver without iterations.
+    pub iterations: usize,
+    pub params: SolverParams,
+}
+
+impl SolverSpec {
+    /// `id` with `iterations` per step and default options.
+    pub fn new(id: SolverId, iterations: usize) -> Self {
+        Self {
+            id,
+            iterations,
+            params: SolverParams::default(),
+        }
+    }
+
+    /// The solver on a mass-spring system with time step `dt`. The tutorial's integrators run
+    /// it as a particle system with no other force.
+    pub fn build(&self, system: &MassSpringSystem, dt: f64) -> Result<Box<dyn TimeStepper>> {
+        match self.id.info().builder {
+            Builder::Springs(build) => Ok(build(system, dt, self)?),
+            Builder::Particles(build) => {
+                build(ParticleSystem::from_system(system.clone()), dt, self)
+            }
+        }
+    }
+
+    /// The solver on a mass-spring system, for a worker thread: the solvers of springs and
+    /// gravity only (not the tutorial's integrators, whose forces are not `Send`).
+    pub fn build_send(
+        &self,
+        system: &MassSpringSystem,
+        dt: f64,
+    ) -> Result<Box<dyn TimeStepper + Send>> {
+        match self.id.info().builder {
+            Builder::Springs(build) => build(system, dt, self),
+            Builder::Particles(_) => Err(Error::invalid(
+                "solver",
+                self.id,
+                "a solver of springs and gravity (not a tutorial integrator) on a worker thread",
+            )),
+        }
+    }
+
+    /// The solver on the tutorial's particle system (drag, spring damping, ground): the
+    /// tutorial's integrators only.
+    pub fn build_particles(
+        &self,
+        particles: ParticleSystem,
+        dt: f64,
+    ) -> Result<Box<dyn TimeStepper>> {
+        match self.id.info().builder {
+            Builder::Particles(build) => build(particles, dt, self),
+            Builder::Springs(_) => Err(Error::invalid(
+                "solver",
+                self.id,
+                "explicit_euler, symplectic_euler, rk4 or rk45 on a particle system",
+            )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_identifier_reads_back_and_is_unique() {
+        for id in SolverId::ALL {
+            assert_eq!(SolverId::from_id(id.id()).unwrap(), id);
+            assert_eq!(
+                SolverId::ALL.iter().filter(|s| s.id() == id.id()).count(),
+                1
+            );
+        }
+        assert_eq!(
+            SolverId::from_id("explicit-euler").unwrap(),
+            SolverId::ExplicitEuler
+        );
+        let err = SolverId::from_id("newton").unwrap_err().to_string();
+        assert!(err.contains("solver") && err.contains("admm_pd"), "{err}");
+    }
+
+    #[test]
+    fn the_serde_name_is_the_identifier() {
+        for id in SolverId::ALL {
+            let json = serde_json::to_string(&id).unwrap();
+            assert_eq!(json, format!("\"{}\"", id.id()));
+        }
+    }
+
+    #[test]
+    fn every_solver_builds_on_the_thesis_rope() {
+        let system = crate::scene::thesis_rope(1e3).unwrap();
+        for id in SolverId::ALL {
+            let solver = SolverSpec::new(id, 2).build(&system, 1e-3).unwrap();
+            assert!(!solver.name().is_empty(), "{id}");
+        }
+    }
+}
