@@ -12,6 +12,7 @@
 
 pub mod admm;
 pub mod backward_euler;
+pub mod beyond;
 pub mod boundary;
 pub mod catenary;
 pub mod error;

@@ -9,6 +9,7 @@ use clap::Parser;
 use mass_spring_solvers::experiments::{published_rows, run_all, Configuration, PublishedRow};
 use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::registry::SolverId;
+use mass_spring_solvers::report::beyond::BeyondChapter;
 use mass_spring_solvers::report::output::{OutputFile, RunInfo};
 use mass_spring_solvers::report::publish::{fixture, ReportTarget};
 use mass_spring_solvers::report::rest_state::Catenary;
@@ -136,12 +137,20 @@ fn run(args: Args) -> Result<String> {
     let tutorial = TutorialChapter::compute()?;
     phase_done(&mut phases, "the tutorial's chapter".to_string(), t);
     let t = Instant::now();
+    let beyond = BeyondChapter::compute(&results, &progress("beyond the thesis"))?;
+    phase_done(
+        &mut phases,
+        "beyond the thesis: newer solvers (parallel)".to_string(),
+        t,
+    );
+    let t = Instant::now();
     let data = ReportData {
         results,
         forensics: Some(forensics),
         runs,
         catenary,
         tutorial,
+        beyond,
         sources,
     };
     let mut files = render(&data)?;

@@ -10,6 +10,7 @@
 //! directory with them atomically. What changes from run to run (commit, machine, timings)
 //! goes to `run-info.md` ([`output::RunInfo`]), which is git-ignored.
 
+pub mod beyond;
 pub mod data;
 pub mod errata;
 pub mod figures;
@@ -31,12 +32,13 @@ use crate::experiments::{published_rows, ResultSet, HALF_PERIOD_TOLERANCE};
 use crate::forensics::Forensics;
 use crate::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
 use crate::registry::SolverId;
+use crate::report::beyond::BeyondChapter;
 use crate::report::format::{short, MarkdownTable};
 use crate::report::output::OutputFile;
+use crate::report::plot::{layout, Chart, Layout};
 use crate::report::rest_state::Catenary;
 use crate::report::runs::FigureRuns;
 use crate::report::traceability::{Quote, Tag};
-use crate::report::tutorial::figures::TutorialFigure;
 use crate::report::tutorial::TutorialChapter;
 use crate::report::versions::Versions;
 use crate::scene::{
@@ -109,7 +111,32 @@ pub struct ReportData {
     pub catenary: Catenary,
     /// The tutorial's chapter.
     pub tutorial: TutorialChapter,
+    /// The chapter after the thesis's: the newer solvers.
+    pub beyond: BeyondChapter,
     pub sources: Sources,
+}
+
+/// One figure of a chapter (the tutorial's, beyond the thesis): file stem
+/// (`tutorial_convergence`), layout, SVG and CSV.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChapterFigure {
+    pub stem: &'static str,
+    /// Every text box, data mark and axes rectangle, for the figure test.
+    pub layout: Layout,
+    pub svg: String,
+    pub csv: String,
+}
+
+impl ChapterFigure {
+    pub fn new(stem: &'static str, chart: &Chart, csv: String) -> Result<Self> {
+        let layout = layout(chart)?;
+        Ok(Self {
+            stem,
+            svg: layout.svg(),
+            layout,
+            csv,
+        })
+    }
 }
 
 /// A figure's two files: `figures/<stem>.svg` and the points it draws, `data/<stem>.csv`.
@@ -124,11 +151,13 @@ pub fn figure_files(stem: &str, svg: &str, csv: &str) -> [OutputFile; 2] {
 pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let figures = figures::all(data)?;
     let tutorial_figures = data.tutorial.figures()?;
+    let beyond_figures = data.beyond.figures()?;
     let mut files = vec![OutputFile::text(
         "REPORT.md",
-        markdown(data, &figures, &tutorial_figures),
+        markdown(data, &figures, &tutorial_figures, &beyond_figures),
     )];
     files.extend(data.tutorial.files(&tutorial_figures));
+    files.extend(data.beyond.files(&beyond_figures));
     for f in &figures {
         files.extend(figure_files(&f.stem, &f.svg, &f.csv));
     }
@@ -256,7 +285,8 @@ fn scene_table() -> MarkdownTable {
 fn markdown(
     data: &ReportData,
     figures: &[figures::Figure],
-    tutorial_figures: &[TutorialFigure],
+    tutorial_figures: &[ChapterFigure],
+    beyond_figures: &[ChapterFigure],
 ) -> String {
     let r = &data.results;
     let mut md = String::new();
@@ -290,7 +320,8 @@ fn markdown(
     md += "Contents: 1 Mass-spring systems · 2 The test scene · 3 Measurements · 4 Results (Tables 1-7) · \
            5 Reproduction summary · 6 Forensic reproduction: evidence classes · 7 Conclusions revisited \
            (Tables 8-12, Figures 5-15) · 8 Analytic catenary · 9 The particle-system tutorial, verified · \
-           10 Errata · 11 Equation traceability · 12 Data files · 13 Versions\n\n";
+           10 Beyond the thesis: newer solvers · 11 Errata · 12 Equation traceability · 13 Data files · \
+           14 Versions\n\n";
 
     md += "## 1. Mass-spring systems (§2.1)\n\n";
     md += &figure_md(figures, 1);
@@ -382,14 +413,15 @@ fn markdown(
     md += "\n";
 
     md += &data.tutorial.section(9, tutorial_figures);
+    md += &data.beyond.section(10, beyond_figures);
 
-    md += "## 10. Errata\n\n";
+    md += "## 11. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 11. Equation traceability\n\n";
+    md += "## 12. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -402,7 +434,7 @@ fn markdown(
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 11.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 12.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -415,7 +447,7 @@ fn markdown(
         );
     }
 
-    md += "## 12. Data files\n\n";
+    md += "## 13. Data files\n\n";
     md += &format!(
         "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
          `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
@@ -435,15 +467,19 @@ fn markdown(
          - `data/tutorial_*.csv`: the tutorial chapter (section 9): the points of each of its figures \
          (`tutorial_<figure>.csv`), the stability limits, the several-gravities particles and the energy kept at \
          each bounce, full precision.\n\
+         - [`data/beyond_results.csv`](data/beyond_results.csv): `{}`, the grid of section 10 (`table` empty).\n\
+         - [`data/convergence.csv`](data/convergence.csv): the gap to the converged Backward Euler step after \
+         each iteration of one step, every iterative solver (section 10.3).\n\
          - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
          peak count, T/2 and rest-state error (Figure 16).\n\n",
         data::RESULTS_HEADER,
         data::REPRODUCTION_HEADER,
         data::CONFIGURATIONS_HEADER,
-        data::GRAVITY_HEADER
+        data::GRAVITY_HEADER,
+        beyond::BEYOND_HEADER
     );
 
-    md += "## 13. Crate and dependency versions\n\n";
+    md += "## 14. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

@@ -9,6 +9,7 @@
 
 use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
+use mass_spring_solvers::report::beyond::BeyondChapter;
 use mass_spring_solvers::report::format::sig4;
 use mass_spring_solvers::report::output::OutputFile;
 use mass_spring_solvers::report::plot::Layout;
@@ -31,12 +32,15 @@ fn data() -> &'static ReportData {
             .expect("the sources read and quote");
         let runs = FigureRuns::compute(&results, &|_, _| {}).expect("the figure runs run");
         let catenary = Catenary::compute().expect("the exact catenary solves");
+        let beyond = BeyondChapter::compute(&results, &|_, _| {})
+            .expect("the chapter beyond the thesis runs");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),
             runs,
             catenary,
             tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
+            beyond,
             sources,
         }
     })

@@ -12,32 +12,11 @@ use crate::particles::Integrator;
 use crate::registry::SolverId;
 use crate::report::format::{full, short, sig4};
 use crate::report::plot::{
-    layout, power_of_ten, Align, Axis, Chart, Entry, Layout, LegendPlace, Line, Marker, Panel, Rgb,
-    Series, COLUMN_WIDTH_MM, FULL_WIDTH_MM,
+    power_of_ten, Align, Axis, Chart, Entry, LegendPlace, Line, Marker, Panel, Rgb, Series,
+    COLUMN_WIDTH_MM, FULL_WIDTH_MM,
 };
+use crate::report::ChapterFigure;
 use crate::system::Vec3;
-
-/// One figure of the chapter: file stem (`tutorial_convergence`), layout, SVG and CSV.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TutorialFigure {
-    pub stem: &'static str,
-    /// Every text box, data mark and axes rectangle, for the figure test.
-    pub layout: Layout,
-    pub svg: String,
-    pub csv: String,
-}
-
-impl TutorialFigure {
-    fn new(stem: &'static str, chart: &Chart, csv: String) -> Result<Self> {
-        let layout = layout(chart)?;
-        Ok(Self {
-            stem,
-            svg: layout.svg(),
-            layout,
-            csv,
-        })
-    }
-}
 
 const BLACK: Rgb = Rgb(0, 0, 0);
 const GREY: Rgb = Rgb(120, 120, 120);
@@ -70,7 +49,7 @@ fn typeset(x: f64) -> String {
 }
 
 /// Figure T1: global error against h, log-log, one line per method.
-pub fn convergence(series: &[ConvergenceSeries]) -> Result<TutorialFigure> {
+pub fn convergence(series: &[ConvergenceSeries]) -> Result<ChapterFigure> {
     let mut panel = Panel::new(Axis::log("h (s)"), Axis::log("phase-plane error (m)"));
     let mut csv = String::from("method,zeta,h_s,error_m\n");
     for s in series {
@@ -98,7 +77,7 @@ pub fn convergence(series: &[ConvergenceSeries]) -> Result<TutorialFigure> {
             );
         }
     }
-    TutorialFigure::new(
+    ChapterFigure::new(
         "tutorial_convergence",
         &Chart::new(FULL_WIDTH_MM, 70.0, vec![panel]),
         csv,
@@ -123,7 +102,7 @@ fn log_extent(runs: &[EnergyRun], pad: f64) -> (f64, f64) {
 
 /// Figure T2: energy of the undamped oscillator against time just below and above each
 /// limit, one panel per integrator on a common log axis.
-pub fn stability_energy(runs: &[EnergyRun]) -> Result<TutorialFigure> {
+pub fn stability_energy(runs: &[EnergyRun]) -> Result<ChapterFigure> {
     let (lo, hi) = log_extent(runs, 0.3);
     let mut panels = Vec::new();
     let mut csv = String::from("integrator,h_omega,periods,energy_ratio\n");
@@ -164,7 +143,7 @@ pub fn stability_energy(runs: &[EnergyRun]) -> Result<TutorialFigure> {
         }
         panels.push(panel);
     }
-    TutorialFigure::new(
+    ChapterFigure::new(
         "tutorial_stability_energy",
         &Chart::new(FULL_WIDTH_MM, 62.0, panels),
         csv,
@@ -176,7 +155,7 @@ pub fn stability_energy(runs: &[EnergyRun]) -> Result<TutorialFigure> {
 const PAIR_MARKER_EVERY: usize = 100;
 
 /// Figure T3: (a) the drag fall and (b) the damped spring pair against their closed forms.
-pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<TutorialFigure> {
+pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<ChapterFigure> {
     let mut left = Panel::new(Axis::linear("t (s)"), Axis::linear("downward speed (m/s)"));
     left.legend = LegendPlace::Below;
     let closed: Vec<(f64, f64)> = drag.samples.iter().map(|s| (s.0, s.2)).collect();
@@ -244,7 +223,7 @@ pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<TutorialFigure> {
     for (t, a, b) in &pair.samples {
         csv += &format!("spring_stretch_m,{},{},{}\n", full(*t), full(*a), full(*b));
     }
-    TutorialFigure::new(
+    ChapterFigure::new(
         "tutorial_forces",
         &Chart::new(FULL_WIDTH_MM, 72.0, vec![left, right]),
         csv,
@@ -265,7 +244,7 @@ fn to_scale_height_mm(width_mm: f64, columns: usize, rows: usize, w: f64, h: f64
 }
 
 /// Figure T4: the pendulum's six frames, one panel each, to scale.
-pub fn pendulum_frames(run: &PendulumRun) -> Result<TutorialFigure> {
+pub fn pendulum_frames(run: &PendulumRun) -> Result<ChapterFigure> {
     let reach = run.params.particles as f64 * run.params.segment_length;
     let x_range = (-reach - 0.3, reach + 0.3);
     let y_range = (-0.6, run.params.pivot_height + 0.3);
@@ -336,7 +315,7 @@ pub fn pendulum_frames(run: &PendulumRun) -> Result<TutorialFigure> {
         style: s.style,
     })
     .collect();
-    TutorialFigure::new("tutorial_pendulum_frames", &chart, csv)
+    ChapterFigure::new("tutorial_pendulum_frames", &chart, csv)
 }
 
 /// A short decimal for labels and captions (`0.5`, `1.432`).
@@ -351,7 +330,7 @@ pub fn sig_short(x: f64) -> String {
 
 /// Figure T5: the pendulum's mechanical energy against time, with the steps where the floor
 /// acted.
-pub fn pendulum_energy(run: &PendulumRun) -> Result<TutorialFigure> {
+pub fn pendulum_energy(run: &PendulumRun) -> Result<ChapterFigure> {
     let mut panel = Panel::new(Axis::linear("t (s)"), Axis::linear("mechanical energy (J)"));
     panel.legend = LegendPlace::Below;
     panel.series.push(Series::line(
@@ -380,7 +359,7 @@ pub fn pendulum_energy(run: &PendulumRun) -> Result<TutorialFigure> {
             full(*before)
         );
     }
-    TutorialFigure::new(
+    ChapterFigure::new(
         "tutorial_pendulum_energy",
         &Chart::new(COLUMN_WIDTH_MM, 70.0, vec![panel]),
         csv,
@@ -388,7 +367,7 @@ pub fn pendulum_energy(run: &PendulumRun) -> Result<TutorialFigure> {
 }
 
 /// Figure T6: the cloth falling 10 m, side view to scale, each frame shifted along x.
-pub fn cloth_drop(run: &ClothDropRun) -> Result<TutorialFigure> {
+pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
     let width_m = (run.params.cloth.nx - 1) as f64 * run.params.cloth.spacing;
     // A metre between frames leaves room for each frame's time above it.
     let shift = width_m + 1.0;
@@ -443,7 +422,7 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<TutorialFigure> {
             );
         }
     }
-    TutorialFigure::new(
+    ChapterFigure::new(
         "tutorial_cloth_drop",
         &Chart::new(COLUMN_WIDTH_MM, 100.0, vec![panel]),
         csv,
@@ -456,7 +435,7 @@ fn against_tolerance(runs: &[AdaptiveRun], f: impl Fn(&AdaptiveRun) -> f64) -> V
 }
 
 /// Figure T7: (a) the adaptive integrator's error and (b) its work against the tolerance.
-pub fn adaptive(study: &AdaptiveStudy) -> Result<TutorialFigure> {
+pub fn adaptive(study: &AdaptiveStudy) -> Result<ChapterFigure> {
     let mut error = Panel::new(Axis::log("tolerance T"), Axis::log("error (m)"));
     error.legend = LegendPlace::Below;
     error.series.push(
@@ -542,7 +521,7 @@ pub fn adaptive(study: &AdaptiveStudy) -> Result<TutorialFigure> {
             );
         }
     }
-    TutorialFigure::new(
+    ChapterFigure::new(
         "tutorial_adaptive",
         &Chart::new(FULL_WIDTH_MM, 75.0, vec![error, work]),
         csv,

@@ -13,7 +13,8 @@ use crate::particles::Integrator;
 use crate::registry::SolverId;
 use crate::report::format::{full, short, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use figures::{sig_short, TutorialFigure};
+use crate::report::ChapterFigure;
+use figures::sig_short;
 use studies::{
     AdaptiveStudy, BounceRun, ClothDropRun, ConvergenceSeries, DragFall, EnergyRun,
     GravityParticle, PendulumRun, SpringPairRun, StabilityLimit,
@@ -52,7 +53,7 @@ impl TutorialChapter {
     }
 
     /// The chapter's figures, in the order the section shows them.
-    pub fn figures(&self) -> Result<Vec<TutorialFigure>> {
+    pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
         Ok(vec![
             figures::convergence(&self.convergence)?,
             figures::stability_energy(&self.energy)?,
@@ -65,7 +66,7 @@ impl TutorialChapter {
     }
 
     /// The chapter's files: `figures/tutorial_*.svg` and `data/tutorial_*.csv`.
-    pub fn files(&self, figures: &[TutorialFigure]) -> Vec<OutputFile> {
+    pub fn files(&self, figures: &[ChapterFigure]) -> Vec<OutputFile> {
         let mut files: Vec<OutputFile> = figures
             .iter()
             .flat_map(|f| crate::report::figure_files(f.stem, &f.svg, &f.csv))
@@ -128,7 +129,7 @@ impl TutorialChapter {
     }
 
     /// The chapter's section of `REPORT.md`, headed `## {number}.`.
-    pub fn section(&self, number: u32, figures: &[TutorialFigure]) -> String {
+    pub fn section(&self, number: u32, figures: &[ChapterFigure]) -> String {
         let figure = |stem: &str, caption: String| {
             figures
                 .iter()

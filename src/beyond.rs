@@ -1,0 +1,307 @@
+//! Beyond the thesis (§5, future work): the grid of thesis Tables 2-7 run by the solvers the
+//! thesis did not measure, and every solver's convergence toward the converged Backward Euler
+//! step.
+//!
+//! **The grid.** Each solver of [`grid_settings`] runs the thesis rope from rest at
+//! $`dt \in \{0.1, 0.01, 0.001\}`$ s, in three settings (its iteration counts, substeps or
+//! options) and at both stiffnesses, with the thesis's stopping rule; its rest state is
+//! compared with the Backward Euler reference of the same stiffness (thesis Table 1), as in
+//! Tables 2-7.
+//!
+//! **Convergence.** One step of dt from a start state, with $`m = 1 \dots 200`$ iterations
+//! (a fresh solver for each $`m`$), against the step solved to round-off
+//! ([`SolverSpec::converged_step`]): the gap $`\max_i |x_i - x_i^\ast|`$ after $`m`$
+//! iterations. The start is the thesis rope at rest, or [`Start::Step10`], a moving state.
+
+use crate::backward_euler::{converged_step, ConvergedStepOptions};
+use crate::error::Result;
+use crate::experiments::{run_parallel, Reference, ResultSet};
+use crate::metrics::{rest_error_max, rest_error_sum, StoppingRule};
+use crate::registry::{Builder, SolverId, SolverSpec};
+use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
+use crate::solver::{simulate, RunOptions};
+use crate::system::{MassSpringSystem, State};
+
+/// The time steps of Tables 2-7, s.
+pub const GRID_DTS: [f64; 3] = [0.1, 0.01, 0.001];
+
+/// Iterations of the convergence curves.
+pub const CONVERGENCE_ITERATIONS: usize = 200;
+
+/// The time step of [`Start::Step10`]'s ten Backward Euler steps, s.
+pub const STEP10_DT: f64 = 1e-2;
+
+/// The three settings of a solver in the grid (for the thesis's four, their tables'
+/// iteration counts are the thesis's own and they are not rerun here).
+pub fn grid_settings(id: SolverId) -> Option<[SolverSpec; 3]> {
+    let counts = |counts: [usize; 3]| Some(counts.map(|m| SolverSpec::new(id, m)));
+    match id {
+        SolverId::Pbd => counts([1, 20, 50]),
+        _ => None,
+    }
+}
+
+/// The solvers of the grid, in registry order.
+pub fn grid_solvers() -> Vec<SolverId> {
+    SolverId::ALL
+        .into_iter()
+        .filter(|&id| grid_settings(id).is_some())
+        .collect()
+}
+
+/// A short label of a setting: its iterations and the options that differ from the defaults.
+pub fn setting_label(spec: &SolverSpec) -> String {
+    let info = spec.id.info();
+    let mut label = match info.iteration {
+        Some(_) => format!("{} it.", spec.iterations),
+        None => String::new(),
+    };
+    let defaults = SolverSpec::new(spec.id, spec.iterations);
+    for option in info.options {
+        let value = spec.params.get(option.name);
+        if value != defaults.params.get(option.name) {
+            label += &format!(", {} = {value}", option.name);
+        }
+    }
+    label
+}
+
+/// One experiment of the grid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridRow {
+    pub spec: SolverSpec,
+    /// Index of the setting in [`grid_settings`] (0, 1, 2).
+    pub setting: usize,
+    pub dt_s: f64,
+    pub stiffness: f64,
+}
+
+/// Every experiment of the grid: per solver, time step, setting and stiffness, in the order
+/// of Tables 2-7.
+pub fn grid_rows() -> Vec<GridRow> {
+    let mut rows = Vec::new();
+    for id in grid_solvers() {
+        let settings = grid_settings(id).expect("grid_solvers has settings");
+        for stiffness in THESIS_STIFFNESSES {
+            for dt_s in GRID_DTS {
+                for (setting, spec) in settings.iter().enumerate() {
+                    rows.push(GridRow {
+                        spec: *spec,
+                        setting,
+                        dt_s,
+                        stiffness,
+                    });
+                }
+            }
+        }
+    }
+    rows
+}
+
+/// The measurements of Tables 2-7 for one grid experiment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridResult {
+    pub row: GridRow,
+    pub peaks: usize,
+    pub half_period_thesis: Option<f64>,
+    pub half_period_exact: Option<f64>,
+    /// Relative T/2 error (thesis convention) against the reference of the same stiffness.
+    pub period_rel_error: Option<f64>,
+    /// Rest-state error against the reference: sum over nodes of the distances, m.
+    pub error_sum: f64,
+    /// Its largest node distance, m.
+    pub error_max: f64,
+    pub steps: u64,
+    pub end_time: f64,
+    pub hit_time_limit: bool,
+}
+
+/// The reference of a stiffness in `references` (Table 1, its Backward Euler row).
+fn reference(references: &ResultSet, stiffness: f64) -> Option<Reference<'_>> {
+    references
+        .rows
+        .iter()
+        .find(|m| {
+            m.published.solver == SolverId::BackwardEuler && m.published.stiffness == stiffness
+        })
+        .map(|m| Reference {
+            final_positions: &m.final_positions,
+            half_period_thesis: m.half_period_thesis,
+        })
+}
+
+/// Runs `rows` (in parallel, the dearest first) and measures them against the Backward Euler
+/// rows of `references`; rows whose stiffness has no reference there are left out.
+pub fn run_grid(
+    rows: &[GridRow],
+    references: &ResultSet,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<GridResult>> {
+    let rows: Vec<(GridRow, Reference)> = rows
+        .iter()
+        .filter_map(|row| reference(references, row.stiffness).map(|r| (*row, r)))
+        .collect();
+    let cost = |(row, _): &(GridRow, Reference)| row.spec.iterations as f64 / row.dt_s;
+    run_parallel(&rows, cost, |(row, r)| run_grid_row(row, r), progress)
+        .into_iter()
+        .collect()
+}
+
+fn run_grid_row(row: &GridRow, reference: &Reference) -> Result<GridResult> {
+    let system = thesis_rope(row.stiffness)?;
+    let mut solver = row.spec.build_send(&system, row.dt_s)?;
+    let options = RunOptions {
+        stop: StoppingRule::default(),
+        ..RunOptions::default()
+    };
+    let run = simulate(solver.as_mut(), system.initial_state(), &options)?;
+    let x = &run.final_state.x;
+    Ok(GridResult {
+        row: *row,
+        peaks: run.peak_count(),
+        half_period_thesis: run.half_period_thesis(),
+        half_period_exact: run.half_period_exact(),
+        period_rel_error: reference
+            .half_period_thesis
+            .zip(run.half_period_thesis())
+            .map(|(t_ref, t)| crate::metrics::relative_period_error(t, t_ref)),
+        error_sum: rest_error_sum(x, reference.final_positions),
+        error_max: rest_error_max(x, reference.final_positions),
+        steps: run.steps,
+        end_time: run.end_time(),
+        hit_time_limit: run.hit_time_limit,
+    })
+}
+
+/// The state a convergence curve starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Start {
+    /// The thesis rope at rest, straight (the first step of every thesis run).
+    Rest,
+    /// After ten converged Backward Euler steps of [`STEP10_DT`] from rest: a moving state.
+    Step10,
+}
+
+impl Start {
+    pub const ALL: [Start; 2] = [Start::Rest, Start::Step10];
+
+    /// The identifier in `convergence.csv`.
+    pub fn id(self) -> &'static str {
+        match self {
+            Start::Rest => "rest",
+            Start::Step10 => "step10",
+        }
+    }
+
+    /// The start state on `system`.
+    pub fn state(self, system: &MassSpringSystem) -> Result<State> {
+        let mut state = system.initial_state();
+        if self == Start::Step10 {
+            for _ in 0..10 {
+                state = converged_step(system, &state, STEP10_DT, ConvergedStepOptions::default())?;
+            }
+        }
+        Ok(state)
+    }
+}
+
+/// $`\max_i |x_i - y_i|`$, m.
+pub fn gap(x: &State, y: &State) -> f64 {
+    rest_error_max(&x.x, &y.x)
+}
+
+/// One convergence curve: the gap after each iteration count.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvergenceCurve {
+    /// The solver (its iteration count is the curve's variable).
+    pub spec: SolverSpec,
+    pub scene: &'static str,
+    pub start: Start,
+    pub stiffness: f64,
+    pub dt_s: f64,
+    /// The gap after m = 1, 2, ... iterations, m; None where the step failed.
+    pub gaps: Vec<Option<f64>>,
+}
+
+impl ConvergenceCurve {
+    /// The fewest iterations whose gap is below `tolerance`, if any within the curve.
+    pub fn iterations_to(&self, tolerance: f64) -> Option<usize> {
+        self.gaps
+            .iter()
+            .position(|g| g.is_some_and(|g| g < tolerance))
+            .map(|i| i + 1)
+    }
+}
+
+/// The gap after $`m = 1 \dots`$ `iterations` iterations of one step of `spec` from `state`.
+pub fn gap_curve(
+    spec: &SolverSpec,
+    system: &MassSpringSystem,
+    state: &State,
+    dt: f64,
+    iterations: usize,
+) -> Result<Vec<Option<f64>>> {
+    let oracle = spec.converged_step(system, state, dt)?;
+    Ok((1..=iterations)
+        .map(|m| {
+            let mut next = state.clone();
+            let spec = SolverSpec {
+                iterations: m,
+                ..*spec
+            };
+            spec.build_send(system, dt)
+                .and_then(|mut solver| solver.step(&mut next))
+                .ok()
+                .map(|()| gap(&next, &oracle))
+        })
+        .collect())
+}
+
+/// The solvers of the convergence curves: every solver of springs and gravity with
+/// iterations, at its default options.
+pub fn convergence_solvers() -> Vec<SolverSpec> {
+    SolverId::ALL
+        .into_iter()
+        .filter(|id| {
+            let info = id.info();
+            matches!(info.builder, Builder::Springs(_)) && info.iteration.is_some()
+        })
+        .map(|id| SolverSpec::new(id, 1))
+        .collect()
+}
+
+/// Every convergence curve of the report: every solver of [`convergence_solvers`], the thesis
+/// rope, both starts, both stiffnesses, dt = 1e-2 and 1e-3 s.
+pub fn convergence_curves(
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<ConvergenceCurve>> {
+    let mut jobs = Vec::new();
+    for spec in convergence_solvers() {
+        for stiffness in THESIS_STIFFNESSES {
+            for dt_s in [1e-2, 1e-3] {
+                for start in Start::ALL {
+                    jobs.push((spec, stiffness, dt_s, start));
+                }
+            }
+        }
+    }
+    run_parallel(
+        &jobs,
+        |_| 1.0,
+        |&(spec, stiffness, dt_s, start)| {
+            let system = thesis_rope(stiffness)?;
+            let state = start.state(&system)?;
+            Ok(ConvergenceCurve {
+                spec,
+                scene: "rope",
+                start,
+                stiffness,
+                dt_s,
+                gaps: gap_curve(&spec, &system, &state, dt_s, CONVERGENCE_ITERATIONS)?,
+            })
+        },
+        progress,
+    )
+    .into_iter()
+    .collect()
+}

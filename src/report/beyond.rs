@@ -1,0 +1,312 @@
+//! The chapter after the thesis's: the solvers its future work (§5) points to, on the thesis
+//! rope, with the thesis's metrics and ground truth ([`crate::beyond`]): the grid of Tables
+//! 2-7 for each, and every solver's convergence toward the converged Backward Euler step.
+
+use crate::beyond::{
+    convergence_curves, grid_rows, grid_settings, grid_solvers, run_grid, setting_label,
+    ConvergenceCurve, GridResult, Start, CONVERGENCE_ITERATIONS, GRID_DTS, STEP10_DT,
+};
+use crate::error::Result;
+use crate::experiments::ResultSet;
+use crate::registry::{SolverId, SolverSpec};
+use crate::report::figures::colour;
+use crate::report::format::{full, full_opt, percent, sig4, MarkdownTable};
+use crate::report::output::OutputFile;
+use crate::report::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::tables::stiffness_label;
+use crate::report::ChapterFigure;
+use crate::scene::THESIS_STIFFNESSES;
+
+/// The gap the chapter counts iterations to, m.
+pub const GAP_TOLERANCE: f64 = 1e-6;
+
+/// The time step and stiffness of the convergence figure and table (the issue's setting).
+pub const CONVERGENCE_DT: f64 = 1e-2;
+pub const CONVERGENCE_STIFFNESS: f64 = 1e6;
+
+/// A gap below this is drawn at it (log axis), m.
+const GAP_FLOOR: f64 = 1e-16;
+
+/// The header of `beyond_results.csv`: the columns of `results.csv`, then the configuration
+/// (the setting's label) and the scene.
+pub const BEYOND_HEADER: &str = "table,solver,dt_s,iterations,stiffness,error,ke_peaks,half_period_s,period_rel_error,half_period_exact_s,configuration,scene";
+
+/// Every result of the chapter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BeyondChapter {
+    pub grid: Vec<GridResult>,
+    pub curves: Vec<ConvergenceCurve>,
+}
+
+impl BeyondChapter {
+    /// Runs the grid (against the references of `references`) and the convergence curves.
+    pub fn compute(
+        references: &ResultSet,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Self> {
+        Ok(Self {
+            grid: run_grid(&grid_rows(), references, progress)?,
+            curves: convergence_curves(progress)?,
+        })
+    }
+
+    /// The chapter's figure: the convergence curves at [`CONVERGENCE_DT`],
+    /// [`CONVERGENCE_STIFFNESS`], one panel per start.
+    pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
+        let mut panels = Vec::new();
+        let mut csv = String::from("solver,start,iteration,gap_m\n");
+        for start in Start::ALL {
+            let mut panel = Panel::new(
+                Axis::linear("iterations m"),
+                Axis::log("gap to the converged step (m)"),
+            );
+            panel.heading = format!("start: {}", start.id());
+            // One legend, beside the second panel: the first one's series have no label.
+            panel.legend = LegendPlace::Right;
+            let labelled = start == Start::Step10;
+            for (k, curve) in self.figure_curves(start).enumerate() {
+                let points: Vec<(f64, f64)> = curve
+                    .gaps
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, g)| g.map(|g| ((i + 1) as f64, g.max(GAP_FLOOR))))
+                    .collect();
+                for (m, g) in &points {
+                    csv += &format!("{},{},{m},{}\n", curve.spec.id, start.id(), full(*g));
+                }
+                let line = [Line::Solid, Line::Dashed, Line::Dotted][k % 3];
+                panel.series.push(
+                    Series::line(
+                        if labelled { curve.spec.id.id() } else { "" },
+                        points,
+                        colour(curve.spec.id, 0),
+                    )
+                    .with_line(line)
+                    .with_marker(Marker::None, true),
+                );
+            }
+            panels.push(panel);
+        }
+        Ok(vec![ChapterFigure::new(
+            "beyond_convergence",
+            &Chart::new(FULL_WIDTH_MM, 80.0, panels),
+            csv,
+        )?])
+    }
+
+    fn figure_curves(&self, start: Start) -> impl Iterator<Item = &ConvergenceCurve> {
+        self.curves.iter().filter(move |c| {
+            c.start == start && c.dt_s == CONVERGENCE_DT && c.stiffness == CONVERGENCE_STIFFNESS
+        })
+    }
+
+    /// The chapter's files: the figure, `data/beyond_results.csv` and `data/convergence.csv`.
+    pub fn files(&self, figures: &[ChapterFigure]) -> Vec<OutputFile> {
+        let mut files: Vec<OutputFile> = figures
+            .iter()
+            .flat_map(|f| crate::report::figure_files(f.stem, &f.svg, &f.csv))
+            .collect();
+        files.push(OutputFile::text(
+            "data/beyond_results.csv",
+            self.results_csv(),
+        ));
+        files.push(OutputFile::text(
+            "data/convergence.csv",
+            self.convergence_csv(),
+        ));
+        files
+    }
+
+    /// `beyond_results.csv`: one row per grid experiment (`table` empty: no thesis table).
+    pub fn results_csv(&self) -> String {
+        let mut out = format!("{BEYOND_HEADER}\n");
+        for r in &self.grid {
+            out += &format!(
+                ",{},{},{},{},{},{},{},{},{},{},rope\n",
+                r.row.spec.id,
+                full(r.row.dt_s),
+                r.row.spec.iterations,
+                full(r.row.stiffness),
+                full(r.error_sum),
+                r.peaks,
+                full_opt(r.half_period_thesis),
+                full_opt(r.period_rel_error),
+                full_opt(r.half_period_exact),
+                setting_label(&r.row.spec),
+            );
+        }
+        out
+    }
+
+    /// `convergence.csv`: one row per curve and iteration; a failed step has no gap.
+    pub fn convergence_csv(&self) -> String {
+        let mut out =
+            String::from("solver,configuration,scene,start,stiffness,dt_s,iteration,gap_m\n");
+        for c in &self.curves {
+            let configuration = setting_label(&SolverSpec {
+                iterations: 1,
+                ..c.spec
+            })
+            .replace("1 it.", "default");
+            for (i, g) in c.gaps.iter().enumerate() {
+                out += &format!(
+                    "{},{configuration},{},{},{},{},{},{}\n",
+                    c.spec.id,
+                    c.scene,
+                    c.start.id(),
+                    full(c.stiffness),
+                    full(c.dt_s),
+                    i + 1,
+                    full_opt(*g)
+                );
+            }
+        }
+        out
+    }
+
+    /// The iterations each solver needs for a gap below [`GAP_TOLERANCE`] at the figure's
+    /// setting, from `start`, with the gap after [`CONVERGENCE_ITERATIONS`].
+    pub fn iterations_to_tolerance(
+        &self,
+        start: Start,
+    ) -> Vec<(SolverId, Option<usize>, Option<f64>)> {
+        self.figure_curves(start)
+            .map(|c| {
+                (
+                    c.spec.id,
+                    c.iterations_to(GAP_TOLERANCE),
+                    c.gaps.last().copied().flatten(),
+                )
+            })
+            .collect()
+    }
+
+    /// The chapter's section of `REPORT.md`, headed `## {number}.`.
+    pub fn section(&self, number: u32, figures: &[ChapterFigure]) -> String {
+        let solvers = grid_solvers();
+        let mut md =
+            format!("## {number}. Beyond the thesis: newer solvers on the thesis rope (§5)\n\n");
+        md += &format!(
+            "The thesis ends (§5) by asking for more Projective-Dynamics solvers and for a timing \
+             study. This chapter runs {} solver(s) the thesis did not measure on its rope, with its \
+             metrics and its ground truth: the grid of Tables 2-7 (dt = {} s × three settings × \
+             k = {} N/m, the thesis's stopping rule, the rest state against the Table 1 reference \
+             of the same stiffness), and the convergence of every iterative solver toward the \
+             converged Backward Euler step. Every solver comes from the registry \
+             (`src/registry.rs`), which `mss --list-solvers` prints.\n\n",
+            solvers.len(),
+            GRID_DTS.map(full).join(", "),
+            THESIS_STIFFNESSES.map(stiffness_label).join(" and "),
+        );
+
+        md += &format!("### {number}.1 The solvers and their settings\n\n");
+        let mut t = MarkdownTable::new(&[
+            "solver",
+            "source",
+            "module",
+            "one iteration",
+            "settings in the grid",
+        ]);
+        for &id in &solvers {
+            let info = id.info();
+            let settings = grid_settings(id).expect("a grid solver has settings");
+            t.row(vec![
+                format!("`{}`", info.id),
+                info.source.to_string(),
+                format!("[`{}`]({})", info.file, format_args!("../{}", info.file)),
+                info.iteration.unwrap_or("-").to_string(),
+                settings
+                    .iter()
+                    .map(setting_label)
+                    .collect::<Vec<_>>()
+                    .join("; "),
+            ]);
+        }
+        md += &t.render();
+        md += "\n";
+
+        md += &format!("### {number}.2 The grid of Tables 2-7\n\n");
+        md += "Columns as in Tables 2-7: the number of kinetic-energy peaks, T/2 (thesis \
+               convention), its relative error against the reference of the same stiffness, and \
+               the rest-state error (sum over nodes of the distance to the reference's final \
+               state). A run that reached the time limit is marked: its peaks and T/2 are those \
+               of an unfinished run.\n\n";
+        for &id in &solvers {
+            md += &format!("**`{}`** ({})\n\n", id.id(), id.info().summary);
+            let mut t = MarkdownTable::new(&[
+                "k (N/m)",
+                "dt (s)",
+                "setting",
+                "nº máx. E_k",
+                "T/2 (s)",
+                "T/2 rel. error",
+                "rest error (m)",
+                "note",
+            ]);
+            for r in self.grid.iter().filter(|r| r.row.spec.id == id) {
+                t.row(vec![
+                    stiffness_label(r.row.stiffness),
+                    full(r.row.dt_s),
+                    setting_label(&r.row.spec),
+                    r.peaks.to_string(),
+                    r.half_period_thesis.map_or("-".into(), sig4),
+                    r.period_rel_error.map_or("-".into(), percent),
+                    sig4(r.error_sum),
+                    if r.hit_time_limit {
+                        format!("hit the time limit ({} s)", full(r.end_time))
+                    } else {
+                        String::new()
+                    },
+                ]);
+            }
+            md += &t.render();
+            md += "\n";
+        }
+
+        md += &format!("### {number}.3 Convergence toward the converged Backward Euler step\n\n");
+        md += &format!(
+            "One step of dt = {} s at k = {} N/m, from the rope at rest and from `step10` (after \
+             ten converged Backward Euler steps of {} s from rest, a moving state), with m = 1 to \
+             {CONVERGENCE_ITERATIONS} iterations, each m a fresh solver; the gap is the largest \
+             node distance to the step solved by Newton to round-off. The XPBD family and PBD \
+             converge to their own constraint solution, not to this step: their curves level off \
+             at what they miss it by. All curves (both stiffnesses, dt = 1e-2 and 1e-3 s) are in \
+             `data/convergence.csv`.\n\n",
+            full(CONVERGENCE_DT),
+            stiffness_label(CONVERGENCE_STIFFNESS),
+            full(STEP10_DT),
+        );
+        if let Some(f) = figures.iter().find(|f| f.stem == "beyond_convergence") {
+            md += &format!(
+                "![beyond_convergence](figures/{s}.svg)\n\n*Figure B1. Gap to the converged \
+                 step against the iterations of one step (dt = {} s, k = {} N/m), (a) from rest, \
+                 (b) from step10; gaps below {} m drawn at it.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
+                full(CONVERGENCE_DT),
+                stiffness_label(CONVERGENCE_STIFFNESS),
+                full(GAP_FLOOR),
+                s = f.stem
+            );
+        }
+        let mut t = MarkdownTable::new(&[
+            "solver",
+            "iterations to 1e-6 m, from rest",
+            "from step10",
+            &format!("gap after {CONVERGENCE_ITERATIONS}, from step10 (m)"),
+        ]);
+        let rest = self.iterations_to_tolerance(Start::Rest);
+        let moving = self.iterations_to_tolerance(Start::Step10);
+        let shown =
+            |n: Option<usize>| n.map_or(format!("> {CONVERGENCE_ITERATIONS}"), |n| n.to_string());
+        for ((id, from_rest, _), (_, from_step10, last)) in rest.iter().zip(&moving) {
+            t.row(vec![
+                format!("`{id}`"),
+                shown(*from_rest),
+                shown(*from_step10),
+                last.map_or("step failed".into(), sig4),
+            ]);
+        }
+        md += &t.render();
+        md += "\n";
+        md
+    }
+}
