@@ -141,9 +141,11 @@ impl AndersonMixing {
 /// [Peng 2018, Eq. 5] $`\theta^* = \arg\min_\theta |f - \sum_j \theta_j\,\Delta F_j|`$, by an
 /// SVD of the columns scaled to unit norm; singular values below $`10^{-12}`$ of the largest
 /// are dropped, so that nearly parallel differences give a bounded $`\theta`$. Zero columns get
-/// $`\theta_j = 0`$.
+/// $`\theta_j = 0`$; a non-finite history gives no $`\theta`$ (the plain iterate).
 fn least_squares(delta_f: &[Vec<f64>], f: &[f64]) -> Vec<f64> {
-    if delta_f.is_empty() {
+    // A non-finite history has no least-squares solution; the plain iterate carries the
+    // non-finite values on to the step's error.
+    if delta_f.is_empty() || !delta_f.iter().flatten().chain(f).all(|x| x.is_finite()) {
         return Vec::new();
     }
     let scale: Vec<f64> = delta_f
