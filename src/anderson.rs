@@ -44,7 +44,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::error::{Error, Result};
-use crate::local_global::{Base, LocalGlobal};
+use crate::local_global::{Base, LocalGlobal, Merit};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State};
 
@@ -222,9 +222,10 @@ pub struct Accepted {
     /// The merit at the point: the incremental potential (Liu, J) or the combined residual
     /// (ADMM).
     pub merit: f64,
-    /// True when the point is the plain iterate the safeguard fell back to, false when it is
-    /// the step's first point or an accepted extrapolation.
-    pub fallback: bool,
+    /// When the point is the plain iterate the safeguard fell back to: the merit of the
+    /// extrapolation it rejected (above the previous point's). `None` for the step's first
+    /// point and for accepted extrapolations.
+    pub rejected: Option<f64>,
 }
 
 /// Peng et al. 2018's Anderson acceleration of Liu 2013 or ADMM-PD, with a fixed number of
@@ -314,20 +315,23 @@ impl TimeStepper for Anderson {
         let mut merit_previous = f64::INFINITY;
         while it.solves() < budget {
             let merit = match it.apply(merit_previous) {
-                Some(merit) => Accepted {
+                Merit::Applied(merit) => Accepted {
                     merit,
-                    fallback: false,
+                    rejected: None,
                 },
-                None => {
+                Merit::Rejected(rejected) => {
                     // The extrapolation raised the merit: back to the plain iterate.
                     it.set_variable(v_default);
                     mixing.replace(v_default);
                     if it.solves() == budget {
                         break;
                     }
+                    let Merit::Applied(merit) = it.apply(f64::INFINITY) else {
+                        unreachable!("no merit exceeds an infinite threshold")
+                    };
                     Accepted {
-                        merit: it.apply(f64::INFINITY).expect("no threshold"),
-                        fallback: true,
+                        merit,
+                        rejected: Some(rejected),
                     }
                 }
             };

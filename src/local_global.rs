@@ -74,6 +74,15 @@ impl FromStr for Base {
     }
 }
 
+/// What [`LocalGlobal::apply`] did, with the merit of the variable it was given.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Merit {
+    /// $`v \leftarrow G(v)`$ was applied.
+    Applied(f64),
+    /// The merit was above the threshold; $`v`$ is unchanged.
+    Rejected(f64),
+}
+
 /// The base solver's machinery.
 #[derive(Debug, Clone)]
 enum Iteration {
@@ -205,11 +214,11 @@ impl LocalGlobal {
         self.v.copy_from_slice(v);
     }
 
-    /// $`v \leftarrow G(v)`$ if the merit of the current $`v`$ is at most `threshold`, returning
-    /// that merit; otherwise `None`, with $`v`$ unchanged. Liu's merit (the incremental
+    /// $`v \leftarrow G(v)`$ if the merit of the current $`v`$ is at most `threshold`;
+    /// otherwise $`v`$ is left unchanged. Either way the merit is returned. Liu's merit (the incremental
     /// potential) costs no solve, so a rejected Liu iterate costs none; ADMM's combined residual
     /// needs $`G(v)`$ itself, so a rejected ADMM iterate has spent a global solve.
-    pub fn apply(&mut self, threshold: f64) -> Option<f64> {
+    pub fn apply(&mut self, threshold: f64) -> Merit {
         match &mut self.iteration {
             Iteration::Liu { solver, y, x } => {
                 let n = x.len();
@@ -218,13 +227,13 @@ impl LocalGlobal {
                 }
                 let merit = incremental_potential(&self.system, y, x, self.dt);
                 if merit > threshold {
-                    return None;
+                    return Merit::Rejected(merit);
                 }
                 solver.positions_mut().copy_from_slice(&self.v);
                 solver.iterate();
                 self.solves += 1;
                 self.v.copy_from_slice(solver.positions());
-                Some(merit)
+                Merit::Applied(merit)
             }
             Iteration::Admm { a, iterate } => {
                 load_admm(&self.v, iterate);
@@ -244,10 +253,10 @@ impl LocalGlobal {
                     merit += primal.norm_squared() + dual.norm_squared();
                 }
                 if merit > threshold {
-                    return None;
+                    return Merit::Rejected(merit);
                 }
                 store_admm(iterate, &mut self.v);
-                Some(merit)
+                Merit::Applied(merit)
             }
         }
     }
