@@ -26,7 +26,7 @@
 //! So along the accepted iterates of a Liu step the incremental potential never rises.
 //!
 //! What is accelerated, and the count of iterations, are those of [`crate::local_global`]:
-//! Liu's positions; ADMM's $`(z, \bar u)`$ (as Peng et al. do for ADMM). A step's budget is
+//! Liu's positions; ADMM's $`(z, \bar u)`$. A step's budget is
 //! its `iterations` global solves; an ADMM iterate the safeguard rejects has spent one (its
 //! merit needs $`G`$), a rejected Liu iterate none. A step returns the plain iterate $`G(v)`$
 //! of its last accepted point, never an extrapolation the safeguard has not vetted. Nothing
@@ -38,8 +38,8 @@
 //! converged Backward Euler steps, 17 global solves bring Liu's step within 1e-6 m of the
 //! converged step (Liu alone: 1582) and 29 bring ADMM's (ADMM alone: 1828).
 //!
-//! The equation numbers of the tags could not be checked against the paper's text (not
-//! available to this project); they are to be verified.
+//! The paper's text was not available to this project (AASolver was): the equation and
+//! algorithm numbers of the tags are as recalled, to be checked against the paper.
 
 use nalgebra::{DMatrix, DVector};
 

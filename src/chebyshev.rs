@@ -16,7 +16,7 @@
 //! which make the error after $`k`$ steps a scaled Chebyshev polynomial of $`B`$. Wang observes
 //! that Projective Dynamics, although nonlinear, converges like such a linear iteration, so an
 //! estimate of its "spectral radius" $`\rho`$ turns the recurrence into an accelerator; he
-//! estimates $`\rho`$ from the convergence of the plain iteration on a run (§4), and delays the
+//! estimates $`\rho`$ from the convergence of the plain iteration on a run, and delays the
 //! acceleration by $`S`$ warm-up iterations with $`\omega = 1`$, because the first iterations
 //! are the least linear: $`\omega = 1`$ for the iterations $`k < S`$ (0-based), $`\omega =
 //! 2/(2 - \rho^2)`$ at $`k = S`$, the recurrence after.
@@ -34,12 +34,12 @@
 //! norms over the second half of its linear phase (the ratio of successive errors, which
 //! Wang uses, without needing the converged solution).
 //!
-//! Defaults ([`ChebyshevParams::default`]): $`S = 10`$ and $`\gamma = 1`$, Wang's settings
-//! for the direct solver (his $`\gamma < 1`$ serves the Jacobi and Gauss-Seidel global steps,
-//! which this crate does not use); $`\rho`$ estimated.
+//! Defaults ([`ChebyshevParams::default`]): $`S = 10`$, the delay Wang uses; $`\gamma = 1`$,
+//! no under-relaxation, since Wang's $`\gamma < 1`$ serves the Jacobi and Gauss-Seidel global
+//! steps and this crate's global step is a direct solve; $`\rho`$ estimated.
 //!
-//! The equation numbers of the tags could not be checked against the paper's text (not
-//! available to this project); they are to be verified.
+//! The paper's text was not available to this project: the equation numbers of the tags and
+//! the default $`S`$ are as recalled, to be checked against the paper.
 //!
 //! Measured (`tests/accelerated.rs`, default parameters): at dt = 1e-2, k = 1e6, from the
 //! thesis rope after 10 converged Backward Euler steps, the first iteration count whose step
@@ -127,7 +127,7 @@ pub fn extrapolate(omega: f64, gamma: f64, v_hat: &[f64], v: &[f64], v_previous:
 /// Iterations the estimate may run at most.
 const ESTIMATE_ITERATIONS: usize = 2000;
 
-/// [Wang 2015, Eq. 14] The spectral radius of `base`'s iteration for `system`, `dt` and
+/// Wang 2015's "spectral radius" (estimated from a run) of `base`'s iteration for `system`, `dt` and
 /// `state`: the plain iteration is run (at most 2000 iterations) until its update
 /// $`\Delta_k = |v^{(k+1)} - v^{(k)}|`$ falls below $`10^{-11}`$ of the first update or into
 /// round-off ($`10^{-12}|v|`$), and $`\rho = (\Delta_K / \Delta_{K/2})^{1/(K - K/2)}`$ over the

@@ -5,15 +5,18 @@
 //! ([`FastMassSpring::iterate`], [`AdmmIterate`]) so that the base arithmetic exists once.
 //!
 //! - Liu 2013: $`v = x`$, the positions, and $`G`$ is a local step followed by a global step.
-//!   Wang 2015 (§4) extrapolates these positions; Peng et al. 2018 (§4, local-global solvers)
-//!   accelerate them too, with the incremental potential of Eq (20) as the merit function.
-//!   At a fixed point of the local step's projections that potential is exactly the
+//!   Wang 2015 extrapolates these positions (Projective Dynamics' $`q`$); Peng et al. 2018
+//!   accelerate them too, in their local-global solvers, with the incremental potential of
+//!   Eq (20) as the merit function. At a fixed point of the local step's projections that potential is exactly the
 //!   local-global energy, so [`crate::backward_euler::incremental_potential`] is it.
 //! - ADMM-PD: $`v = (z, \bar u)`$, the auxiliary and scaled dual variables. The positions are a
 //!   function of them ($`x = A^{-1}(M\tilde x + dt^2 D^\top W^\top W(z - \bar u))`$, Eq 40), so
-//!   ADMM is a fixed-point iteration on $`(z, \bar u)`$, the variable Peng et al. 2018 (§5,
-//!   ADMM) accelerate; $`G`$ is Algorithm 4's global step followed by its local step and dual
-//!   update (the same iteration as lines 2.3-2.10, read from the global step on). The merit
+//!   ADMM is a fixed-point iteration on $`(z, \bar u)`$, the variable Peng et al. 2018
+//!   accelerate in their ADMM discussion (and Zhang, Peng, Ouyang, Deng 2019, *Accelerating
+//!   ADMM for Efficient Simulation and Optimization*, prove ADMM a fixed-point iteration of
+//!   the second primal variable and the dual); $`G`$ is Algorithm 4's global step followed
+//!   by its local step and dual update (the same iteration as lines 2.3-2.10, read from the
+//!   global step on). The merit
 //!   is Peng et al.'s combined residual, primal plus dual:
 //!   $`r = |W(Dx - z^+)|^2 + |W(z^+ - z)|^2`$, with $`x`$ the global step's output and $`z^+`$
 //!   the local step's; the primal part is $`|W(\bar u^+ - \bar u)|^2`$ by Eq (42).
