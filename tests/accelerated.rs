@@ -393,3 +393,17 @@ fn acceleration_cuts_the_iterations_to_a_micrometre_by_an_order_of_magnitude() {
         );
     }
 }
+
+#[test]
+fn a_step_depends_on_the_state_and_the_settings_only() {
+    // The solvers keep buffers across steps (Anderson's history, Chebyshev's iterates); none
+    // of it may leak into the next step.
+    let system = thesis_rope(1e6).unwrap();
+    let a = step10(&system);
+    let b = system.initial_state();
+    for mut solver in accelerated(&system, 1e-2, 40) {
+        let first = one_step(solver.as_mut(), &a);
+        one_step(solver.as_mut(), &b);
+        assert_eq!(one_step(solver.as_mut(), &a), first, "{}", solver.name());
+    }
+}
