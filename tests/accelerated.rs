@@ -407,3 +407,11 @@ fn a_step_depends_on_the_state_and_the_settings_only() {
         assert_eq!(one_step(solver.as_mut(), &a), first, "{}", solver.name());
     }
 }
+
+#[test]
+fn the_solvers_can_run_on_other_threads() {
+    // The registry builds `Box<dyn TimeStepper + Send>`.
+    fn send<T: Send>() {}
+    send::<Chebyshev>();
+    send::<Anderson>();
+}
