@@ -87,7 +87,7 @@ pub struct AdmmIterate {
     /// The iterate $`x`$.
     pub x: Vec<f64>,
     /// $`z`$, one per spring.
-    z: Vec<Vec3>,
+    pub z: Vec<Vec3>,
     /// The scaled dual $`\bar u`$, one per spring.
     pub u_bar: Vec<Vec3>,
 }

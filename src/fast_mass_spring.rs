@@ -103,6 +103,44 @@ impl FastMassSpring {
         self.iterations
     }
 
+    /// Algorithm 3 line 2.1 and the first iterate: $`b`$ of Eq (27) for `state`, and the
+    /// iterate set where [`FirstIterate`] says (Algorithm 3 is silent; see the module doc).
+    /// The accelerated solvers of [`crate::chebyshev`] and [`crate::anderson`] start from here.
+    pub fn begin_step(&mut self, state: &State) {
+        to_columns(&state.x, &mut self.x_n);
+        self.inertial_rhs(state);
+        match self.first_iterate {
+            FirstIterate::Previous => self.x.copy_from_slice(&self.x_n),
+            FirstIterate::Inertial => {
+                let n = state.x.len();
+                for (i, (x, v)) in state.x.iter().zip(&state.v).enumerate() {
+                    let y = x + self.dt * v;
+                    for c in 0..3 {
+                        self.x[c * n + i] = y[c];
+                    }
+                }
+            }
+        }
+    }
+
+    /// Algorithm 3 lines 2.2-2.8 once: the local step, then the global step, from the current
+    /// iterate.
+    pub fn iterate(&mut self) {
+        self.local_step();
+        self.global_step();
+    }
+
+    /// The current iterate $`x`$, column-major (all x, all y, all z).
+    pub fn positions(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The current iterate, to be replaced (by an accelerated iterate). Fixed nodes must keep
+    /// their positions; the global step restores them anyway.
+    pub fn positions_mut(&mut self) -> &mut [f64] {
+        &mut self.x
+    }
+
     /// Eq. (27): consistent form $`b = M y + dt^2 f_{ext}`$ with $`y = x_n + dt\,v_n`$
     /// (printed: $`b = M x + f_{ext}\,dt^2`$, subtracted in Eq 29).
     fn inertial_rhs(&mut self, state: &State) {
@@ -161,26 +199,11 @@ impl TimeStepper for FastMassSpring {
     /// Algorithm 3, run-time part.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
-        to_columns(&state.x, &mut self.x_n);
-        // 2.1: b (Eq 27).
-        self.inertial_rhs(state);
-        // First iterate: Algorithm 3 is silent (see the module doc).
-        match self.first_iterate {
-            FirstIterate::Previous => self.x.copy_from_slice(&self.x_n),
-            FirstIterate::Inertial => {
-                let n = state.x.len();
-                for (i, (x, v)) in state.x.iter().zip(&state.v).enumerate() {
-                    let y = x + self.dt * v;
-                    for c in 0..3 {
-                        self.x[c * n + i] = y[c];
-                    }
-                }
-            }
-        }
+        // 2.1 and the first iterate.
+        self.begin_step(state);
         // 2.2-2.8
         for _ in 0..self.iterations {
-            self.local_step();
-            self.global_step();
+            self.iterate();
         }
         // Erratum: Algorithm 3 omits the velocity update.
         finish_step(state, &self.x, self.dt);

@@ -11,15 +11,18 @@
 //! with the tag `Eq. (N)`; the report's traceability table is built from these tags.
 
 pub mod admm;
+pub mod anderson;
 pub mod backward_euler;
 pub mod beyond;
 pub mod boundary;
 pub mod catenary;
+pub mod chebyshev;
 pub mod error;
 pub mod experiments;
 pub mod fast_mass_spring;
 pub mod forensics;
 pub mod linear;
+pub mod local_global;
 pub mod metrics;
 pub mod output_file;
 pub mod particles;
