@@ -37,6 +37,9 @@ pub fn grid_settings(id: SolverId) -> Option<[SolverSpec; 3]> {
     let counts = |counts: [usize; 3]| Some(counts.map(|m| SolverSpec::new(id, m)));
     match id {
         SolverId::Pbd => counts([1, 20, 50]),
+        // The accelerated forms at their base's counts (Tables 4-7).
+        SolverId::ChebyshevLiu | SolverId::AndersonLiu => counts([1, 30, 70]),
+        SolverId::ChebyshevAdmm | SolverId::AndersonAdmm => counts([1, 20, 50]),
         _ => None,
     }
 }
@@ -59,7 +62,7 @@ pub fn setting_label(spec: &SolverSpec) -> String {
     let defaults = SolverSpec::new(spec.id, spec.iterations);
     for option in info.options {
         let value = spec.params.get(option.name);
-        if value != defaults.params.get(option.name) {
+        if let Some(value) = value.filter(|_| value != defaults.params.get(option.name)) {
             label += &format!(", {} = {value}", option.name);
         }
     }

@@ -12,9 +12,12 @@
 //! ([`crate::solver::RunOptions`]), which belong to the run, not to the solver.
 
 use crate::admm::AdmmPd;
+use crate::anderson::{Anderson, AndersonParams};
 use crate::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
+use crate::chebyshev::{Chebyshev, ChebyshevParams};
 use crate::error::{require_positive, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
+use crate::local_global::Base;
 use crate::particles::adaptive::AdaptiveStepper;
 use crate::particles::integrators::{Integrator, ParticleStepper};
 use crate::particles::ParticleSystem;
@@ -34,6 +37,10 @@ pub enum SolverId {
     Xpbd,
     FastMassSpring,
     AdmmPd,
+    ChebyshevLiu,
+    ChebyshevAdmm,
+    AndersonLiu,
+    AndersonAdmm,
     ExplicitEuler,
     SymplecticEuler,
     Rk4,
@@ -86,6 +93,9 @@ pub struct SolverInfo {
     /// iterations.
     pub iteration: Option<&'static str>,
     pub options: &'static [OptionInfo],
+    /// The solver whose iteration this one accelerates (same fixed point, same cost per
+    /// iteration up to the acceleration's own work).
+    pub accelerates: Option<SolverId>,
     pub builder: Builder,
 }
 
@@ -97,12 +107,16 @@ impl std::fmt::Debug for SolverInfo {
 
 impl SolverId {
     /// Every solver, in the order `mss --list-solvers` prints them.
-    pub const ALL: [SolverId; 9] = [
+    pub const ALL: [SolverId; 13] = [
         SolverId::BackwardEuler,
         SolverId::Pbd,
         SolverId::Xpbd,
         SolverId::FastMassSpring,
         SolverId::AdmmPd,
+        SolverId::ChebyshevLiu,
+        SolverId::ChebyshevAdmm,
+        SolverId::AndersonLiu,
+        SolverId::AndersonAdmm,
         SolverId::ExplicitEuler,
         SolverId::SymplecticEuler,
         SolverId::Rk4,
@@ -129,6 +143,7 @@ impl SolverId {
                 family: Family::Thesis,
                 iteration: Some("Newton iteration"),
                 options: &[],
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(BackwardEuler::new(system, dt, spec.iterations)?))
                 }),
@@ -145,6 +160,7 @@ impl SolverId {
                     name: "stiffness_factor",
                     help: "dimensionless factor in [0, 1] scaling each correction (not k)",
                 }],
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(Pbd::new(
                         system,
@@ -163,6 +179,7 @@ impl SolverId {
                 family: Family::Thesis,
                 iteration: Some("sweep over the springs"),
                 options: &[],
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(Xpbd::new(system, dt, spec.iterations)?))
                 }),
@@ -176,6 +193,7 @@ impl SolverId {
                 family: Family::Thesis,
                 iteration: Some("local/global iteration"),
                 options: &[],
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(FastMassSpring::new(system, dt, spec.iterations)?))
                 }),
@@ -189,10 +207,15 @@ impl SolverId {
                 family: Family::Thesis,
                 iteration: Some("ADMM iteration"),
                 options: &[],
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(AdmmPd::new(system, dt, spec.iterations)?))
                 }),
             },
+            SolverId::ChebyshevLiu => chebyshev(Base::Liu),
+            SolverId::ChebyshevAdmm => chebyshev(Base::Admm),
+            SolverId::AndersonLiu => anderson(Base::Liu),
+            SolverId::AndersonAdmm => anderson(Base::Admm),
             SolverId::ExplicitEuler => tutorial_integrator(
                 "explicit_euler",
                 "Euler",
@@ -221,6 +244,7 @@ impl SolverId {
                     help: "error tolerance (> 0) of each adaptive step, relative to \
                            1 + |component|",
                 }],
+                accelerates: None,
                 builder: Builder::Particles(|particles, dt, spec| {
                     Ok(Box::new(AdaptiveStepper::new(
                         particles,
@@ -279,6 +303,128 @@ impl std::str::FromStr for SolverId {
     }
 }
 
+/// The solver of the thesis's tables that runs `base`'s iteration.
+fn base_solver(base: Base) -> SolverId {
+    match base {
+        Base::Liu => SolverId::FastMassSpring,
+        Base::Admm => SolverId::AdmmPd,
+    }
+}
+
+/// The entry of Wang 2015's Chebyshev acceleration of `base`.
+fn chebyshev(base: Base) -> SolverInfo {
+    let build = |base: Base| -> fn(
+        &MassSpringSystem,
+        f64,
+        &SolverSpec,
+    ) -> Result<Box<dyn TimeStepper + Send>> {
+        match base {
+            Base::Liu => |system, dt, spec| {
+                Ok(Box::new(Chebyshev::new(
+                    system,
+                    dt,
+                    spec.iterations,
+                    spec.params.chebyshev(Base::Liu),
+                )?))
+            },
+            Base::Admm => |system, dt, spec| {
+                Ok(Box::new(Chebyshev::new(
+                    system,
+                    dt,
+                    spec.iterations,
+                    spec.params.chebyshev(Base::Admm),
+                )?))
+            },
+        }
+    };
+    SolverInfo {
+        id: match base {
+            Base::Liu => "chebyshev_liu",
+            Base::Admm => "chebyshev_admm",
+        },
+        abbreviation: match base {
+            Base::Liu => "Cheb. Liu",
+            Base::Admm => "Cheb. ADMM",
+        },
+        summary: match base {
+            Base::Liu => "Wang 2015's Chebyshev semi-iterative acceleration of Liu 2013",
+            Base::Admm => "Wang 2015's Chebyshev semi-iterative acceleration of ADMM-PD",
+        },
+        source: "Wang 2015, A Chebyshev Semi-Iterative Approach for Accelerating Projective and Position-based Dynamics",
+        file: "src/chebyshev.rs",
+        family: Family::Beyond,
+        iteration: Some("local/global iteration (one global solve)"),
+        options: &[
+            OptionInfo {
+                name: "spectral_radius",
+                help: "rho in (0, 1) of the base iteration [default: estimated on the scene's start]",
+            },
+            OptionInfo {
+                name: "gamma",
+                help: "under-relaxation in (0, 1] [default: 1]",
+            },
+            OptionInfo {
+                name: "warmup",
+                help: "iterations S with omega = 1, an integer >= 0 [default: 10]",
+            },
+        ],
+        accelerates: Some(base_solver(base)),
+        builder: Builder::Springs(build(base)),
+    }
+}
+
+/// The entry of Peng et al. 2018's Anderson acceleration of `base`.
+fn anderson(base: Base) -> SolverInfo {
+    let build = |base: Base| -> fn(
+        &MassSpringSystem,
+        f64,
+        &SolverSpec,
+    ) -> Result<Box<dyn TimeStepper + Send>> {
+        match base {
+            Base::Liu => |system, dt, spec| {
+                Ok(Box::new(Anderson::new(
+                    system,
+                    dt,
+                    spec.iterations,
+                    spec.params.anderson(Base::Liu),
+                )?))
+            },
+            Base::Admm => |system, dt, spec| {
+                Ok(Box::new(Anderson::new(
+                    system,
+                    dt,
+                    spec.iterations,
+                    spec.params.anderson(Base::Admm),
+                )?))
+            },
+        }
+    };
+    SolverInfo {
+        id: match base {
+            Base::Liu => "anderson_liu",
+            Base::Admm => "anderson_admm",
+        },
+        abbreviation: match base {
+            Base::Liu => "AA Liu",
+            Base::Admm => "AA ADMM",
+        },
+        summary: match base {
+            Base::Liu => "Peng et al. 2018's Anderson acceleration of Liu 2013, energy safeguard",
+            Base::Admm => "Peng et al. 2018's Anderson acceleration of ADMM-PD, residual safeguard",
+        },
+        source: "Peng, Deng, Zhang, Liu 2018, Anderson Acceleration for Geometry Optimization and Physics Simulation",
+        file: "src/anderson.rs",
+        family: Family::Beyond,
+        iteration: Some("local/global iteration (one global solve)"),
+        options: &[OptionInfo {
+            name: "window",
+            help: "past iterates m in each extrapolation, an integer from 1 to 20 [default: 5]",
+        }],
+        accelerates: Some(base_solver(base)),
+        builder: Builder::Springs(build(base)),
+    }
+}
+
 /// The entry of a tutorial integrator with a fixed step.
 fn tutorial_integrator(
     id: &'static str,
@@ -294,6 +440,7 @@ fn tutorial_integrator(
         family: Family::Tutorial,
         iteration: None,
         options: &[],
+        accelerates: None,
         builder: Builder::Particles(|particles, dt, spec| {
             let integrator = spec
                 .id
@@ -311,25 +458,43 @@ pub struct SolverParams {
     pub stiffness_factor: f64,
     /// rk45: the error tolerance of each adaptive step.
     pub tolerance: f64,
+    /// Chebyshev: the base iteration's spectral radius; None: estimated on the scene.
+    pub spectral_radius: Option<f64>,
+    /// Chebyshev: the under-relaxation.
+    pub gamma: f64,
+    /// Chebyshev: the warm-up iterations.
+    pub warmup: usize,
+    /// Anderson: the window.
+    pub window: usize,
 }
 
 impl SolverParams {
-    /// The option `name` (an [`OptionInfo::name`]); NaN for a name no solver has.
-    pub fn get(&self, name: &str) -> f64 {
+    /// The option `name` (an [`OptionInfo::name`]); None for an unset optional value or a
+    /// name no solver has.
+    pub fn get(&self, name: &str) -> Option<f64> {
         match name {
-            "stiffness_factor" => self.stiffness_factor,
-            "tolerance" => self.tolerance,
-            _ => f64::NAN,
+            "stiffness_factor" => Some(self.stiffness_factor),
+            "tolerance" => Some(self.tolerance),
+            "spectral_radius" => self.spectral_radius,
+            "gamma" => Some(self.gamma),
+            "warmup" => Some(self.warmup as f64),
+            "window" => Some(self.window as f64),
+            _ => None,
         }
     }
 
-    /// Sets the option `name` (an [`OptionInfo::name`]) to `value`, checked against its range.
+    /// Sets the option `name` (an [`OptionInfo::name`]) to `value`, checked against its range
+    /// by the solver that reads it.
     pub fn set(&mut self, name: &str, value: f64) -> Result<()> {
         match name {
             "stiffness_factor" => {
                 self.stiffness_factor = crate::pbd::require_factor(name, value)?;
             }
             "tolerance" => self.tolerance = require_positive(name, value)?,
+            "spectral_radius" => self.spectral_radius = Some(value),
+            "gamma" => self.gamma = value,
+            "warmup" => self.warmup = require_integer(name, value, 0)?,
+            "window" => self.window = require_integer(name, value, 1)?,
             _ => {
                 let names: Vec<&str> = SolverId::ALL
                     .iter()
@@ -342,15 +507,53 @@ impl SolverParams {
                 ));
             }
         }
-        Ok(())
+        self.chebyshev(Base::Liu).validate()?;
+        self.anderson(Base::Liu).validate()
+    }
+
+    /// The parameters of Chebyshev acceleration of `base`.
+    pub fn chebyshev(&self, base: Base) -> ChebyshevParams {
+        ChebyshevParams {
+            base,
+            spectral_radius: self.spectral_radius,
+            gamma: self.gamma,
+            warmup: self.warmup,
+        }
+    }
+
+    /// The parameters of Anderson acceleration of `base`.
+    pub fn anderson(&self, base: Base) -> AndersonParams {
+        AndersonParams {
+            base,
+            window: self.window,
+        }
+    }
+}
+
+/// `value` as a count: a whole number at least `min`.
+fn require_integer(field: &str, value: f64, min: usize) -> Result<usize> {
+    if value.is_finite() && value.fract() == 0.0 && value >= min as f64 && value <= u32::MAX as f64
+    {
+        Ok(value as usize)
+    } else {
+        Err(Error::invalid(
+            field,
+            value,
+            &format!("an integer >= {min}"),
+        ))
     }
 }
 
 impl Default for SolverParams {
     fn default() -> Self {
+        let chebyshev = ChebyshevParams::default();
         Self {
             stiffness_factor: 1.0,
             tolerance: 1e-6,
+            spectral_radius: chebyshev.spectral_radius,
+            gamma: chebyshev.gamma,
+            warmup: chebyshev.warmup,
+            window: AndersonParams::default().window,
         }
     }
 }
