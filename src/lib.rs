@@ -14,6 +14,8 @@ pub mod admm;
 pub mod backward_euler;
 pub mod boundary;
 pub mod catenary;
+pub mod damped_admm;
+pub mod damping;
 pub mod error;
 pub mod experiments;
 pub mod fast_mass_spring;

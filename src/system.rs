@@ -194,6 +194,21 @@ impl MassSpringSystem {
         Ok(())
     }
 
+    /// Rejects a spring with damping $`k_d \ne 0`$ for the thesis's solvers, whose model is
+    /// undamped springs (their damping, if any, is Rayleigh's: [`crate::damping`]); the
+    /// tutorial's particle system is the one that models `Spring::damping`.
+    pub fn require_undamped_springs(&self) -> Result<()> {
+        match self.springs.iter().position(|s| s.damping != 0.0) {
+            Some(j) => Err(Error::invalid(
+                format!("springs[{j}].damping"),
+                self.springs[j].damping,
+                "0: the thesis's solvers model undamped springs (Rayleigh damping is a solver \
+                 parameter); the tutorial's particle system models spring damping",
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// External force on every node: gravity $`m_i g`$ (zero on fixed nodes, which never move).
     pub fn external_force(&self, i: usize) -> Vec3 {
         let node = &self.nodes[i];
