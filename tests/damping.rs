@@ -389,3 +389,28 @@ fn the_oracle_reports_a_stalled_line_search() {
     let err = converged_step(&rope, &step10(&rope), 1e-2, below_round_off).unwrap_err();
     assert!(matches!(err, Error::NotConverged { .. }), "{err}");
 }
+
+/// The measurement (run with `--ignored --nocapture`): at dt = 1e-2, k = 1e6, from
+/// `step10`, the iterations m each solver needs for a gap below 1e-6 m to its converged step,
+/// each m a fresh solver taking one step.
+#[test]
+#[ignore]
+fn iterations_to_one_micrometre() {
+    let rope = thesis_rope(1e6).unwrap();
+    let state = step10(&rope);
+    let dt = 1e-2;
+    let first_below = |oracle: &State, build: &dyn Fn(usize) -> Box<dyn TimeStepper>| {
+        (1..=20_000).find(|&m| gap(&one_step(build(m).as_mut(), &state), oracle) < 1e-6)
+    };
+    let undamped = converged_step(&rope, &state, dt, Default::default()).unwrap();
+    let damped = damped_converged_step(&rope, &state, dt, DAMPING, Default::default()).unwrap();
+    let admm = first_below(&undamped, &|m| Box::new(AdmmPd::new(&rope, dt, m).unwrap()));
+    let none = first_below(&undamped, &|m| {
+        Box::new(DampedAdmm::new(&rope, dt, m, RayleighDamping::NONE).unwrap())
+    });
+    let with = first_below(&damped, &|m| {
+        Box::new(DampedAdmm::new(&rope, dt, m, DAMPING).unwrap())
+    });
+    let damping = DAMPING;
+    println!("ADMM-PD {admm:?}, damped ADMM (0, 0) {none:?}, damped ADMM {damping:?} {with:?}");
+}
