@@ -332,6 +332,25 @@ fn damped_admm_reaches_the_damped_converged_step() {
     }
 }
 
+/// The damped Backward Euler of fixed Newton iterations (the velocity residual of Eqs 8-9 with
+/// the damping force, an independent formulation) reaches the damped converged step (the
+/// minimiser of the damped potential).
+#[test]
+fn damped_newton_reaches_the_damped_converged_step() {
+    for k in [1e3, 1e6] {
+        let rope = thesis_rope(k).unwrap();
+        let state = step10(&rope);
+        for dt in [1e-3, 1e-2] {
+            let oracle =
+                damped_converged_step(&rope, &state, dt, DAMPING, Default::default()).unwrap();
+            let mut be = BackwardEuler::damped(&rope, dt, 20, DAMPING).unwrap();
+            let g = gap(&one_step(&mut be, &state), &oracle);
+            println!("k {k:e} dt {dt:e}: gap {g:.1e} m");
+            assert!(g < 1e-12, "k {k:e} dt {dt:e}: gap {g:e} m");
+        }
+    }
+}
+
 /// (d) With α = β = 0 the damped solvers are the undamped ones, bit for bit.
 #[test]
 fn without_damping_the_damped_solvers_are_the_undamped_ones() {
