@@ -23,6 +23,13 @@
 //! ```
 //! and the global step's right-hand side gains $`\tau^2 D^\top W'^\top W'(z' - \bar u')`$.
 //!
+//! Measured (`tests/damping.rs`, `iterations_to_one_micrometre`): at dt = 1e-2 s, k = 1e6 N/m,
+//! from `step10`, ADMM-PD needs 1828 iterations for a gap below 1e-6 m to its converged step,
+//! and this solver with $`\alpha`$ = 0.5 1/s, $`\beta`$ = 2e-3 s 2154 to the damped one (1828
+//! with $`\alpha = \beta = 0`$). The weights $`\omega'^2_i`$ matter: 0.1 times the above gives
+//! 1832 there, 10 times 5380; 0.01 times gives 1803 there but slows the k = 1e3, dt = 1e-3
+//! step below 1e-9 m in 300 iterations.
+//!
 //! The split of the stiffness-proportional term into its own block is this crate's choice (the
 //! paper's text was not at hand; see [`crate::damping`]); it keeps the springs' local step
 //! (Eqs 55-56) exactly the thesis's. The fixed point is the minimiser of $`\Phi`$, the damped
