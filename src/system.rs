@@ -35,7 +35,8 @@ pub struct Spring {
     pub rest_length: f64,
     /// Stiffness $`k`$ in N/m, >= 0.
     pub stiffness: f64,
-    /// Axial damping $`k_d`$ in N·s/m, >= 0 (used by the tutorial's force model only).
+    /// Axial damping $`k_d`$ in N·s/m, >= 0: the tutorial's force model; the thesis's solvers
+    /// reject a non-zero value ([`MassSpringSystem::require_undamped_springs`]).
     pub damping: f64,
 }
 
