@@ -155,6 +155,25 @@ impl DampedAdmm {
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
+        let largest_k = system
+            .springs()
+            .iter()
+            .fold(0.0_f64, |m, s| m.max(s.stiffness));
+        // Finite coefficients can still overflow the weights of the global matrix.
+        if !(params.alpha * dt).is_finite() {
+            return Err(Error::invalid(
+                "alpha",
+                params.alpha,
+                "a number whose alpha * dt is finite",
+            ));
+        }
+        if !(params.beta * largest_k / dt).is_finite() {
+            return Err(Error::invalid(
+                "beta",
+                params.beta,
+                "a number whose damping weight beta * k / dt is finite",
+            ));
+        }
         let tau = dt / (1.0 + params.alpha * dt).sqrt();
         let stiffness_damping =
             (params.beta > 0.0).then(|| StiffnessDampingBlock::new(system, params.beta, dt, tau));

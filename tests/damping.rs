@@ -100,6 +100,15 @@ fn bad_damping_is_rejected_with_its_name() {
         field_of(DampedAdmm::new(&rope, 1e-2, 0, DAMPING).unwrap_err()),
         "iterations"
     );
+    // Finite but overflowing the global matrix's weights.
+    let huge = RayleighDamping {
+        alpha: 0.0,
+        beta: 1e305,
+    };
+    assert_eq!(
+        field_of(DampedAdmm::new(&rope, 1e-2, 10, huge).unwrap_err()),
+        "beta"
+    );
     assert_eq!(RayleighDamping::default(), RayleighDamping::NONE);
 }
 
