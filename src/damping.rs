@@ -28,6 +28,9 @@
 //! Choices, stated because the paper's text was not at hand when this was written (its
 //! equation numbers are therefore not quoted; the tags below name the paper and the section's
 //! subject):
+//! - The position argument of $`\mathcal D`$ (the $`K`$ of the stiffness term) is held at
+//!   $`x_n`$ for the whole step, so the damping term is quadratic in $`x`$ and its gradient is
+//!   exactly a force; the velocity argument is the end-of-step one.
 //! - $`H_i`$ is projected to the positive semidefinite cone (the transverse factor
 //!   $`1 - l_0/l`$ clamped at 0, [`crate::spring::force_jacobian_definite`]) so that
 //!   $`\mathcal D \ge 0`$: a compressed spring's indefinite Hessian would otherwise feed energy
