@@ -258,8 +258,9 @@ impl BackwardEuler {
 
 impl TimeStepper for BackwardEuler {
     fn name(&self) -> String {
-        let RayleighDamping { alpha, beta } = self.dissipation.damping();
-        if alpha == 0.0 && beta == 0.0 {
+        let damping = self.dissipation.damping();
+        let RayleighDamping { alpha, beta } = damping;
+        if damping.is_none() {
             format!(
                 "Backward Euler ({} Newton iterations)",
                 self.newton_iterations
