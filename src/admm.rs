@@ -133,6 +133,23 @@ impl AdmmIterate {
         }
     }
 
+    /// [Brown 2018, dissipation potential] The mass-proportional damping's term joins the
+    /// inertial one: $`\frac{1}{2h^2}|x - \tilde x|_M^2 + \frac{\alpha}{2h}|x - x_n|_M^2`$ is, up to
+    /// a constant, $`\frac{1 + \alpha h}{2h^2}|x - \hat x|_M^2`$ with
+    /// $`\hat x = (\tilde x + \alpha h\,x_n)/(1 + \alpha h)`$. Replaces $`\tilde x`$ (after
+    /// [`Self::predict`]) by $`\hat x`$, given `alpha_h` $`= \alpha h`$.
+    pub fn damp_prediction(&mut self, system: &MassSpringSystem, alpha_h: f64) {
+        let n = system.len();
+        for (i, node) in system.nodes().iter().enumerate() {
+            for c in 0..3 {
+                let r = c * n + i;
+                let x_hat = (self.x_tilde[r] + alpha_h * self.x_n[r]) / (1.0 + alpha_h);
+                self.x_tilde[r] = x_hat;
+                self.m_x_tilde[r] = node.mass * x_hat;
+            }
+        }
+    }
+
     /// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$
     /// (Eq 42), from the current iterate $`x`$.
     pub fn local_step(&mut self, system: &MassSpringSystem) {
@@ -182,6 +199,7 @@ impl AdmmPd {
     pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
         require_positive("dt", dt)?;
         system.require_positive_stiffness()?;
+        system.require_undamped_springs()?;
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }

@@ -16,6 +16,7 @@
 //! the oracle the other solvers are tested against.
 
 use crate::boundary::{fixed_unknowns, ConstrainedSystem};
+use crate::damping::{RayleighDamping, StepDissipation};
 use crate::error::{require_positive, Error, Result};
 use crate::linear::SymmetricMatrix;
 use crate::solver::TimeStepper;
@@ -103,20 +104,30 @@ impl ImplicitMatrix {
     }
 
     /// Eq. (12): the left-hand side $`A = M - dt^2\,\frac{dF}{dx}`$, from the springs' force
-    /// Jacobians (Eq 4) given per spring.
-    fn assemble(&mut self, system: &MassSpringSystem, dt: f64, jacobians: &[Matrix3<f64>]) {
+    /// Jacobians (Eq 4) given per spring; with Rayleigh damping, plus $`h^2`$ times the
+    /// dissipation's Hessian, $`\alpha h M + \beta h K(x_n)`$ ([`StepDissipation`]).
+    fn assemble(
+        &mut self,
+        system: &MassSpringSystem,
+        dt: f64,
+        jacobians: &[Matrix3<f64>],
+        dissipation: &StepDissipation,
+    ) {
         let values = self.matrix.values_mut();
         values.fill(0.0);
+        let mass_factor = dissipation.mass_factor();
         for (i, node) in system.nodes().iter().enumerate() {
             for c in 0..3 {
-                values[self.diagonal[3 * i + c]] = node.mass;
+                values[self.diagonal[3 * i + c]] = node.mass * mass_factor;
             }
         }
         let dt2 = dt * dt;
-        for ([aa, ab, ba, bb], jac) in self.spring_blocks.iter().zip(jacobians) {
+        for (i, ([aa, ab, ba, bb], jac)) in self.spring_blocks.iter().zip(jacobians).enumerate() {
+            // The damping block enters like a force Jacobian of the opposite sign.
+            let jac = dt2 * jac - dissipation.spring_block(i);
             // dF_a/dx_a = dF_b/dx_b = J and dF_a/dx_b = dF_b/dx_a = -J.
             for rc in 0..9 {
-                let dt2_j = dt2 * jac[(rc / 3, rc % 3)];
+                let dt2_j = jac[(rc / 3, rc % 3)];
                 values[aa[rc]] -= dt2_j;
                 values[ab[rc]] += dt2_j;
                 values[ba[rc]] += dt2_j;
@@ -127,12 +138,13 @@ impl ImplicitMatrix {
 }
 
 /// Backward Euler with a fixed number of Newton-Raphson iterations per step (the thesis's
-/// reference solver).
+/// reference solver), optionally with Rayleigh damping ([`crate::damping`]).
 #[derive(Debug, Clone)]
 pub struct BackwardEuler {
     system: MassSpringSystem,
     dt: f64,
     newton_iterations: usize,
+    dissipation: StepDissipation,
     implicit: ImplicitMatrix,
     solve: Option<ConstrainedSystem>,
     fixed: Vec<usize>,
@@ -147,7 +159,21 @@ pub struct BackwardEuler {
 impl BackwardEuler {
     /// A solver for `system` with time step `dt` (s, > 0) and `newton_iterations` (>= 1).
     pub fn new(system: &MassSpringSystem, dt: f64, newton_iterations: usize) -> Result<Self> {
+        Self::damped(system, dt, newton_iterations, RayleighDamping::NONE)
+    }
+
+    /// [Brown 2018, Rayleigh damping] The same solver with the damping force
+    /// $`-(\alpha M + \beta K(x_n))\,v_{n+1}`$: the residual gains $`h(\alpha M + \beta K(x_n))v`$,
+    /// so Eq (12)'s matrix gains $`h(\alpha M + \beta K(x_n))`$ and its right-hand side is unchanged.
+    pub fn damped(
+        system: &MassSpringSystem,
+        dt: f64,
+        newton_iterations: usize,
+        damping: RayleighDamping,
+    ) -> Result<Self> {
         require_positive("dt", dt)?;
+        damping.validate()?;
+        system.require_undamped_springs()?;
         if newton_iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
@@ -162,6 +188,7 @@ impl BackwardEuler {
             system: system.clone(),
             dt,
             newton_iterations,
+            dissipation: StepDissipation::new(system, damping, dt),
             implicit: ImplicitMatrix::new(system),
             solve: None,
             fixed: fixed_unknowns(fixed_nodes, 3),
@@ -206,7 +233,8 @@ impl BackwardEuler {
                 self.rhs[3 * s.b + c] -= k_dx[c];
             }
         }
-        self.implicit.assemble(&self.system, dt, &self.jacobians);
+        self.implicit
+            .assemble(&self.system, dt, &self.jacobians, &self.dissipation);
         match &mut self.solve {
             Some(solve) => solve.refactor(&mut self.implicit.matrix)?,
             None => {
@@ -230,10 +258,19 @@ impl BackwardEuler {
 
 impl TimeStepper for BackwardEuler {
     fn name(&self) -> String {
-        format!(
-            "Backward Euler ({} Newton iterations)",
-            self.newton_iterations
-        )
+        let damping = self.dissipation.damping();
+        let RayleighDamping { alpha, beta } = damping;
+        if damping.is_none() {
+            format!(
+                "Backward Euler ({} Newton iterations)",
+                self.newton_iterations
+            )
+        } else {
+            format!(
+                "Backward Euler ({} Newton iterations, alpha {alpha} 1/s, beta {beta} s)",
+                self.newton_iterations
+            )
+        }
     }
 
     fn dt(&self) -> f64 {
@@ -248,6 +285,7 @@ impl TimeStepper for BackwardEuler {
     fn step(&mut self, state: &mut State) -> Result<()> {
         // v_0 = 0, so x_0 = x_n and the first iteration is Eq (12) as printed.
         self.v_k.fill(Vec3::zeros());
+        self.dissipation.start(&self.system, &state.x);
         for _ in 0..self.newton_iterations {
             self.newton_iteration(state)?;
         }
@@ -299,13 +337,32 @@ pub fn incremental_potential(system: &MassSpringSystem, y: &[Vec3], x: &[Vec3], 
 /// same minimiser as putting $`dt^2 M^{-1} f_{ext}`$ into $`y`$. The Hessian uses the projected
 /// spring Jacobian ([`spring::force_jacobian_definite`]) so every direction descends; at a
 /// stretched-rope solution it equals the exact one and convergence is quadratic.
+///
+/// Fails with [`Error::NotConverged`] when the line search stalls (no decrease of the
+/// potential down to a step of $`10^{-12}`$ of Newton's) or the potential is not finite, rather
+/// than take the stalled step as converged.
 pub fn converged_step(
     system: &MassSpringSystem,
     state: &State,
     dt: f64,
     options: ConvergedStepOptions,
 ) -> Result<State> {
+    damped_converged_step(system, state, dt, RayleighDamping::NONE, options)
+}
+
+/// [Brown 2018, dissipation potential] [`converged_step`] with Rayleigh damping: projected
+/// Newton on $`\Phi(x) + h\,\mathcal D(x_n, (x - x_n)/h)`$ ([`crate::damping`]), the oracle of
+/// the damped solvers. With $`\alpha = \beta = 0`$ it is [`converged_step`].
+pub fn damped_converged_step(
+    system: &MassSpringSystem,
+    state: &State,
+    dt: f64,
+    damping: RayleighDamping,
+    options: ConvergedStepOptions,
+) -> Result<State> {
     require_positive("dt", dt)?;
+    damping.validate()?;
+    system.require_undamped_springs()?;
     let n = system.len();
     let y: Vec<Vec3> = state
         .x
@@ -326,6 +383,10 @@ pub fn converged_step(
         .filter(|(_, n)| n.fixed)
         .map(|(i, _)| i);
     let fixed = fixed_unknowns(fixed_nodes, 3);
+    let mut dissipation = StepDissipation::new(system, damping, dt);
+    dissipation.start(system, &state.x);
+    let objective =
+        |x: &[Vec3]| incremental_potential(system, &y, x, dt) + dissipation.potential(system, x);
     let mut implicit = ImplicitMatrix::new(system);
     let mut solve: Option<ConstrainedSystem> = None;
     let mut forces = vec![Vec3::zeros(); n];
@@ -335,13 +396,14 @@ pub fn converged_step(
         for (jac, s) in jacobians.iter_mut().zip(system.springs()) {
             *jac = spring::force_jacobian_definite(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
         }
-        implicit.assemble(system, dt, &jacobians);
+        implicit.assemble(system, dt, &jacobians, &dissipation);
         match &mut solve {
             Some(solve) => solve.refactor(&mut implicit.matrix)?,
             None => solve = Some(ConstrainedSystem::new(&mut implicit.matrix, &fixed)?),
         }
-        // (M − dt²K̃) Δx = −dt²·∇Φ = dt²F(x) − M(x − y)
+        // (M − dt²K̃) Δx = −dt²·∇Φ = dt²F(x) − M(x − y), F including the damping force.
         system.forces(&x, &mut forces);
+        dissipation.add_force(system, &x, &mut forces);
         let mut dx: Vec<f64> = (0..3 * n)
             .map(|r| {
                 let (i, c) = (r / 3, r % 3);
@@ -359,9 +421,24 @@ pub fn converged_step(
         // Near the solution the potential's differences drown in round-off: take full steps.
         let mut alpha = 1.0;
         if step_norm > 1e-8 {
-            let phi0 = incremental_potential(system, &y, &x, dt);
-            while alpha > 1e-12 && incremental_potential(system, &y, &trial(alpha), dt) > phi0 {
+            let phi0 = objective(&x);
+            // False for a NaN potential too.
+            let descends = |phi: f64| phi <= phi0;
+            let mut phi = objective(&trial(alpha));
+            while alpha > 1e-12 && !descends(phi) {
                 alpha *= 0.5;
+                phi = objective(&trial(alpha));
+            }
+            if !descends(phi) {
+                return Err(Error::NotConverged {
+                    what: "converged Backward Euler step".into(),
+                    detail: format!(
+                        "the line search stalled at Newton iteration {}: the potential {phi0:e} \
+                         does not decrease along the Newton step ({step_norm:e} m) down to a \
+                         fraction {alpha:e} of it",
+                        iteration + 1
+                    ),
+                });
             }
         }
         x = trial(alpha);

@@ -67,6 +67,7 @@ impl FastMassSpring {
     /// local/global iterations per step. Algorithm 3, lines 1.1-1.4.
     pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
         require_positive("dt", dt)?;
+        system.require_undamped_springs()?;
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }

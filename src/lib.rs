@@ -17,6 +17,8 @@ pub mod beyond;
 pub mod boundary;
 pub mod catenary;
 pub mod chebyshev;
+pub mod damped_admm;
+pub mod damping;
 pub mod error;
 pub mod experiments;
 pub mod fast_mass_spring;

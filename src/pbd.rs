@@ -82,6 +82,7 @@ impl Pbd {
         stiffness_factors: &[f64],
     ) -> Result<Self> {
         require_positive("dt", dt)?;
+        system.require_undamped_springs()?;
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }

@@ -35,7 +35,8 @@ pub struct Spring {
     pub rest_length: f64,
     /// Stiffness $`k`$ in N/m, >= 0.
     pub stiffness: f64,
-    /// Axial damping $`k_d`$ in N·s/m, >= 0 (used by the tutorial's force model only).
+    /// Axial damping $`k_d`$ in N·s/m, >= 0: the tutorial's force model; the thesis's solvers
+    /// reject a non-zero value ([`MassSpringSystem::require_undamped_springs`]).
     pub damping: f64,
 }
 
@@ -192,6 +193,21 @@ impl MassSpringSystem {
             require_positive(format!("springs[{j}].stiffness"), s.stiffness)?;
         }
         Ok(())
+    }
+
+    /// Rejects a spring with damping $`k_d \ne 0`$ for the thesis's solvers, whose model is
+    /// undamped springs (their damping, if any, is Rayleigh's: [`crate::damping`]); the
+    /// tutorial's particle system is the one that models `Spring::damping`.
+    pub fn require_undamped_springs(&self) -> Result<()> {
+        match self.springs.iter().position(|s| s.damping != 0.0) {
+            Some(j) => Err(Error::invalid(
+                format!("springs[{j}].damping"),
+                self.springs[j].damping,
+                "0: the thesis's solvers model undamped springs (Rayleigh damping is a solver \
+                 parameter); the tutorial's particle system models spring damping",
+            )),
+            None => Ok(()),
+        }
     }
 
     /// External force on every node: gravity $`m_i g`$ (zero on fixed nodes, which never move).

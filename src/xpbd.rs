@@ -206,6 +206,7 @@ impl Xpbd {
         compliance: Compliance,
     ) -> Result<Self> {
         require_positive("dt", dt)?;
+        system.require_undamped_springs()?;
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
