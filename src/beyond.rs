@@ -14,6 +14,7 @@
 //! iterations. The start is the thesis rope at rest, or [`Start::Step10`], a moving state.
 
 use crate::backward_euler::{converged_step, ConvergedStepOptions};
+use crate::damping::RayleighDamping;
 use crate::error::Result;
 use crate::experiments::{run_parallel, Reference, ResultSet};
 use crate::metrics::{rest_error_max, rest_error_sum, StoppingRule};
@@ -24,6 +25,28 @@ use crate::system::{MassSpringSystem, State};
 
 /// The time steps of Tables 2-7, s.
 pub const GRID_DTS: [f64; 3] = [0.1, 0.01, 0.001];
+
+/// The dampings of the damped solvers in the grid: none, mass-proportional, and
+/// stiffness-proportional (the thesis rope's lowest mode, about 3 rad/s, gets
+/// ζ = α/(2ω) ≈ 0.08 from the second and ζ = βω/2 ≈ 0.003 from the third; its stiff modes far
+/// more).
+pub const GRID_DAMPINGS: [RayleighDamping; 3] = [
+    RayleighDamping::NONE,
+    RayleighDamping {
+        alpha: 0.5,
+        beta: 0.0,
+    },
+    RayleighDamping {
+        alpha: 0.0,
+        beta: 2e-3,
+    },
+];
+
+/// The damping of the damped solvers' convergence curves (both terms at once).
+pub const CONVERGENCE_DAMPING: RayleighDamping = RayleighDamping {
+    alpha: 0.5,
+    beta: 2e-3,
+};
 
 /// Iterations of the convergence curves.
 pub const CONVERGENCE_ITERATIONS: usize = 200;
@@ -40,6 +63,16 @@ pub fn grid_settings(id: SolverId) -> Option<[SolverSpec; 3]> {
         // The accelerated forms at their base's counts (Tables 4-7).
         SolverId::ChebyshevLiu | SolverId::AndersonLiu => counts([1, 30, 70]),
         SolverId::ChebyshevAdmm | SolverId::AndersonAdmm => counts([1, 20, 50]),
+        // The damped pair at fixed iterations, three dampings: none, mass- and
+        // stiffness-proportional.
+        SolverId::DampedBackwardEuler | SolverId::DampedAdmm => {
+            let iterations = if id == SolverId::DampedAdmm { 50 } else { 5 };
+            Some(GRID_DAMPINGS.map(|damping| {
+                let mut spec = SolverSpec::new(id, iterations);
+                spec.params.damping = damping;
+                spec
+            }))
+        }
         _ => None,
     }
 }
@@ -269,7 +302,13 @@ pub fn convergence_solvers() -> Vec<SolverSpec> {
             let info = id.info();
             matches!(info.builder, Builder::Springs(_)) && info.iteration.is_some()
         })
-        .map(|id| SolverSpec::new(id, 1))
+        .map(|id| {
+            let mut spec = SolverSpec::new(id, 1);
+            if matches!(id, SolverId::DampedBackwardEuler | SolverId::DampedAdmm) {
+                spec.params.damping = CONVERGENCE_DAMPING;
+            }
+            spec
+        })
         .collect()
 }
 

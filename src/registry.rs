@@ -13,8 +13,10 @@
 
 use crate::admm::AdmmPd;
 use crate::anderson::{Anderson, AndersonParams};
-use crate::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
+use crate::backward_euler::{damped_converged_step, BackwardEuler, ConvergedStepOptions};
 use crate::chebyshev::{Chebyshev, ChebyshevParams};
+use crate::damped_admm::DampedAdmm;
+use crate::damping::RayleighDamping;
 use crate::error::{require_positive, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
 use crate::local_global::Base;
@@ -41,6 +43,8 @@ pub enum SolverId {
     ChebyshevAdmm,
     AndersonLiu,
     AndersonAdmm,
+    DampedBackwardEuler,
+    DampedAdmm,
     ExplicitEuler,
     SymplecticEuler,
     Rk4,
@@ -107,7 +111,7 @@ impl std::fmt::Debug for SolverInfo {
 
 impl SolverId {
     /// Every solver, in the order `mss --list-solvers` prints them.
-    pub const ALL: [SolverId; 13] = [
+    pub const ALL: [SolverId; 15] = [
         SolverId::BackwardEuler,
         SolverId::Pbd,
         SolverId::Xpbd,
@@ -117,6 +121,8 @@ impl SolverId {
         SolverId::ChebyshevAdmm,
         SolverId::AndersonLiu,
         SolverId::AndersonAdmm,
+        SolverId::DampedBackwardEuler,
+        SolverId::DampedAdmm,
         SolverId::ExplicitEuler,
         SolverId::SymplecticEuler,
         SolverId::Rk4,
@@ -216,6 +222,44 @@ impl SolverId {
             SolverId::ChebyshevAdmm => chebyshev(Base::Admm),
             SolverId::AndersonLiu => anderson(Base::Liu),
             SolverId::AndersonAdmm => anderson(Base::Admm),
+            SolverId::DampedBackwardEuler => SolverInfo {
+                id: "damped_backward_euler",
+                abbreviation: "BE damped",
+                summary: "Backward Euler with Rayleigh damping, the damped ADMM's ground truth",
+                source: "Brown, Overby, Forootaninia, Narain 2018, Accurate Dissipative Forces in Optimization Integrators",
+                file: "src/backward_euler.rs",
+                family: Family::Beyond,
+                iteration: Some("Newton iteration"),
+                options: RAYLEIGH_OPTIONS,
+                accelerates: None,
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(BackwardEuler::damped(
+                        system,
+                        dt,
+                        spec.iterations,
+                        spec.params.damping,
+                    )?))
+                }),
+            },
+            SolverId::DampedAdmm => SolverInfo {
+                id: "damped_admm",
+                abbreviation: "ADMM damped",
+                summary: "ADMM-PD with Rayleigh damping in the optimisation (Brown et al. 2018)",
+                source: "Brown, Overby, Forootaninia, Narain 2018, Accurate Dissipative Forces in Optimization Integrators",
+                file: "src/damped_admm.rs",
+                family: Family::Beyond,
+                iteration: Some("ADMM iteration"),
+                options: RAYLEIGH_OPTIONS,
+                accelerates: None,
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(DampedAdmm::new(
+                        system,
+                        dt,
+                        spec.iterations,
+                        spec.params.damping,
+                    )?))
+                }),
+            },
             SolverId::ExplicitEuler => tutorial_integrator(
                 "explicit_euler",
                 "Euler",
@@ -302,6 +346,18 @@ impl std::str::FromStr for SolverId {
         Self::from_id(s)
     }
 }
+
+/// The options of the Rayleigh-damped solvers.
+const RAYLEIGH_OPTIONS: &[OptionInfo] = &[
+    OptionInfo {
+        name: "alpha",
+        help: "mass-proportional Rayleigh damping alpha >= 0, in 1/s [default: 0]",
+    },
+    OptionInfo {
+        name: "beta",
+        help: "stiffness-proportional Rayleigh damping beta >= 0, in s [default: 0]",
+    },
+];
 
 /// The solver of the thesis's tables that runs `base`'s iteration.
 fn base_solver(base: Base) -> SolverId {
@@ -466,6 +522,8 @@ pub struct SolverParams {
     pub warmup: usize,
     /// Anderson: the window.
     pub window: usize,
+    /// The damped solvers: Rayleigh damping.
+    pub damping: RayleighDamping,
 }
 
 impl SolverParams {
@@ -479,6 +537,8 @@ impl SolverParams {
             "gamma" => Some(self.gamma),
             "warmup" => Some(self.warmup as f64),
             "window" => Some(self.window as f64),
+            "alpha" => Some(self.damping.alpha),
+            "beta" => Some(self.damping.beta),
             _ => None,
         }
     }
@@ -495,6 +555,8 @@ impl SolverParams {
             "gamma" => self.gamma = value,
             "warmup" => self.warmup = require_integer(name, value, 0)?,
             "window" => self.window = require_integer(name, value, 1)?,
+            "alpha" => self.damping.alpha = value,
+            "beta" => self.damping.beta = value,
             _ => {
                 let names: Vec<&str> = SolverId::ALL
                     .iter()
@@ -508,7 +570,8 @@ impl SolverParams {
             }
         }
         self.chebyshev(Base::Liu).validate()?;
-        self.anderson(Base::Liu).validate()
+        self.anderson(Base::Liu).validate()?;
+        self.damping.validate()
     }
 
     /// The parameters of Chebyshev acceleration of `base`.
@@ -554,6 +617,7 @@ impl Default for SolverParams {
             gamma: chebyshev.gamma,
             warmup: chebyshev.warmup,
             window: AndersonParams::default().window,
+            damping: RayleighDamping::NONE,
         }
     }
 }
@@ -578,15 +642,21 @@ impl SolverSpec {
     }
 
     /// The step this solver's iteration converges to, solved to round-off: the Backward Euler
-    /// step of the incremental potential (Eq. 20), the oracle of the convergence curves. (The
-    /// XPBD family and PBD converge elsewhere; their gap to it is what they miss it by.)
+    /// step of the incremental potential (Eq. 20), with the solver's Rayleigh damping for the
+    /// damped solvers; the oracle of the convergence curves. (The XPBD family and PBD converge
+    /// elsewhere; their gap to it is what they miss it by.)
     pub fn converged_step(
         &self,
         system: &MassSpringSystem,
         state: &State,
         dt: f64,
     ) -> Result<State> {
-        converged_step(system, state, dt, ConvergedStepOptions::default())
+        let damping = if self.id.info().options == RAYLEIGH_OPTIONS {
+            self.params.damping
+        } else {
+            RayleighDamping::NONE
+        };
+        damped_converged_step(system, state, dt, damping, ConvergedStepOptions::default())
     }
 
     /// The solver on a mass-spring system with time step `dt`. The tutorial's integrators run

@@ -404,6 +404,12 @@ fn help_documents_every_option() {
         "--list-solvers",
         "--stiffness-factor",
         "--tolerance",
+        "--spectral-radius",
+        "--gamma",
+        "--warmup",
+        "--window",
+        "--alpha",
+        "--beta",
     ] {
         assert!(help.contains(option), "{option} not in --help");
     }
@@ -465,6 +471,31 @@ fn solver_options_are_checked_and_refused_where_they_do_not_apply() {
     assert_bad_input(
         &["--solver", "rk4", "--tolerance", "1e-3"],
         &["--tolerance", "rk45"],
+    );
+    // The three: a window of 0, a negative damping, a spectral radius of 1 or more.
+    assert_bad_input(
+        &["--solver", "anderson_liu", "--window", "0"],
+        &["--window", ">= 1"],
+    );
+    assert_bad_input(
+        &["--solver", "anderson_admm", "--window", "21"],
+        &["--window", "20"],
+    );
+    assert_bad_input(
+        &["--solver", "damped_admm", "--alpha", "-1"],
+        &["--alpha", ">= 0"],
+    );
+    assert_bad_input(
+        &["--solver", "damped_backward_euler", "--beta", "-1e-3"],
+        &["--beta", ">= 0"],
+    );
+    assert_bad_input(
+        &["--solver", "chebyshev_liu", "--spectral-radius", "1"],
+        &["--spectral-radius", "< 1"],
+    );
+    assert_bad_input(
+        &["--solver", "chebyshev_admm", "--warmup", "2.5"],
+        &["--warmup", "integer"],
     );
     let m = json(&[
         "--solver",

@@ -123,6 +123,62 @@ pub(crate) struct Cli {
     )]
     pub(crate) stiffness_factor: Option<f64>,
 
+    /// chebyshev_*: spectral radius rho in (0, 1) of the base iteration [default: estimated
+    /// on the scene's start state]
+    #[arg(
+        long,
+        value_name = "RHO",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) spectral_radius: Option<f64>,
+
+    /// chebyshev_*: under-relaxation gamma in (0, 1] [default: 1]
+    #[arg(
+        long,
+        value_name = "G",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) gamma: Option<f64>,
+
+    /// chebyshev_*: warm-up iterations S with omega = 1, an integer >= 0 [default: 10]
+    #[arg(
+        long,
+        value_name = "S",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) warmup: Option<f64>,
+
+    /// anderson_*: window m, past iterates in each extrapolation, an integer from 1 to 20
+    /// [default: 5]
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) window: Option<f64>,
+
+    /// damped_*: mass-proportional Rayleigh damping alpha >= 0, in 1/s [default: 0]
+    #[arg(
+        long,
+        value_name = "PER_S",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) alpha: Option<f64>,
+
+    /// damped_*: stiffness-proportional Rayleigh damping beta >= 0, in s [default: 0]
+    #[arg(
+        long,
+        value_name = "S",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) beta: Option<f64>,
+
     /// Built-in scene
     #[arg(long, value_enum, default_value_t = SceneArg::Thesis, help_heading = "Scene")]
     pub(crate) scene: SceneArg,
@@ -316,10 +372,16 @@ impl TypedValueParser for SolverParser {
 }
 
 /// The solver options given on the command line, by their registry name.
-fn solver_options(cli: &Cli) -> [(&'static str, Option<f64>); 2] {
+fn solver_options(cli: &Cli) -> [(&'static str, Option<f64>); 8] {
     [
         ("tolerance", cli.tolerance),
         ("stiffness_factor", cli.stiffness_factor),
+        ("spectral_radius", cli.spectral_radius),
+        ("gamma", cli.gamma),
+        ("warmup", cli.warmup),
+        ("window", cli.window),
+        ("alpha", cli.alpha),
+        ("beta", cli.beta),
     ]
 }
 
