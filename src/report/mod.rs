@@ -38,7 +38,7 @@ use crate::report::output::OutputFile;
 use crate::report::plot::{layout, Chart, Layout};
 use crate::report::rest_state::Catenary;
 use crate::report::runs::FigureRuns;
-use crate::report::traceability::{Quote, Tag};
+use crate::report::traceability::{PaperTag, Quote, Tag};
 use crate::report::tutorial::TutorialChapter;
 use crate::report::versions::Versions;
 use crate::scene::{
@@ -73,6 +73,8 @@ pub fn repository_containing(start: &Path) -> Option<PathBuf> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sources {
     pub tags: Vec<Tag>,
+    /// The tags of the papers after the thesis (`[Wang 2015, Eq. 12]`).
+    pub paper_tags: Vec<PaperTag>,
     pub quotes: Vec<(SolverId, Quote)>,
     pub versions: Versions,
 }
@@ -87,6 +89,7 @@ impl Sources {
             .collect::<Result<_>>()?;
         Ok(Self {
             tags: traceability::scan(root)?,
+            paper_tags: traceability::scan_papers(root)?,
             quotes,
             versions: Versions::read(root)?,
         })
@@ -446,6 +449,12 @@ fn markdown(
             quote.code
         );
     }
+
+    md += "### 12.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
+           implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
+           cannot mistake for a thesis equation. Built at report time from those tags.\n\n";
+    md += &traceability::paper_table(&data.sources.paper_tags).render();
+    md += "\n";
 
     md += "## 13. Data files\n\n";
     md += &format!(

@@ -143,6 +143,51 @@ pub struct Tag {
     pub line: usize,
 }
 
+/// A tag of a paper after the thesis, `[Wang 2015, Eq. 12]`, at the start of the first line of
+/// a doc comment (never `Eq. (N)`, which names the thesis's equations).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PaperTag {
+    /// `Wang 2015`.
+    pub paper: String,
+    /// What of the paper: `Eq. 12`, `Alg. 1`, `Rayleigh damping`.
+    pub reference: String,
+    pub item: String,
+    pub file: String,
+    pub line: usize,
+}
+
+/// The paper and the reference of a paper-tag line: `[Author Year, what]` at its start, the
+/// author a capitalised word, the year four digits.
+pub fn parse_paper_tag(line: &str) -> Option<(String, String)> {
+    let (inside, _) = line.strip_prefix('[')?.split_once(']')?;
+    let (paper, reference) = inside.split_once(", ")?;
+    let (author, year) = paper.rsplit_once(' ')?;
+    let well_formed = author.starts_with(|c: char| c.is_ascii_uppercase())
+        && year.len() == 4
+        && year.chars().all(|c| c.is_ascii_digit())
+        && !reference.trim().is_empty();
+    well_formed.then(|| (paper.to_string(), reference.trim().to_string()))
+}
+
+/// The second traceability table: every paper tag, by paper.
+pub fn paper_table(tags: &[PaperTag]) -> MarkdownTable {
+    let mut sorted: Vec<&PaperTag> = tags.iter().collect();
+    sorted.sort_by(|a, b| (&a.paper, &a.file, a.line).cmp(&(&b.paper, &b.file, b.line)));
+    let mut t = MarkdownTable::new(&["paper", "what", "code", "where"]);
+    for tag in sorted {
+        t.row(vec![
+            tag.paper.clone(),
+            tag.reference.clone(),
+            format!("`{}`", tag.item),
+            format!(
+                "[`{}:{}`](../{}#L{})",
+                tag.file, tag.line, tag.file, tag.line
+            ),
+        ]);
+    }
+    t
+}
+
 /// The equation numbers of a tag line (the first line of a doc comment, without `///`), or
 /// `None` if the line is not a tag: `Eq. (18): ...`, `Eqs. (48), (49): ...`,
 /// `Eqs. (45)-(47): ...` (mixtures such as `Eqs. (6), (8)-(9): ...` also parse).
@@ -242,6 +287,38 @@ fn module_of(file: &str) -> String {
 
 /// The tags of one source file's text; `file` is its path relative to the crate root.
 pub fn scan_text(file: &str, text: &str) -> Vec<Tag> {
+    scan_items(file, text, parse_tag)
+        .into_iter()
+        .map(|(equations, item, line)| Tag {
+            equations,
+            item,
+            file: file.to_string(),
+            line,
+        })
+        .collect()
+}
+
+/// The paper tags of one source file's text.
+pub fn scan_paper_text(file: &str, text: &str) -> Vec<PaperTag> {
+    scan_items(file, text, parse_paper_tag)
+        .into_iter()
+        .map(|((paper, reference), item, line)| PaperTag {
+            paper,
+            reference,
+            item,
+            file: file.to_string(),
+            line,
+        })
+        .collect()
+}
+
+/// The doc blocks of `text` whose first line `parse` accepts: what it read, the item the
+/// block documents and the block's 1-based line.
+fn scan_items<T>(
+    file: &str,
+    text: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Vec<(T, String, usize)> {
     let module = module_of(file);
     let lines: Vec<&str> = text.lines().collect();
     let mut tags = Vec::new();
@@ -275,7 +352,7 @@ pub fn scan_text(file: &str, text: &str) -> Vec<Tag> {
             j += 1;
         }
         if !continues {
-            if let Some(equations) = parse_tag(first.trim()) {
+            if let Some(parsed) = parse(first.trim()) {
                 let item = if inner {
                     Some(module.clone())
                 } else {
@@ -298,12 +375,11 @@ pub fn scan_text(file: &str, text: &str) -> Vec<Tag> {
                             }
                         })
                 };
-                tags.push(Tag {
-                    equations,
-                    item: item.unwrap_or_else(|| format!("{module} (item not recognised)")),
-                    file: file.to_string(),
-                    line: tag_line,
-                });
+                tags.push((
+                    parsed,
+                    item.unwrap_or_else(|| format!("{module} (item not recognised)")),
+                    tag_line,
+                ));
             }
         }
         i = j;
@@ -343,11 +419,20 @@ pub fn read_source(root: &Path, file: &str) -> Result<String> {
 
 /// Every tag in `root/src/**/*.rs`, in file and line order.
 pub fn scan(root: &Path) -> Result<Vec<Tag>> {
+    scan_files(root, scan_text)
+}
+
+/// Every paper tag in `root/src/**/*.rs`, in file and line order.
+pub fn scan_papers(root: &Path) -> Result<Vec<PaperTag>> {
+    scan_files(root, scan_paper_text)
+}
+
+fn scan_files<T>(root: &Path, scan: impl Fn(&str, &str) -> Vec<T>) -> Result<Vec<T>> {
     let mut files = Vec::new();
     rust_files(root, &root.join("src"), &mut files)?;
     let mut tags = Vec::new();
     for file in files {
-        tags.extend(scan_text(&file, &read_source(root, &file)?));
+        tags.extend(scan(&file, &read_source(root, &file)?));
     }
     Ok(tags)
 }
