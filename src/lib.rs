@@ -24,13 +24,16 @@ pub mod output_file;
 pub mod particles;
 pub mod pbd;
 pub mod projective;
+pub mod quasi_newton;
 pub mod report;
 pub mod scene;
 pub mod scene_file;
 pub mod solver;
 pub mod spring;
 pub mod system;
+pub mod vbd;
 pub mod xpbd;
+pub mod xpbd_substeps;
 
 pub use error::{Error, Result};
 pub use solver::{simulate, Run, RunOptions, TimeStepper};
