@@ -9,12 +9,16 @@
 //! (the paper's §3.1; gravity is the external acceleration, so $`E`$ holds the springs only, which
 //! is Eq 20 up to a constant), by block coordinate descent with one block per vertex
 //! (Gauss-Seidel over vertices). Vertex $`i`$ sees only the part of $`G`$ that depends on it,
-//! $`G_i(x) = \frac{m_i}{2h^2}\lVert x_i - y_i\rVert^2 + \sum_{j\in\mathcal F_i} E_j(x)`$, and takes
-//! one Newton step on it (the paper's §3.2):
+//! $`G_i(x) = \frac{m_i}{2h^2}\lVert x_i - y_i\rVert^2 + \sum_{j\in\mathcal F_i} E_j(x)`$, and
+//! takes one Newton step on it (the paper's §3.2):
 //! ```math
-//! H_i\,\Delta x_i = f_i,\qquad
-//! f_i = -\frac{m_i}{h^2}(x_i - y_i) - \sum_{j\in\mathcal F_i}\frac{\partial E_j}{\partial x_i},\qquad
-//! H_i = \frac{m_i}{h^2}I + \sum_{j\in\mathcal F_i}\frac{\partial^2 E_j}{\partial x_i\,\partial x_i},
+//! \begin{aligned}
+//! H_i\,\Delta x_i &= f_i,\\
+//! f_i &= -\frac{m_i}{h^2}(x_i - y_i)
+//!   - \sum_{j\in\mathcal F_i}\frac{\partial E_j}{\partial x_i},\\
+//! H_i &= \frac{m_i}{h^2}I
+//!   + \sum_{j\in\mathcal F_i}\frac{\partial^2 E_j}{\partial x_i\,\partial x_i},
+//! \end{aligned}
 //! ```
 //! with $`-\partial E_j/\partial x_i`$ the spring force of thesis Eq 3 and
 //! $`\partial^2E_j/\partial x_i^2 = -\,\partial F/\partial x`$ of thesis Eq 4 ([`vertex_step`]).
@@ -31,10 +35,12 @@
 //! component of the previous step's acceleration $`a^t = (v^t - v^{t-1})/h`$ along
 //! $`a_{ext}`$, divided by $`|a_{ext}|`$ and clamped to [0, 1]. It is the default.
 //!
-//! The adaptive guess needs $`v^{t-1}`$, the velocity at the start of the previous step: it is the
-//! one thing [`Vbd`] carries from one step to the next (the paper's method does). The first
-//! step of a solver has no history and takes $`\hat\alpha = 1`$, the inertia $`y`$ (as TinyVBD does),
-//! so the convergence curves measured from a fresh solver are those of the inertia guess.
+//! The adaptive guess needs $`v^{t-1}`$, the velocity at the start of the previous step: it is
+//! the one thing [`Vbd`] carries from one step to the next (the paper's method does, and only
+//! with this guess does a step depend on more than the state). The first step of a solver has
+//! no history and takes $`\hat\alpha = 1`$, the inertia $`y`$, as TinyVBD does; the
+//! convergence curves measured with a fresh solver per point are therefore those of the
+//! inertia guess.
 //!
 //! # Indefinite local Hessians
 //! A compressed spring ($`l < l_0`$) makes its Hessian block indefinite across its axis, and
@@ -46,9 +52,18 @@
 //! direction of $`G_i`$ and none is skipped. Where the exact $`H_i`$ is positive definite the
 //! step is the paper's.
 //!
-//! What is left out: the paper's collisions and friction (the rope has none) and its Chebyshev
-//! acceleration of the iterations (§3.8; off in TinyVBD's defaults, and the Chebyshev
-//! semi-iterative method is its own module in this crate).
+//! What is left out: the paper's collisions and friction (the rope has none), its damping term,
+//! and its Chebyshev acceleration of the iterations (§3.8; TinyVBD's active configuration sets
+//! its $`\rho`$ to 0, and the Chebyshev semi-iterative method is another module's subject).
+//!
+//! # Measured on the thesis rope (`tests/newer_solvers.rs`)
+//! At dt = 1e-2, k = 1e6, one step from a moving state (10 converged steps from rest), VBD needs
+//! 9 sweeps for a gap of 1e-6 m to the converged Backward Euler step and 53 for 1e-9 m (L-BFGS:
+//! 92 and 188). On the rope each vertex's 3×3 Newton step carries the spring's exact transverse
+//! stiffness, which Projective Dynamics' Laplacian overstates by the inverse strain. Along
+//! 100 steps of VBD runs from rest (both stiffnesses, dt = 1e-3 and 1e-2, 5 sweeps) all 16000
+//! vertex steps had a positive definite exact $`H_i`$ and each lowered the incremental
+//! potential; the projection is reached from a compressed start (rest length 1.2 m).
 
 use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;

@@ -7,7 +7,8 @@
 //! \begin{aligned}
 //! &\textbf{for } n \text{ substeps:}\\
 //! &\quad v \leftarrow v + h\,M^{-1}f_{ext},\qquad p \leftarrow x,\qquad x \leftarrow x + h\,v\\
-//! &\quad \text{one sweep over the constraints (XPBD, } \lambda = 0\text{ at the start of the substep)}\\
+//! &\quad \text{one sweep over the constraints (XPBD, } \lambda = 0
+//!   \text{ at the start of the substep)}\\
 //! &\quad v \leftarrow (x - p)/h
 //! \end{aligned}
 //! ```
@@ -16,27 +17,39 @@
 //! substep, $`\tilde\alpha_j = \alpha_j/h^2`$. A substep is therefore exactly one step of the
 //! thesis's Algorithm 2 with time step $`h`$ and one iteration (prediction, $`\lambda = 0`$, one
 //! Gauss-Seidel sweep, velocity from the position change), and [`XpbdSubsteps`] runs $`n`$ of
-//! them through [`Xpbd`] itself rather than a copy of its loop.
+//! them through [`Xpbd`] itself rather than a copy of its loop. Nothing is carried from one
+//! step to the next.
 //!
 //! The paper's argument is that the substep is the better place to spend a constraint
 //! projection: XPBD's error has one part from the unfinished solve and one from the time
 //! discretisation, and a smaller $`h`$ shrinks both, because the constraints move less within a
-//! substep, so one projection leaves less unsolved. With one iteration per substep the scheme converges to the exact motion as
-//! $`h \to 0`$ like the symplectic Euler it is built on, at first order. `tests/xpbd_substeps.rs`
-//! measures that order against RK4 and compares one step of $`n`$ substeps with one step of
-//! $`n`$ iterations at equal cost ($`n`$ sweeps).
+//! substep, so one projection leaves less unsolved. With one iteration per substep the scheme
+//! converges to the exact motion as $`h \to 0`$ at first order, like the symplectic Euler it is
+//! built on.
 //!
 //! What differs from the paper: nothing in the substep itself; collisions (the paper collects
 //! them once per step) do not arise on the rope. [`XpbdSubstepsParams::iterations_per_substep`]
-//! (1 in Algorithm 1) is kept as a parameter because the paper discusses the trade-off of
-//! substeps against iterations; with more than one, the substep is Algorithm 2 with that many
-//! iterations.
+//! (1 in Algorithm 1) is kept as a parameter because the paper weighs substeps against
+//! iterations; with more than one, each substep is Algorithm 2 with that many iterations.
 //!
-//! # What XPBD with substeps converges to
-//!
+//! # What XPBD with substeps converges to (measured, `tests/newer_solvers.rs`)
 //! Not the Backward Euler step: each substep is an XPBD step, whose fixed point is not the
-//! minimiser of Eq 20 (see [`crate::xpbd`]), and with many substeps the motion approaches the
-//! exact motion of the undamped system instead, which Backward Euler's numerical damping leaves.
+//! minimiser of Eq 20 (see [`crate::xpbd`]); as the substeps grow the motion tends to the exact
+//! motion of the undamped rope, which Backward Euler's numerical damping leaves. Against RK4
+//! with a 2000-fold finer step:
+//! - k = 1e3, 0.1 s from rest (10 steps of 1e-2): the gap halves with every doubling of the
+//!   substeps, order 1.000 from 2 to 64 substeps (4.9e-3 m with 1 substep, 7.7e-5 m with 64).
+//! - k = 1e6, one step of 1e-2 from a moving state: order 1.03 from 256 to 512 substeps, after
+//!   a pre-asymptotic range where $`h\sqrt{k/m}`$ is not small.
+//! - At equal cost (n sweeps, same case): one step of n substeps against one step of n
+//!   iterations, gap to the exact motion 1.18e-3 m for both at n = 1, then 3.4e-4 against
+//!   9.8e-4 m at n = 10 and 2.0e-5 against 5.1e-4 m at n = 50 (26 times closer). The
+//!   iterations stall at XPBD's own fixed point, 4.9e-4 m from the exact motion; the substeps
+//!   keep going. Their gap to the Backward Euler step stops at 4.8e-4 m instead.
+//! - The last substep's compliance-weighted residual $`\max_j|C_j + \tilde\alpha_j\lambda_j|`$
+//!   (one sweep leaves each spring disturbed by its neighbour's later projection) falls at
+//!   second order in $`h`$: 8.4e-6 m at 64 substeps, 1.3e-7 m at 512; with 500 iterations per
+//!   substep it is 4e-19 m.
 
 use crate::error::{Error, Result};
 use crate::solver::TimeStepper;

@@ -6,7 +6,7 @@
 use mass_spring_solvers::backward_euler::{
     converged_step, incremental_potential, ConvergedStepOptions,
 };
-use mass_spring_solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use mass_spring_solvers::particles::integrators::{Integrator, ParticleStepper};
 use mass_spring_solvers::particles::ParticleSystem;
 use mass_spring_solvers::quasi_newton::{potential_change, LbfgsParams, QuasiNewton};
@@ -534,4 +534,35 @@ fn iterations_for_a_micrometre_at_the_stiff_step() {
     assert_eq!((m_lbfgs, m_vbd), (Some(92), Some(9)));
     assert!(before >= 1e-6 && at < 1e-6);
     assert!(closest > 1e-4);
+}
+
+/// The paper's starting point, "Projective Dynamics is a quasi-Newton method": L-BFGS's first
+/// iteration (no pairs yet, the step length 1 accepted) is one local/global iteration of
+/// Liu 2013 from the same start. Without gravity both start at $`y = x_n + h v_n`$.
+#[test]
+fn lbfgs_first_iteration_is_one_liu_2013_iteration() {
+    for k in [1e3, 1e6] {
+        let rope = thesis_rope(k).unwrap();
+        let state = step10(&rope);
+        let weightless = rope.with_gravity(Vec3::zeros()).unwrap();
+        for dt in [1e-3, 1e-2] {
+            let lbfgs = |m| QuasiNewton::new(&weightless, dt, m, LbfgsParams::default());
+            let liu = |m| {
+                FastMassSpring::new(&weightless, dt, m)
+                    .map(|s| s.with_first_iterate(FirstIterate::Inertial))
+            };
+            let (a, b) = (one_step(&lbfgs, 1, &state), one_step(&liu, 1, &state));
+            let moved = gap(&a.x, &state.x);
+            assert!(
+                gap(&a.x, &b.x) < 1e-12 * moved.max(1.0),
+                "k = {k}, dt = {dt}: {:e}",
+                gap(&a.x, &b.x)
+            );
+            if (k, dt) == (1e6, 1e-2) {
+                // The second iterations differ: L-BFGS has its first pair.
+                let second = gap(&one_step(&lbfgs, 2, &state).x, &one_step(&liu, 2, &state).x);
+                assert!(second > 1e-6, "{second:e}");
+            }
+        }
+    }
 }
