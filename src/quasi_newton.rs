@@ -210,6 +210,8 @@ pub struct QuasiNewton {
     /// Zeros in the layout of the global solve: the update of the fixed nodes.
     zeros: Vec<f64>,
     forces: Vec<Vec3>,
+    /// The step length $`\alpha`$ of each iteration of the last step.
+    step_lengths: Vec<f64>,
 }
 
 impl QuasiNewton {
@@ -236,7 +238,14 @@ impl QuasiNewton {
             global,
             zeros: vec![0.0; 3 * n],
             forces: vec![Vec3::zeros(); n],
+            step_lengths: Vec::new(),
         })
+    }
+
+    /// The step length $`\alpha`$ the line search accepted at each iteration of the last step
+    /// (fewer than the iterations when the step ended at round-off).
+    pub fn step_lengths(&self) -> &[f64] {
+        &self.step_lengths
     }
 
     /// [Liu 2017, Alg. 1] $`\nabla g(x) = \frac{1}{h^2}M(x - y) - F(x)`$ (column-major), zero on
@@ -349,11 +358,12 @@ impl TimeStepper for QuasiNewton {
         self.gradient(&x, &y, &mut gradient);
         let mut history: VecDeque<Pair> = VecDeque::with_capacity(self.params.window);
         let mut d = vec![0.0; 3 * n];
+        self.step_lengths.clear();
         for iteration in 0..self.iterations {
             self.direction(&gradient, &history, &mut d);
             let slope = dot(&gradient, &d);
             let largest = d.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            let Some((x_new, _alpha)) = self.line_search(&x, &y, &d, slope) else {
+            let Some((x_new, alpha)) = self.line_search(&x, &y, &d, slope) else {
                 if largest < ROUND_OFF_STEP {
                     break;
                 }
@@ -366,6 +376,7 @@ impl TimeStepper for QuasiNewton {
                     ),
                 });
             };
+            self.step_lengths.push(alpha);
             let mut gradient_new = vec![0.0; 3 * n];
             self.gradient(&x_new, &y, &mut gradient_new);
             if let Some(pair) = Pair::between(&x, &x_new, &gradient, &gradient_new) {

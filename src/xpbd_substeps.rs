@@ -51,7 +51,7 @@
 //!   second order in $`h`$: 8.4e-6 m at 64 substeps, 1.3e-7 m at 512; with 500 iterations per
 //!   substep it is 4e-19 m.
 
-use crate::error::{Error, Result};
+use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State};
 use crate::xpbd::Xpbd;
@@ -109,7 +109,7 @@ impl XpbdSubsteps {
         if substeps == 0 {
             return Err(Error::invalid("substeps", 0, "an integer >= 1"));
         }
-        crate::error::require_positive("dt", dt)?;
+        require_positive("dt", dt)?;
         let substep = Xpbd::new(system, dt / substeps as f64, params.iterations_per_substep)?;
         Ok(Self {
             dt,
@@ -153,6 +153,12 @@ impl TimeStepper for XpbdSubsteps {
     fn step(&mut self, state: &mut State) -> Result<()> {
         for _ in 0..self.substeps {
             self.substep.step(state)?;
+        }
+        if !state.is_finite() {
+            return Err(Error::NotConverged {
+                what: "XPBD substeps".into(),
+                detail: "the state is no longer finite".into(),
+            });
         }
         Ok(())
     }
