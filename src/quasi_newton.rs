@@ -200,7 +200,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// L-BFGS on the incremental potential with the Projective-Dynamics matrix as initial Hessian
 /// (Liu, Bouaziz & Kavan 2017), `iterations` L-BFGS iterations per step.
 #[derive(Debug, Clone)]
-pub struct QuasiNewton {
+pub struct Lbfgs {
     system: MassSpringSystem,
     dt: f64,
     iterations: usize,
@@ -214,7 +214,7 @@ pub struct QuasiNewton {
     step_lengths: Vec<f64>,
 }
 
-impl QuasiNewton {
+impl Lbfgs {
     /// L-BFGS for `system` with time step `dt` (s, > 0), `iterations` (>= 1) L-BFGS iterations
     /// per step and the paper's `params`.
     pub fn new(
@@ -316,7 +316,7 @@ impl QuasiNewton {
     }
 }
 
-impl TimeStepper for QuasiNewton {
+impl TimeStepper for Lbfgs {
     fn name(&self) -> String {
         format!(
             "L-BFGS ({} iterations, window {}, gamma {}, beta {})",

@@ -9,7 +9,7 @@ use mass_spring_solvers::backward_euler::{
 use mass_spring_solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use mass_spring_solvers::particles::integrators::{Integrator, ParticleStepper};
 use mass_spring_solvers::particles::ParticleSystem;
-use mass_spring_solvers::quasi_newton::{potential_change, LbfgsParams, QuasiNewton};
+use mass_spring_solvers::quasi_newton::{potential_change, Lbfgs, LbfgsParams};
 use mass_spring_solvers::scene::{thesis_rope, RopeParams};
 use mass_spring_solvers::vbd::{greedy_colouring, vertex_step, Initialization, Vbd, VbdParams};
 use mass_spring_solvers::xpbd::{residuals, Xpbd};
@@ -71,7 +71,7 @@ fn field(e: Error) -> String {
 #[test]
 fn bad_parameters_name_their_field() {
     let rope = thesis_rope(1e3).unwrap();
-    let lbfgs = |params| QuasiNewton::new(&rope, 1e-2, 5, params).map(|_| ());
+    let lbfgs = |params| Lbfgs::new(&rope, 1e-2, 5, params).map(|_| ());
     assert_eq!(
         field(
             lbfgs(LbfgsParams {
@@ -97,11 +97,11 @@ fn bad_parameters_name_their_field() {
         assert_eq!(field(lbfgs(params).unwrap_err()), "beta");
     }
     assert_eq!(
-        field(QuasiNewton::new(&rope, 1e-2, 0, LbfgsParams::default()).unwrap_err()),
+        field(Lbfgs::new(&rope, 1e-2, 0, LbfgsParams::default()).unwrap_err()),
         "iterations"
     );
     assert_eq!(
-        field(QuasiNewton::new(&rope, 0.0, 1, LbfgsParams::default()).unwrap_err()),
+        field(Lbfgs::new(&rope, 0.0, 1, LbfgsParams::default()).unwrap_err()),
         "dt"
     );
     assert_eq!(
@@ -159,7 +159,7 @@ fn lbfgs_and_vbd_reach_the_converged_step() {
             for dt in [1e-3, 1e-2] {
                 let oracle =
                     converged_step(&rope, &state, dt, ConvergedStepOptions::default()).unwrap();
-                let lbfgs = |m| QuasiNewton::new(&rope, dt, m, LbfgsParams::default());
+                let lbfgs = |m| Lbfgs::new(&rope, dt, m, LbfgsParams::default());
                 let vbd = |m| Vbd::new(&rope, dt, m, VbdParams::default());
                 let m_lbfgs = iterations_to(&lbfgs, &state, &oracle, 1e-9, 200);
                 let m_vbd = iterations_to(&vbd, &state, &oracle, 1e-9, 2000);
@@ -354,7 +354,7 @@ fn lbfgs_line_search_never_raises_the_potential() {
             .zip(&state.v)
             .map(|(x, v)| x + dt * v)
             .collect();
-        let mut solver = QuasiNewton::new(&rope, dt, 40, LbfgsParams::default()).unwrap();
+        let mut solver = Lbfgs::new(&rope, dt, 40, LbfgsParams::default()).unwrap();
         let mut end = state.clone();
         solver.step(&mut end).unwrap();
         backtracked += solver
@@ -362,7 +362,7 @@ fn lbfgs_line_search_never_raises_the_potential() {
             .iter()
             .filter(|&&alpha| alpha < 1.0)
             .count();
-        let build = |m| QuasiNewton::new(&rope, dt, m, LbfgsParams::default());
+        let build = |m| Lbfgs::new(&rope, dt, m, LbfgsParams::default());
         let iterates: Vec<State> = (1..=40).map(|m| one_step(&build, m, &state)).collect();
         for w in iterates.windows(2) {
             let change = potential_change(&rope, &y, &w[0].x, &w[1].x, dt);
@@ -537,7 +537,7 @@ fn iterations_for_a_micrometre_at_the_stiff_step() {
     let state = step10(&rope);
     let dt = 1e-2;
     let oracle = converged_step(&rope, &state, dt, ConvergedStepOptions::default()).unwrap();
-    let lbfgs = |m| QuasiNewton::new(&rope, dt, m, LbfgsParams::default());
+    let lbfgs = |m| Lbfgs::new(&rope, dt, m, LbfgsParams::default());
     let vbd = |m| Vbd::new(&rope, dt, m, VbdParams::default());
     let m_lbfgs = iterations_to(&lbfgs, &state, &oracle, 1e-6, 200);
     let m_vbd = iterations_to(&vbd, &state, &oracle, 1e-6, 200);
@@ -573,7 +573,7 @@ fn lbfgs_first_iteration_is_one_liu_2013_iteration() {
         let state = step10(&rope);
         let weightless = rope.with_gravity(Vec3::zeros()).unwrap();
         for dt in [1e-3, 1e-2] {
-            let lbfgs = |m| QuasiNewton::new(&weightless, dt, m, LbfgsParams::default());
+            let lbfgs = |m| Lbfgs::new(&weightless, dt, m, LbfgsParams::default());
             let liu = |m| {
                 FastMassSpring::new(&weightless, dt, m)
                     .map(|s| s.with_first_iterate(FirstIterate::Inertial))
