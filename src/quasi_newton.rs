@@ -120,11 +120,11 @@ impl LbfgsParams {
 /// term from the differences $`\delta_i = x'_i - x_i`$, which are exact in floating point for
 /// nearby points: $`\frac{m_i}{2h^2}\,\delta_i\cdot(\delta_i + 2(x_i - y_i))`$ and
 /// $`-m_i\,g\cdot\delta_i`$ per node, and $`\frac{k}{2}\,\Delta l\,(\Delta l + 2(l - l_0))`$ per
-/// spring with $`\Delta l = l' - l = \delta q\cdot(q' + q)/(l' + l)`$, $`\delta q = \delta_a -
-/// \delta_b`$. Near a minimiser the first-order terms cancel and the change is the far smaller
-/// second-order one; built from the differences, each term keeps its relative precision, so
-/// the sum resolves changes down to about $`10^{-16}`$ of the first-order terms instead of
-/// $`10^{-16}`$ of the potential. `y` $`= x_n + h v_n`$ (J).
+/// spring with $`\Delta l = l' - l = \delta q\cdot(q' + q)/(l' + l)`$ and
+/// $`\delta q = \delta_a - \delta_b`$; `y` $`= x_n + h v_n`$. In joules. Near a minimiser the
+/// first-order terms cancel and the change is the far smaller second-order one; built from the
+/// differences, each term keeps its relative precision, so the sum resolves changes down to
+/// about $`10^{-16}`$ of the first-order terms instead of $`10^{-16}`$ of the potential.
 pub fn potential_change(
     system: &MassSpringSystem,
     y: &[Vec3],
@@ -309,8 +309,8 @@ impl Lbfgs {
                 .enumerate()
                 .map(|(i, x)| x + alpha * node_of_columns(d, n, i))
                 .collect();
-            let decrease = potential_change(&self.system, y, x, &trial, self.dt);
-            if decrease <= self.params.gamma * alpha * slope {
+            let change = potential_change(&self.system, y, x, &trial, self.dt);
+            if change <= self.params.gamma * alpha * slope {
                 return Some((trial, alpha));
             }
             alpha *= self.params.beta;
