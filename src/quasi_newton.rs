@@ -133,13 +133,13 @@ pub fn potential_change(
     dt: f64,
 ) -> f64 {
     let gravity = system.gravity();
-    let delta: Vec<Vec3> = x_new.iter().zip(x).map(|(x_new, x)| x_new - x).collect();
+    let delta = |i: usize| x_new[i] - x[i];
     let nodes: f64 = system
         .nodes()
         .iter()
         .enumerate()
         .map(|(i, node)| {
-            let d = delta[i];
+            let d = delta(i);
             let inertia = 0.5 * node.mass * d.dot(&(d + 2.0 * (x[i] - y[i]))) / (dt * dt);
             inertia - node.mass * gravity.dot(&d)
         })
@@ -149,7 +149,7 @@ pub fn potential_change(
         .iter()
         .map(|s| {
             let q = x[s.a] - x[s.b];
-            let delta_q = delta[s.a] - delta[s.b];
+            let delta_q = delta(s.a) - delta(s.b);
             let q_new = q + delta_q;
             let (l, l_new) = (q.norm(), q_new.norm());
             let delta_l = if l + l_new > 0.0 {
@@ -163,36 +163,41 @@ pub fn potential_change(
     nodes + springs
 }
 
-/// One stored L-BFGS pair with its $`\rho_i = 1/(t_i^\top s_i)`$.
+/// One stored L-BFGS pair with its $`\rho_i = 1/(t_i^\top s_i)`$ and the $`\zeta_i`$ of the
+/// current two-loop recursion.
 #[derive(Debug, Clone)]
 struct Pair {
     s: Vec<f64>,
     t: Vec<f64>,
     rho: f64,
+    zeta: f64,
 }
 
 impl Pair {
-    /// The pair of an iteration from `x` to `x_new` (column-major $`s`$), or `None` when its
-    /// curvature $`t^\top s`$ is not positive beyond round-off.
-    fn between(x: &[Vec3], x_new: &[Vec3], gradient: &[f64], gradient_new: &[f64]) -> Option<Self> {
+    fn zeros(len: usize) -> Self {
+        Self {
+            s: vec![0.0; len],
+            t: vec![0.0; len],
+            rho: 0.0,
+            zeta: 0.0,
+        }
+    }
+
+    /// Makes this the pair of an iteration from `x` to `x_new` (column-major $`s`$); false when
+    /// its curvature $`t^\top s`$ is not positive beyond round-off, and the pair is not kept.
+    fn set(&mut self, x: &[Vec3], x_new: &[Vec3], gradient: &[f64], gradient_new: &[f64]) -> bool {
         let n = x.len();
-        let mut s = vec![0.0; 3 * n];
         for (i, (x_new, x)) in x_new.iter().zip(x).enumerate() {
             for c in 0..3 {
-                s[c * n + i] = x_new[c] - x[c];
+                self.s[c * n + i] = x_new[c] - x[c];
             }
         }
-        let t: Vec<f64> = gradient_new
-            .iter()
-            .zip(gradient)
-            .map(|(a, b)| a - b)
-            .collect();
-        let curvature = dot(&t, &s);
-        (curvature > 1e-12 * dot(&s, &s).sqrt() * dot(&t, &t).sqrt()).then(|| Self {
-            s,
-            t,
-            rho: 1.0 / curvature,
-        })
+        for (t, (a, b)) in self.t.iter_mut().zip(gradient_new.iter().zip(gradient)) {
+            *t = a - b;
+        }
+        let curvature = dot(&self.t, &self.s);
+        self.rho = 1.0 / curvature;
+        curvature > 1e-12 * dot(&self.s, &self.s).sqrt() * dot(&self.t, &self.t).sqrt()
     }
 }
 
@@ -267,15 +272,14 @@ impl Lbfgs {
 
     /// [Liu 2017, Alg. 1] The two-loop recursion: $`d = -H^{-1}\nabla g`$ with
     /// $`H_0^{-1} q = h^2 A^{-1} q`$ and the stored pairs, oldest first in `history`.
-    fn direction(&self, gradient: &[f64], history: &VecDeque<Pair>, d: &mut [f64]) {
-        let mut zeta = vec![0.0; history.len()];
+    fn direction(&self, gradient: &[f64], history: &mut VecDeque<Pair>, d: &mut [f64]) {
         for (v, g) in d.iter_mut().zip(gradient) {
             *v = -g;
         }
-        for (pair, zeta) in history.iter().zip(zeta.iter_mut()).rev() {
-            *zeta = pair.rho * dot(&pair.s, d);
+        for pair in history.iter_mut().rev() {
+            pair.zeta = pair.rho * dot(&pair.s, d);
             for (q, t) in d.iter_mut().zip(&pair.t) {
-                *q -= *zeta * t;
+                *q -= pair.zeta * t;
             }
         }
         let h2 = self.dt * self.dt;
@@ -283,35 +287,34 @@ impl Lbfgs {
             *q *= h2;
         }
         self.global.solve(d, &self.zeros);
-        for (pair, zeta) in history.iter().zip(&zeta) {
+        for pair in history.iter() {
             let eta = pair.rho * dot(&pair.t, d);
             for (r, s) in d.iter_mut().zip(&pair.s) {
-                *r += s * (zeta - eta);
+                *r += s * (pair.zeta - eta);
             }
         }
     }
 
     /// [Liu 2017, Alg. 1] Backtracking from $`\alpha = 1`$ by $`\beta`$ until
-    /// $`g(x + \alpha d) - g(x) \le \gamma\,\alpha\,\nabla g^\top d`$; returns the accepted point
-    /// and $`\alpha`$, or `None` below [`MIN_STEP_LENGTH`].
+    /// $`g(x + \alpha d) - g(x) \le \gamma\,\alpha\,\nabla g^\top d`$; returns $`\alpha`$ with
+    /// the accepted point in `trial`, or `None` below [`MIN_STEP_LENGTH`].
     fn line_search(
         &self,
         x: &[Vec3],
         y: &[Vec3],
         d: &[f64],
         slope: f64,
-    ) -> Option<(Vec<Vec3>, f64)> {
+        trial: &mut [Vec3],
+    ) -> Option<f64> {
         let n = x.len();
         let mut alpha = 1.0;
         while alpha >= MIN_STEP_LENGTH {
-            let trial: Vec<Vec3> = x
-                .iter()
-                .enumerate()
-                .map(|(i, x)| x + alpha * node_of_columns(d, n, i))
-                .collect();
-            let change = potential_change(&self.system, y, x, &trial, self.dt);
+            for (i, (trial, x)) in trial.iter_mut().zip(x).enumerate() {
+                *trial = x + alpha * node_of_columns(d, n, i);
+            }
+            let change = potential_change(&self.system, y, x, trial, self.dt);
             if change <= self.params.gamma * alpha * slope {
-                return Some((trial, alpha));
+                return Some(alpha);
             }
             alpha *= self.params.beta;
         }
@@ -360,16 +363,18 @@ impl TimeStepper for Lbfgs {
         let mut gradient = vec![0.0; 3 * n];
         self.gradient(&x, &y, &mut gradient);
         let mut history: VecDeque<Pair> = VecDeque::with_capacity(self.params.window);
-        let mut d = vec![0.0; 3 * n];
+        // Scratch: the direction, the trial point, the next gradient, the next pair.
+        let (mut d, mut x_new, mut gradient_new) = (vec![0.0; 3 * n], x.clone(), gradient.clone());
+        let mut spare = Pair::zeros(3 * n);
         self.step_lengths.clear();
         for iteration in 0..self.iterations {
-            self.direction(&gradient, &history, &mut d);
+            self.direction(&gradient, &mut history, &mut d);
             let slope = dot(&gradient, &d);
             let largest = d.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             if largest < ROUND_OFF_STEP {
                 break;
             }
-            let Some((x_new, alpha)) = self.line_search(&x, &y, &d, slope) else {
+            let Some(alpha) = self.line_search(&x, &y, &d, slope, &mut x_new) else {
                 return Err(Error::NotConverged {
                     what: "L-BFGS line search".into(),
                     detail: format!(
@@ -380,16 +385,18 @@ impl TimeStepper for Lbfgs {
                 });
             };
             self.step_lengths.push(alpha);
-            let mut gradient_new = vec![0.0; 3 * n];
             self.gradient(&x_new, &y, &mut gradient_new);
-            if let Some(pair) = Pair::between(&x, &x_new, &gradient, &gradient_new) {
-                if history.len() == self.params.window {
-                    history.pop_front();
-                }
-                history.push_back(pair);
+            if spare.set(&x, &x_new, &gradient, &gradient_new) {
+                let oldest = if history.len() == self.params.window {
+                    history.pop_front()
+                } else {
+                    None
+                };
+                let recycled = oldest.unwrap_or_else(|| Pair::zeros(3 * n));
+                history.push_back(std::mem::replace(&mut spare, recycled));
             }
-            x = x_new;
-            gradient = gradient_new;
+            std::mem::swap(&mut x, &mut x_new);
+            std::mem::swap(&mut gradient, &mut gradient_new);
         }
         if !x.iter().all(|p| p.iter().all(|c| c.is_finite())) {
             return Err(Error::NotConverged {
