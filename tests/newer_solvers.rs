@@ -75,16 +75,11 @@ fn field(e: Error) -> String {
 fn bad_parameters_name_their_field() {
     let rope = thesis_rope(1e3).unwrap();
     let lbfgs = |params| Lbfgs::new(&rope, 1e-2, 5, params).map(|_| ());
-    assert_eq!(
-        field(
-            lbfgs(LbfgsParams {
-                window: 0,
-                ..Default::default()
-            })
-            .unwrap_err()
-        ),
-        "window"
-    );
+    let no_window = LbfgsParams {
+        window: 0,
+        ..Default::default()
+    };
+    assert_eq!(field(lbfgs(no_window).unwrap_err()), "window");
     for gamma in [0.0, 1.0, -0.1, f64::NAN] {
         let params = LbfgsParams {
             gamma,
