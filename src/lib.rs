@@ -30,6 +30,7 @@ pub mod output_file;
 pub mod particles;
 pub mod pbd;
 pub mod projective;
+pub mod quasi_newton;
 pub mod registry;
 pub mod report;
 pub mod scene;
@@ -37,7 +38,9 @@ pub mod scene_file;
 pub mod solver;
 pub mod spring;
 pub mod system;
+pub mod vbd;
 pub mod xpbd;
+pub mod xpbd_substeps;
 
 pub use error::{Error, Result};
 pub use solver::{simulate, Run, RunOptions, TimeStepper};
