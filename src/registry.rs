@@ -24,9 +24,12 @@ use crate::particles::adaptive::AdaptiveStepper;
 use crate::particles::integrators::{Integrator, ParticleStepper};
 use crate::particles::ParticleSystem;
 use crate::pbd::Pbd;
+use crate::quasi_newton::{Lbfgs, LbfgsParams};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State};
+use crate::vbd::{Initialization, Vbd, VbdParams};
 use crate::xpbd::Xpbd;
+use crate::xpbd_substeps::{XpbdSubsteps, XpbdSubstepsParams};
 use serde::{Deserialize, Serialize};
 
 /// One identifier per solver: the thesis's (§2), the tutorial's integrators and the newer
@@ -45,6 +48,9 @@ pub enum SolverId {
     AndersonAdmm,
     DampedBackwardEuler,
     DampedAdmm,
+    XpbdSubsteps,
+    Lbfgs,
+    Vbd,
     ExplicitEuler,
     SymplecticEuler,
     Rk4,
@@ -111,7 +117,7 @@ impl std::fmt::Debug for SolverInfo {
 
 impl SolverId {
     /// Every solver, in the order `mss --list-solvers` prints them.
-    pub const ALL: [SolverId; 15] = [
+    pub const ALL: [SolverId; 18] = [
         SolverId::BackwardEuler,
         SolverId::Pbd,
         SolverId::Xpbd,
@@ -123,6 +129,9 @@ impl SolverId {
         SolverId::AndersonAdmm,
         SolverId::DampedBackwardEuler,
         SolverId::DampedAdmm,
+        SolverId::XpbdSubsteps,
+        SolverId::Lbfgs,
+        SolverId::Vbd,
         SolverId::ExplicitEuler,
         SolverId::SymplecticEuler,
         SolverId::Rk4,
@@ -257,6 +266,71 @@ impl SolverId {
                         dt,
                         spec.iterations,
                         spec.params.damping,
+                    )?))
+                }),
+            },
+            SolverId::XpbdSubsteps => SolverInfo {
+                id: "xpbd_substeps",
+                abbreviation: "XPBD sub.",
+                summary: "XPBD with n substeps of one iteration per step (small steps)",
+                source: "Macklin, Storey, Lu, Terdiman, Chentanez, Jeschke, Müller 2019, Small Steps in Physics Simulation",
+                file: "src/xpbd_substeps.rs",
+                family: Family::Beyond,
+                iteration: Some("substep of one XPBD sweep (iterations = substeps)"),
+                options: &[],
+                accelerates: None,
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(XpbdSubsteps::new(
+                        system,
+                        dt,
+                        spec.iterations,
+                        XpbdSubstepsParams::default(),
+                    )?))
+                }),
+            },
+            SolverId::Lbfgs => SolverInfo {
+                id: "lbfgs",
+                abbreviation: "L-BFGS",
+                summary: "quasi-Newton L-BFGS on the incremental potential, the Liu system matrix as initial Hessian",
+                source: "Liu, Bouaziz, Kavan 2017, Quasi-Newton Methods for Real-Time Simulation of Hyperelastic Materials",
+                file: "src/quasi_newton.rs",
+                family: Family::Beyond,
+                iteration: Some("L-BFGS iteration (one global solve and a line search)"),
+                options: &[OptionInfo {
+                    name: "history",
+                    help: "L-BFGS window m, past pairs kept, an integer >= 1 [default: 5]",
+                }],
+                accelerates: None,
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(Lbfgs::new(
+                        system,
+                        dt,
+                        spec.iterations,
+                        spec.params.lbfgs(),
+                    )?))
+                }),
+            },
+            SolverId::Vbd => SolverInfo {
+                id: "vbd",
+                abbreviation: "VBD",
+                summary: "Vertex Block Descent: per-node Newton on the incremental potential, colour order",
+                source: "Chen, Liu, Yang, Yuksel 2024, Vertex Block Descent",
+                file: "src/vbd.rs",
+                family: Family::Beyond,
+                iteration: Some("sweep over the nodes"),
+                options: &[OptionInfo {
+                    name: "initialization",
+                    help: "initial guess: previous-position, previous-velocity, inertia or adaptive [default: adaptive]",
+                }],
+                accelerates: None,
+                builder: Builder::Springs(|system, dt, spec| {
+                    Ok(Box::new(Vbd::new(
+                        system,
+                        dt,
+                        spec.iterations,
+                        VbdParams {
+                            initialization: spec.params.initialization,
+                        },
                     )?))
                 }),
             },
@@ -524,39 +598,52 @@ pub struct SolverParams {
     pub window: usize,
     /// The damped solvers: Rayleigh damping.
     pub damping: RayleighDamping,
+    /// L-BFGS: the window (pairs kept).
+    pub history: usize,
+    /// VBD: the initial guess.
+    pub initialization: Initialization,
 }
 
 impl SolverParams {
-    /// The option `name` (an [`OptionInfo::name`]); None for an unset optional value or a
-    /// name no solver has.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        match name {
-            "stiffness_factor" => Some(self.stiffness_factor),
-            "tolerance" => Some(self.tolerance),
-            "spectral_radius" => self.spectral_radius,
-            "gamma" => Some(self.gamma),
-            "warmup" => Some(self.warmup as f64),
-            "window" => Some(self.window as f64),
-            "alpha" => Some(self.damping.alpha),
-            "beta" => Some(self.damping.beta),
-            _ => None,
-        }
+    /// The option `name` (an [`OptionInfo::name`]) as text; None for an unset optional value
+    /// or a name no solver has.
+    pub fn get(&self, name: &str) -> Option<String> {
+        Some(match name {
+            "stiffness_factor" => self.stiffness_factor.to_string(),
+            "tolerance" => self.tolerance.to_string(),
+            "spectral_radius" => self.spectral_radius?.to_string(),
+            "gamma" => self.gamma.to_string(),
+            "warmup" => self.warmup.to_string(),
+            "window" => self.window.to_string(),
+            "alpha" => self.damping.alpha.to_string(),
+            "beta" => self.damping.beta.to_string(),
+            "history" => self.history.to_string(),
+            "initialization" => self.initialization.key().to_string(),
+            _ => return None,
+        })
     }
 
-    /// Sets the option `name` (an [`OptionInfo::name`]) to `value`, checked against its range
-    /// by the solver that reads it.
-    pub fn set(&mut self, name: &str, value: f64) -> Result<()> {
+    /// Sets the option `name` (an [`OptionInfo::name`]) from its text, checked against its
+    /// range by the solver that reads it.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<()> {
+        let number = || -> Result<f64> {
+            value
+                .parse()
+                .map_err(|_| Error::invalid(name, value, "a number"))
+        };
         match name {
             "stiffness_factor" => {
-                self.stiffness_factor = crate::pbd::require_factor(name, value)?;
+                self.stiffness_factor = crate::pbd::require_factor(name, number()?)?;
             }
-            "tolerance" => self.tolerance = require_positive(name, value)?,
-            "spectral_radius" => self.spectral_radius = Some(value),
-            "gamma" => self.gamma = value,
-            "warmup" => self.warmup = require_integer(name, value, 0)?,
-            "window" => self.window = require_integer(name, value, 1)?,
-            "alpha" => self.damping.alpha = value,
-            "beta" => self.damping.beta = value,
+            "tolerance" => self.tolerance = require_positive(name, number()?)?,
+            "spectral_radius" => self.spectral_radius = Some(number()?),
+            "gamma" => self.gamma = number()?,
+            "warmup" => self.warmup = require_integer(name, number()?, 0)?,
+            "window" => self.window = require_integer(name, number()?, 1)?,
+            "alpha" => self.damping.alpha = number()?,
+            "beta" => self.damping.beta = number()?,
+            "history" => self.history = require_integer(name, number()?, 1)?,
+            "initialization" => self.initialization = value.parse()?,
             _ => {
                 let names: Vec<&str> = SolverId::ALL
                     .iter()
@@ -571,7 +658,16 @@ impl SolverParams {
         }
         self.chebyshev(Base::Liu).validate()?;
         self.anderson(Base::Liu).validate()?;
+        self.lbfgs().validate()?;
         self.damping.validate()
+    }
+
+    /// The parameters of L-BFGS (its line search at the defaults).
+    pub fn lbfgs(&self) -> LbfgsParams {
+        LbfgsParams {
+            window: self.history,
+            ..LbfgsParams::default()
+        }
     }
 
     /// The parameters of Chebyshev acceleration of `base`.
@@ -618,6 +714,8 @@ impl Default for SolverParams {
             warmup: chebyshev.warmup,
             window: AndersonParams::default().window,
             damping: RayleighDamping::NONE,
+            history: LbfgsParams::default().window,
+            initialization: VbdParams::default().initialization,
         }
     }
 }

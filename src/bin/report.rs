@@ -137,7 +137,7 @@ fn run(args: Args) -> Result<String> {
     let tutorial = TutorialChapter::compute()?;
     phase_done(&mut phases, "the tutorial's chapter".to_string(), t);
     let t = Instant::now();
-    let beyond = BeyondChapter::compute(&results, &progress("beyond the thesis"))?;
+    let beyond = BeyondChapter::compute(&progress("beyond the thesis"))?;
     phase_done(
         &mut phases,
         "beyond the thesis: newer solvers (parallel)".to_string(),

@@ -32,8 +32,8 @@ fn data() -> &'static ReportData {
             .expect("the sources read and quote");
         let runs = FigureRuns::compute(&results, &|_, _| {}).expect("the figure runs run");
         let catenary = Catenary::compute().expect("the exact catenary solves");
-        let beyond = BeyondChapter::compute(&results, &|_, _| {})
-            .expect("the chapter beyond the thesis runs");
+        let beyond =
+            BeyondChapter::compute(&|_, _| {}).expect("the chapter beyond the thesis runs");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),

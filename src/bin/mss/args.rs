@@ -179,6 +179,20 @@ pub(crate) struct Cli {
     )]
     pub(crate) beta: Option<f64>,
 
+    /// lbfgs: the window m, past (s, y) pairs kept, an integer >= 1 [default: 5]
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) history: Option<f64>,
+
+    /// vbd: the initial guess of each step: previous-position, previous-velocity, inertia or
+    /// adaptive [default: adaptive]
+    #[arg(long, value_name = "GUESS", help_heading = "Solver")]
+    pub(crate) initialization: Option<String>,
+
     /// Built-in scene
     #[arg(long, value_enum, default_value_t = SceneArg::Thesis, help_heading = "Scene")]
     pub(crate) scene: SceneArg,
@@ -372,16 +386,19 @@ impl TypedValueParser for SolverParser {
 }
 
 /// The solver options given on the command line, by their registry name.
-fn solver_options(cli: &Cli) -> [(&'static str, Option<f64>); 8] {
+fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 10] {
+    let text = |x: Option<f64>| x.map(|x| x.to_string());
     [
-        ("tolerance", cli.tolerance),
-        ("stiffness_factor", cli.stiffness_factor),
-        ("spectral_radius", cli.spectral_radius),
-        ("gamma", cli.gamma),
-        ("warmup", cli.warmup),
-        ("window", cli.window),
-        ("alpha", cli.alpha),
-        ("beta", cli.beta),
+        ("tolerance", text(cli.tolerance)),
+        ("stiffness_factor", text(cli.stiffness_factor)),
+        ("spectral_radius", text(cli.spectral_radius)),
+        ("gamma", text(cli.gamma)),
+        ("warmup", text(cli.warmup)),
+        ("window", text(cli.window)),
+        ("alpha", text(cli.alpha)),
+        ("beta", text(cli.beta)),
+        ("history", text(cli.history)),
+        ("initialization", cli.initialization.clone()),
     ]
 }
 
@@ -422,7 +439,7 @@ fn solver_spec(cli: &Cli) -> Result<SolverSpec, Failure> {
             )
             .into());
         }
-        spec.params.set(name, value).map_err(|e| match e {
+        spec.params.set(name, &value).map_err(|e| match e {
             Error::InvalidParameter { value, allowed, .. } => Error::InvalidParameter {
                 field: option,
                 value,
