@@ -419,3 +419,62 @@ pub fn convergence_curves(
     .into_iter()
     .collect()
 }
+
+/// The fewest iterations of one step of `spec` from `state` whose gap to the converged step is
+/// below `tolerance`, searched up to `max`: one fresh solver per count tried. Up to
+/// [`CONVERGENCE_ITERATIONS`] every count is tried in turn (the first crossing, as the curves
+/// show it); past it by doubling and bisection, which assumes the gap, once past that many
+/// iterations, stays below the tolerance after it first falls below it (a contraction's late
+/// iterates: true of Liu 2013 and ADMM-PD here, whose curves fall steadily by then).
+pub fn iterations_to(
+    spec: &SolverSpec,
+    system: &MassSpringSystem,
+    state: &State,
+    dt: f64,
+    tolerance: f64,
+    max: usize,
+) -> Result<Option<usize>> {
+    let oracle = spec.converged_step(system, state, dt)?;
+    let below = |m: usize| -> Result<bool> {
+        let mut next = state.clone();
+        SolverSpec {
+            iterations: m,
+            ..*spec
+        }
+        .build_send(system, dt)?
+        .step(&mut next)?;
+        Ok(gap(&next, &oracle) < tolerance)
+    };
+    let linear = CONVERGENCE_ITERATIONS.min(max);
+    for m in 1..=linear {
+        if below(m)? {
+            return Ok(Some(m));
+        }
+    }
+    // Doubling: the first power-of-two multiple of `linear` below the tolerance.
+    let (mut lo, mut hi) = (linear, linear);
+    loop {
+        if hi >= max {
+            if !below(max)? {
+                return Ok(None);
+            }
+            hi = max;
+            break;
+        }
+        hi = (2 * hi).min(max);
+        if below(hi)? {
+            break;
+        }
+        lo = hi;
+    }
+    // Bisection on (lo, hi]: lo is above the tolerance, hi below.
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if below(mid)? {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok(Some(hi))
+}

@@ -300,7 +300,7 @@ impl SolverId {
                     name: "history",
                     help: "L-BFGS window m, past pairs kept, an integer >= 1 [default: 5]",
                 }],
-                accelerates: None,
+                accelerates: Some(SolverId::FastMassSpring),
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(Lbfgs::new(
                         system,

@@ -3,9 +3,9 @@
 //! 2-7 for each, and every solver's convergence toward the converged Backward Euler step.
 
 use crate::beyond::{
-    convergence_curves, grid_rows, grid_settings, grid_solvers, run_grid, setting_label,
-    ConvergenceCurve, GridResult, Start, CONVERGENCE_ITERATIONS, GRID_DTS, GRID_MAX_TIME,
-    STEP10_DT,
+    convergence_curves, grid_rows, grid_settings, grid_solvers, iterations_to, run_grid,
+    setting_label, ConvergenceCurve, GridResult, Start, CONVERGENCE_ITERATIONS, GRID_DTS,
+    GRID_MAX_TIME, STEP10_DT,
 };
 use crate::error::Result;
 use crate::registry::{SolverId, SolverSpec};
@@ -15,7 +15,7 @@ use crate::report::output::OutputFile;
 use crate::report::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
-use crate::scene::THESIS_STIFFNESSES;
+use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
 
 /// The gap the chapter counts iterations to, m.
 pub const GAP_TOLERANCE: f64 = 1e-6;
@@ -31,11 +31,61 @@ const GAP_FLOOR: f64 = 1e-16;
 /// (the setting's label) and the scene.
 pub const BEYOND_HEADER: &str = "table,solver,dt_s,iterations,stiffness,error,ke_peaks,half_period_s,period_rel_error,half_period_exact_s,configuration,scene,end_time_s,hit_time_limit,equilibrium_error";
 
+/// An accelerated solver against the iteration it accelerates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Acceleration {
+    pub solver: SolverId,
+    pub base: SolverId,
+    /// Iterations to a gap below [`GAP_TOLERANCE`] at the figure's setting from step10.
+    pub iterations: Option<usize>,
+    pub base_iterations: Option<usize>,
+}
+
+impl Acceleration {
+    /// How many times fewer iterations the accelerated solver needs.
+    pub fn ratio(&self) -> Option<f64> {
+        Some(self.base_iterations? as f64 / self.iterations? as f64)
+    }
+}
+
+/// The most iterations [`Acceleration`] searches, per solver.
+pub const ACCELERATION_MAX_ITERATIONS: usize = 5000;
+
 /// Every result of the chapter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BeyondChapter {
     pub grid: Vec<GridResult>,
     pub curves: Vec<ConvergenceCurve>,
+    pub acceleration: Vec<Acceleration>,
+}
+
+/// Iterations to [`GAP_TOLERANCE`] for every accelerated solver and its base, from step10 at
+/// the figure's dt and stiffness.
+pub fn accelerations() -> Result<Vec<Acceleration>> {
+    let system = thesis_rope(CONVERGENCE_STIFFNESS)?;
+    let state = Start::Step10.state(&system)?;
+    let count = |id: SolverId| {
+        iterations_to(
+            &SolverSpec::new(id, 1),
+            &system,
+            &state,
+            CONVERGENCE_DT,
+            GAP_TOLERANCE,
+            ACCELERATION_MAX_ITERATIONS,
+        )
+    };
+    SolverId::ALL
+        .into_iter()
+        .filter_map(|id| id.info().accelerates.map(|base| (id, base)))
+        .map(|(solver, base)| {
+            Ok(Acceleration {
+                solver,
+                base,
+                iterations: count(solver)?,
+                base_iterations: count(base)?,
+            })
+        })
+        .collect()
 }
 
 impl BeyondChapter {
@@ -44,6 +94,7 @@ impl BeyondChapter {
         Ok(Self {
             grid: run_grid(&grid_rows(), progress)?,
             curves: convergence_curves(progress)?,
+            acceleration: accelerations()?,
         })
     }
 
@@ -317,6 +368,61 @@ impl BeyondChapter {
         }
         md += &t.render();
         md += "\n";
+
+        md += &format!(
+            "**Acceleration.** The same step (dt = {} s, k = {} N/m, from step10): the iterations \
+             to a gap below {} m of each accelerated solver and of the iteration it accelerates, \
+             searched up to {ACCELERATION_MAX_ITERATIONS} (one by one to {CONVERGENCE_ITERATIONS}, \
+             then by doubling and bisection). An iteration of each costs one global solve; the \
+             accelerations add their own work (Anderson's small least-squares problem, L-BFGS's \
+             line search), measured by `make bench`.\n\n",
+            full(CONVERGENCE_DT),
+            stiffness_label(CONVERGENCE_STIFFNESS),
+            full(GAP_TOLERANCE),
+        );
+        let mut t =
+            MarkdownTable::new(&["solver", "iterations", "base", "base iterations", "fewer"]);
+        let count = |n: Option<usize>| {
+            n.map_or(format!("> {ACCELERATION_MAX_ITERATIONS}"), |n| {
+                n.to_string()
+            })
+        };
+        for a in &self.acceleration {
+            t.row(vec![
+                format!("`{}`", a.solver),
+                count(a.iterations),
+                format!("`{}`", a.base),
+                count(a.base_iterations),
+                a.ratio().map_or("-".into(), |r| format!("{}×", sig4(r))),
+            ]);
+        }
+        md += &t.render();
+        md += "\n";
+        let chebyshev: Vec<String> = self
+            .acceleration
+            .iter()
+            .filter(|a| matches!(a.solver, SolverId::ChebyshevLiu | SolverId::ChebyshevAdmm))
+            .map(|a| {
+                let ratio = a.ratio();
+                format!(
+                    "on `{}` {} ({})",
+                    a.base,
+                    ratio.map_or("not measured".into(), |r| format!("{}× fewer", sig4(r))),
+                    if ratio.is_some_and(|r| r >= 10.0) {
+                        "holds"
+                    } else {
+                        "does not hold"
+                    }
+                )
+            })
+            .collect();
+        if !chebyshev.is_empty() {
+            md += &format!(
+                "Wang 2015 claims Chebyshev acceleration cuts the iterations of Projective Dynamics \
+                 by about an order of magnitude: here {}.\n\n",
+                chebyshev.join("; ")
+            );
+        }
         md
     }
 }
