@@ -27,6 +27,7 @@ pub mod projective;
 pub mod report;
 pub mod scene;
 pub mod scene_file;
+pub mod sheet_equilibrium;
 pub mod solver;
 pub mod spring;
 pub mod system;

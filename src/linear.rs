@@ -391,16 +391,11 @@ pub struct BandedLdlt {
 }
 
 impl BandedLdlt {
-    /// Factors `a` with half-bandwidth p = `a.bandwidth()`.
+    /// Factors `a` with half-bandwidth p = `a.bandwidth()`. [`Factorization`] picks it up to
+    /// [`BANDED_MAX_BANDWIDTH`]; called directly it takes any p (its storage is $`(n + p)(p + 1)`$
+    /// values), for a solve that must stay scalar and deterministic (the sheet's equilibrium).
     pub fn new(a: &SymmetricMatrix) -> Result<Self> {
         let p = a.bandwidth();
-        if p > BANDED_MAX_BANDWIDTH {
-            return Err(Error::invalid(
-                "bandwidth",
-                p,
-                &format!("at most {BANDED_MAX_BANDWIDTH} for the banded factorisation"),
-            ));
-        }
         let w = p + 1;
         let lower = (0..a.dim())
             .flat_map(|i| {
@@ -428,20 +423,22 @@ impl BandedLdlt {
         for &(slot, k) in &self.lower {
             self.band[k] = values[slot];
         }
+        let mut t = [0.0; BANDED_MAX_BANDWIDTH];
         match self.p {
-            5 => self.factor(5),
-            p => self.factor(p),
+            5 => self.factor(5, &mut t),
+            p if p <= BANDED_MAX_BANDWIDTH => self.factor(p, &mut t),
+            p => self.factor(p, &mut vec![0.0; p]),
         }
     }
 
     /// Row by row: $`t_j = a_{ij} - \sum_{k<j} t_k L_{jk}`$ (so $`t_k = L_{ik} d_k`$),
     /// $`L_{ij} = t_j / d_j`$, $`d_i = a_{ii} - \sum_{k<i} t_k L_{ik}`$. The zero rows and
     /// columns before the matrix give every row the same p steps, adding exact zeros.
+    /// `t` (at least p long) holds $`t_m = L_{ik} d_k`$ for the columns $`k = i - p + m`$ of the
+    /// current row i.
     #[inline(always)]
-    fn factor(&mut self, p: usize) -> Result<()> {
+    fn factor(&mut self, p: usize, t: &mut [f64]) -> Result<()> {
         let w = p + 1;
-        // t_m = L_ik d_k for the columns k = i - p + m of the current row i.
-        let mut t = [0.0; BANDED_MAX_BANDWIDTH];
         for i in 0..self.n {
             // Rows before i are final; row i holds A's entries until overwritten.
             let (done, rest) = self.band.split_at_mut((i + p) * w);
@@ -649,6 +646,21 @@ mod tests {
                 check_solve(&a, &banded, ncols);
                 check_solve(&a, &sparse, ncols);
             }
+        }
+    }
+
+    /// Called directly, the banded factorisation takes a bandwidth past the one
+    /// [`Factorization`] gives it (its scratch then lives on the heap).
+    #[test]
+    fn banded_solves_a_wide_band() {
+        let a = chain(30, 12);
+        assert!(a.bandwidth() > BANDED_MAX_BANDWIDTH);
+        let banded = Factorization::Banded(BandedLdlt::new(&a).unwrap());
+        let sparse = Factorization::new(&a).unwrap();
+        assert!(matches!(sparse, Factorization::Sparse(_)));
+        for ncols in 1..=3 {
+            check_solve(&a, &banded, ncols);
+            check_solve(&a, &sparse, ncols);
         }
     }
 
