@@ -197,11 +197,13 @@ fn peak_memory() -> u64 {
         .map_or(0, |kib| kib * 1024)
 }
 
-/// Non-zeros of faer's sparse Cholesky factor of a matrix with the pattern of `a`, with the
-/// default fill-reducing ordering and parameters that [`SymmetricMatrix`]'s sparse path uses
-/// (values stored, supernodes' explicit zeros included: what a solve streams).
-fn factor_nonzeros(a: &SymmetricMatrix) -> Result<usize> {
-    use faer::sparse::linalg::cholesky::factorize_symbolic_cholesky;
+/// Non-zeros of the sparse Cholesky factor of a matrix with the pattern of `a`, as this crate
+/// factors it ([`mass_spring_solvers::linear::SparseCholesky`]): faer's default fill-reducing
+/// ordering, the simplicial factor for Liu's and ADMM's matrix (`simplicial`), faer's choice for
+/// Backward Euler's (a supernodal factor's explicit zeros included: what a solve streams).
+fn factor_nonzeros(a: &SymmetricMatrix, simplicial: bool) -> Result<usize> {
+    use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams};
+    use faer::sparse::linalg::SupernodalThreshold;
     use faer::sparse::SymbolicSparseColMatRef;
     let mut col_ptr = vec![0];
     let mut row_idx = Vec::new();
@@ -210,13 +212,17 @@ fn factor_nonzeros(a: &SymmetricMatrix) -> Result<usize> {
         col_ptr.push(row_idx.len());
     }
     let pattern = SymbolicSparseColMatRef::new_checked(a.dim(), a.dim(), &col_ptr, None, &row_idx);
-    let symbolic = factorize_symbolic_cholesky(
-        pattern,
-        faer::Side::Lower,
-        Default::default(),
-        Default::default(),
-    )
-    .map_err(|e| Error::Input(format!("symbolic analysis failed: {e:?}")))?;
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: if simplicial {
+            SupernodalThreshold::FORCE_SIMPLICIAL
+        } else {
+            SupernodalThreshold::default()
+        },
+        ..Default::default()
+    };
+    let symbolic =
+        factorize_symbolic_cholesky(pattern, faer::Side::Lower, Default::default(), params)
+            .map_err(|e| Error::Input(format!("symbolic analysis failed: {e:?}")))?;
     Ok(symbolic.len_val())
 }
 
@@ -277,7 +283,7 @@ fn measure(solver: &Solver, n: usize) -> Result<Point> {
                 spread: l.spread.max(g.spread),
                 repeats: l.repeats.min(g.repeats),
             };
-            point.factor_nnz = Some(factor_nonzeros(&pattern(1))?);
+            point.factor_nnz = Some(factor_nonzeros(&pattern(1), true)?);
         }
         Kind::Iterative(build) => {
             point.setup = time(|| build(&system).map(drop))?;
@@ -296,7 +302,7 @@ fn measure(solver: &Solver, n: usize) -> Result<Point> {
                 s.step(&mut state)
             })?;
             point.iteration = per_iteration(point.step, NEWTON_ITERATIONS);
-            point.factor_nnz = Some(factor_nonzeros(&pattern(3))?);
+            point.factor_nnz = Some(factor_nonzeros(&pattern(3), false)?);
         }
     }
     point.peak_bytes = peak_memory();
@@ -748,9 +754,11 @@ fn timing_md(
     }
     let _ = writeln!(
         w,
-        "\nFactor non-zeros: faer's supernodal Cholesky of the n²×n² matrix (one factor, the three \
-         coordinates solved as three right-hand sides) after its default fill-reducing ordering; \
-         Backward Euler's is the 3n²×3n² Newton matrix. Set-up: building the solver (matrix, \
+        "\nFactor non-zeros: faer's simplicial Cholesky of the n²×n² matrix (one factor, the three \
+         coordinates solved together as three right-hand sides by `SparseCholesky::solve_three`) \
+         after its default fill-reducing ordering (approximate minimum degree); up to n = 15 the \
+         matrix's half-bandwidth n + 1 is at most 16 and the banded LDLᵀ factors it instead. \
+         Backward Euler's is the 3n²×3n² Newton matrix, simplicial or supernodal as faer chooses. Set-up: building the solver (matrix, \
          symbolic analysis, factorisation); Backward Euler refactors in every Newton iteration, \
          inside its step.\n"
     );
