@@ -20,7 +20,10 @@ fn timing(args: &[&str]) -> (i32, String, String) {
 fn bad_input_is_named() {
     let (code, _, err) = timing(&["--point", "nope", "10"]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("--point SOLVER") && err.contains("liu"), "{err}");
+    assert!(
+        err.contains("--point SOLVER") && err.contains("liu"),
+        "{err}"
+    );
     let (code, _, err) = timing(&["--point", "liu", "ten"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--point N"), "{err}");
@@ -33,7 +36,10 @@ fn bad_input_is_named() {
     let (code, _, err) = timing(&["--max-side", "5", "--out", dir.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--max-side"), "{err}");
-    assert!(!dir.exists(), "nothing is written before the input is checked");
+    assert!(
+        !dir.exists(),
+        "nothing is written before the input is checked"
+    );
 }
 
 /// A point's row: the sheet's counts, a factor for Liu, times that are positive and finite.
@@ -44,7 +50,10 @@ fn a_point_is_one_row_of_positive_times() {
     let row: Vec<&str> = out.trim().split(',').collect();
     assert_eq!(row.len(), 21, "{out}");
     assert_eq!(&row[..4], ["liu", "20", "400", "1482"]);
-    assert!(row[4].parse::<usize>().unwrap() > 1482, "the factor fills in: {out}");
+    assert!(
+        row[4].parse::<usize>().unwrap() > 1482,
+        "the factor fills in: {out}"
+    );
     for (i, v) in row.iter().enumerate().skip(5) {
         if let Ok(v) = v.parse::<f64>() {
             assert!(v.is_finite() && v >= 0.0, "column {i}: {v}");
