@@ -810,9 +810,12 @@ fn timing_md(
          a load of three coordinates at an index that wanders over the right-hand sides in the \
          fill-reducing order, three multiplications and three additions into partial sums \
          (scalar: the x86-64 baseline has no fused multiply-add and the build targets no more). \
-         Both substitutions gather, each into four partial sums per coordinate (`gather_three` \
-         in `src/linear.rs`): with one running sum the additions chain and the 100 × 100 solve \
-         took 0.70 ms, with four it takes 0.60 ms; faer's own solve took 1.6 ms. The column \
+         The forward substitution scatters each column of the factor into the rows below; the \
+         backward one gathers each column into four partial sums per coordinate (`gather_three` \
+         in `src/linear.rs`; with one running sum the additions chain: 0.70 ms against 0.65 ms at \
+         n = 100). Gathering in the forward substitution too, from a copy of the factor by rows, \
+         measured 0.61 ms at n = 100 but 3.0 ms against 2.0 ms at n = 160, its two copies of the \
+         factor outgrowing the cache; faer's own solve took 1.6 ms at n = 100. The column \
          \"ns per entry\" is the measured global step over 2 × nnz.\n",
         sqrt_div * 1e9
     );
