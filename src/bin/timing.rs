@@ -636,7 +636,16 @@ fn run(args: Args) -> Result<String> {
     let load_after = load_average();
     let (model, cores) = machine();
     let commit = git(&["rev-parse", "HEAD"], &root);
-    let dirty = !git(&["status", "--porcelain", "--untracked-files=no"], &root).is_empty();
+    // Its own output aside: a run replaces report/timing/.
+    let status = [
+        "status",
+        "--porcelain",
+        "--untracked-files=no",
+        "--",
+        ".",
+        ":!report/timing",
+    ];
+    let dirty = !git(&status, &root).is_empty();
     let toolchain = rustc_version();
 
     let mut csv = format!("{COLUMNS}\n");
