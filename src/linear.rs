@@ -676,12 +676,6 @@ impl SparseCholesky {
         Ok(())
     }
 
-    /// Non-zeros of the factor $`L`$ as stored (a supernode's explicit zeros included): what
-    /// a solve streams.
-    pub fn factor_nonzeros(&self) -> usize {
-        self.values.len()
-    }
-
     /// Solves all right-hand sides at once (the three coordinates of Liu and ADMM together).
     pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
         if let (3, Some(columns)) = (ncols, &self.columns) {
