@@ -3,7 +3,7 @@
 # `make bench` only (clippy in `make lint` still checks them).
 CARGO ?= cargo
 
-.PHONY: all test report bench lint fmt doc doc-offline
+.PHONY: all test report bench lint fmt doc doc-offline timing
 
 all: test report
 
@@ -15,6 +15,11 @@ report:
 
 bench:
 	$(CARGO) bench --bench steps
+
+# The sheet's scaling study (n = 10 to 320 at k = 1e6): report/timing/ (TIMING.md, CSVs, figure),
+# outside the byte-identical report. A few minutes on 2 cores; progress on stderr.
+timing:
+	$(CARGO) run --bin timing
 
 lint:
 	$(CARGO) fmt --check

@@ -223,6 +223,18 @@ impl AdmmPd {
     pub fn omega(&self) -> &[f64] {
         self.iterate.omega()
     }
+
+    /// Lines 2.4-2.7 at the current iterate: $`z`$ and $`\bar u`$ (Eqs 41-42).
+    pub fn local_step(&mut self) {
+        self.iterate.local_step(&self.system);
+    }
+
+    /// The global step at the current iterate: Eq (40)'s right-hand side and the prefactored
+    /// solve.
+    pub fn global_step(&mut self) {
+        self.iterate.global_rhs();
+        self.a.solve(&mut self.iterate.x, &self.iterate.x_n);
+    }
 }
 
 impl TimeStepper for AdmmPd {
@@ -249,12 +261,11 @@ impl TimeStepper for AdmmPd {
         it.u_bar.fill(Vec3::zeros());
         // 2.3-2.10
         for _ in 0..self.iterations {
-            it.local_step(&self.system);
-            it.global_rhs();
-            self.a.solve(&mut it.x, &it.x_n);
+            self.local_step();
+            self.global_step();
         }
         // 2.11
-        finish_step(state, &it.x, self.dt);
+        finish_step(state, &self.iterate.x, self.dt);
         Ok(())
     }
     // endregion: step

@@ -37,6 +37,20 @@ impl ConstrainedSystem {
     /// Eq. (44): $`\begin{pmatrix}A_1 & 0\\ 0 & I\end{pmatrix}`$ replaces the fixed rows and
     /// columns of `a` (in place), then the result is factored once.
     pub fn new(a: &mut SymmetricMatrix, fixed: &[usize]) -> Result<Self> {
+        Self::with_factorization(a, fixed, Factorization::new)
+    }
+
+    /// [`Self::new`] for a matrix solved many times with three right-hand sides (Liu's and
+    /// ADMM's coordinates): factored by [`Factorization::for_three_columns`].
+    pub fn for_three_columns(a: &mut SymmetricMatrix, fixed: &[usize]) -> Result<Self> {
+        Self::with_factorization(a, fixed, Factorization::for_three_columns)
+    }
+
+    fn with_factorization(
+        a: &mut SymmetricMatrix,
+        fixed: &[usize],
+        factor: fn(&SymmetricMatrix) -> Result<Factorization>,
+    ) -> Result<Self> {
         let mut is_fixed = vec![false; a.dim()];
         for &j in fixed {
             is_fixed[j] = true;
@@ -66,7 +80,7 @@ impl ConstrainedSystem {
             fixed: fixed.to_vec(),
             coupling,
             slots,
-            factorization: Factorization::new(a)?,
+            factorization: factor(a)?,
         })
     }
 

@@ -161,8 +161,9 @@ impl FastMassSpring {
     }
 
     /// Eq. (28): $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for every spring, at the current
-    /// iterate (the local step, lines 2.3-2.5).
-    fn local_step(&mut self) {
+    /// iterate (the local step, lines 2.3-2.5). Public for the timing study, which times the
+    /// two halves of an iteration apart after a step.
+    pub fn local_step(&mut self) {
         for (i, d) in self.d.iter_mut().enumerate() {
             *d = self.j.difference(i, &self.x);
         }
@@ -171,7 +172,7 @@ impl FastMassSpring {
 
     /// Eq. (29): consistent form $`(M + dt^2 L)\,x = b + dt^2 J d`$, solved with the
     /// prefactored $`A`$ for the three coordinates at once; fixed nodes stay at $`x_n`$.
-    fn global_step(&mut self) {
+    pub fn global_step(&mut self) {
         let dt2 = self.dt * self.dt;
         self.x.copy_from_slice(&self.b);
         for (i, &d) in self.d.iter().enumerate() {

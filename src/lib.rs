@@ -35,6 +35,7 @@ pub mod registry;
 pub mod report;
 pub mod scene;
 pub mod scene_file;
+pub mod sheet_equilibrium;
 pub mod solver;
 pub mod spring;
 pub mod system;

@@ -278,7 +278,7 @@ impl GlobalSolve {
         let fixed = fixed_unknowns(fixed_nodes, 1);
         Ok(Self {
             nodes: system.len(),
-            solve: ConstrainedSystem::new(&mut a, &fixed)?,
+            solve: ConstrainedSystem::for_three_columns(&mut a, &fixed)?,
         })
     }
 

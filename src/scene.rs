@@ -105,6 +105,27 @@ pub const SHEET_TOTAL_MASS: f64 = 100.0;
 /// Nodes per side of the default sheet.
 pub const SHEET_NODES_PER_SIDE: usize = 10;
 
+/// Bytes of the system a sheet node brings at most: its [`Node`] and its four springs (two
+/// structural, two shear), before any solver's matrices.
+pub const SHEET_BYTES_PER_NODE: u64 =
+    (std::mem::size_of::<Node>() + 4 * std::mem::size_of::<Spring>()) as u64;
+
+/// The memory assumed available where the system does not say (`/proc/meminfo`), in bytes.
+const ASSUMED_MEMORY: u64 = 1 << 32;
+
+/// The memory available to a new allocation, in bytes (`MemAvailable` on Linux).
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// The largest n whose sheet fits in `bytes` at [`SHEET_BYTES_PER_NODE`].
+fn max_nodes_per_side(bytes: u64) -> u64 {
+    ((bytes / SHEET_BYTES_PER_NODE) as f64).sqrt() as u64
+}
+
 /// Which corners of the sheet are held.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SheetSupport {
@@ -120,7 +141,8 @@ pub enum SheetSupport {
 /// cell as shear springs, all at rest length, at rest.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SheetParams {
-    /// Nodes per side n, >= 3 (free nodes besides the corners); node (i, j) starts at (i·h, 0, j·h).
+    /// Nodes per side n, >= 2, with at least one node not held (n >= 3 with four corners held);
+    /// node (i, j) starts at (i·h, 0, j·h).
     pub nodes_per_side: usize,
     /// Grid spacing h, m (9 / (n − 1) in the specification).
     pub spacing: f64,
@@ -140,7 +162,7 @@ impl SheetParams {
         Self {
             nodes_per_side,
             spacing: SHEET_SIDE / (n - 1) as f64,
-            node_mass: SHEET_TOTAL_MASS / (n * n) as f64,
+            node_mass: SHEET_TOTAL_MASS / (n as f64 * n as f64),
             stiffness,
             gravity: THESIS_GRAVITY,
             support: SheetSupport::FourCorners,
@@ -153,6 +175,14 @@ impl SheetParams {
         self
     }
 
+    /// Bytes that [`Self::build`] allocates for the nodes and springs of an n × n sheet (at most
+    /// [`SHEET_BYTES_PER_NODE`] a node: one node and four springs); `None` if the count
+    /// overflows. A solver needs several times more; this is the floor it is checked against.
+    pub fn estimated_bytes(&self) -> Option<u64> {
+        let n = u64::try_from(self.nodes_per_side).ok()?;
+        n.checked_mul(n)?.checked_mul(SHEET_BYTES_PER_NODE)
+    }
+
     /// Index of node (i, j).
     pub fn node(&self, i: usize, j: usize) -> usize {
         i * self.nodes_per_side + j
@@ -162,8 +192,32 @@ impl SheetParams {
     /// length h, shear springs on both diagonals of every cell of rest length √2·h.
     pub fn build(&self) -> Result<MassSpringSystem> {
         let n = self.nodes_per_side;
-        if n < 3 {
-            return Err(Error::invalid("sheet.nodes_per_side", n, "an integer >= 3"));
+        if n < 2 {
+            return Err(Error::invalid("sheet.nodes_per_side", n, "an integer >= 2"));
+        }
+        if self.support == SheetSupport::FourCorners && n == 2 {
+            return Err(Error::invalid(
+                "sheet.nodes_per_side",
+                n,
+                "an integer >= 3 with four corners held (at n = 2 every node is a held corner: \
+                 no node is free)",
+            ));
+        }
+        let limit = available_memory().unwrap_or(ASSUMED_MEMORY);
+        match self.estimated_bytes() {
+            Some(bytes) if bytes <= limit => {}
+            _ => {
+                return Err(Error::invalid(
+                    "sheet.nodes_per_side",
+                    n,
+                    &format!(
+                        "at most {}: the sheet's nodes and springs take {SHEET_BYTES_PER_NODE} \
+                         bytes a node, and {} MiB of memory are available",
+                        max_nodes_per_side(limit),
+                        limit >> 20
+                    ),
+                ))
+            }
         }
         require_positive("sheet.spacing", self.spacing)?;
         require_positive("sheet.node_mass", self.node_mass)?;
@@ -263,6 +317,39 @@ mod tests {
             assert!(
                 (force - Vec3::new(0.0, gravity, 0.0)).norm() < 1e-9,
                 "{force:?}"
+            );
+        }
+    }
+
+    /// n < 2, a sheet whose every node is held, and a sheet too large for the memory (or for
+    /// a 64-bit count) are named errors, found before anything is allocated.
+    #[test]
+    fn a_sheet_too_small_too_large_or_all_held_is_refused() {
+        for n in [0, 1] {
+            let err = SheetParams::spec(n, 1e3).build().unwrap_err().to_string();
+            assert!(err.contains(&format!("sheet.nodes_per_side: {n}")), "{err}");
+            assert!(err.contains(">= 2"), "{err}");
+        }
+        let err = SheetParams::spec(2, 1e3).build().unwrap_err().to_string();
+        assert!(
+            err.contains("sheet.nodes_per_side") && err.contains("no node is free"),
+            "{err}"
+        );
+        let two = SheetParams::spec(2, 1e3).with_support(SheetSupport::TwoCorners);
+        assert_eq!(
+            two.build()
+                .unwrap()
+                .inverse_masses()
+                .iter()
+                .filter(|&&w| w > 0.0)
+                .count(),
+            2
+        );
+        for n in [1 << 20, 1 << 40, usize::MAX] {
+            let err = SheetParams::spec(n, 1e3).build().unwrap_err().to_string();
+            assert!(
+                err.contains("sheet.nodes_per_side") && err.contains("MiB of memory"),
+                "{err}"
             );
         }
     }

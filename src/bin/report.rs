@@ -154,6 +154,11 @@ fn run(args: Args) -> Result<String> {
         sources,
     };
     let mut files = render(&data)?;
+    let sheet = mass_spring_solvers::sheet_equilibrium::report_equilibria()?;
+    files.push(OutputFile::text(
+        "data/sheet_equilibrium.csv",
+        mass_spring_solvers::sheet_equilibrium::equilibrium_csv(&sheet),
+    ));
     phase_done(&mut phases, "rendering (Markdown, SVG, CSV)".to_string(), t);
     let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
     let classes = data.forensics.as_ref().map_or(String::new(), |f| {
