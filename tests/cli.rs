@@ -508,3 +508,29 @@ fn solver_options_are_checked_and_refused_where_they_do_not_apply() {
     ]);
     assert!(m["solver_name"].as_str().unwrap().contains("0.5"), "{m:#}");
 }
+
+/// `--scene sheet --n N`: the sheet of docs/sheet-scene.md at any size from 3; `--n` is refused
+/// elsewhere and below 3.
+#[test]
+fn sheet_scene_runs_at_any_size() {
+    let m = json(&[
+        "--scene",
+        "sheet",
+        "--n",
+        "4",
+        "--solver",
+        "admm_pd",
+        "--iterations",
+        "5",
+        "--dt",
+        "0.01",
+        "--max-time",
+        "0.5",
+    ]);
+    assert_eq!(m["scene"]["nodes"], 16);
+    assert_eq!(m["scene"]["fixed_nodes"], 4);
+    // 2·4·3 structural and 2·3·3 shear springs.
+    assert_eq!(m["scene"]["springs"], 42);
+    assert_bad_input(&["--scene", "sheet", "--n", "2"], &["--n", ">= 3"]);
+    assert_bad_input(&["--scene", "rope", "--n", "5"], &["--n", "sheet"]);
+}

@@ -236,6 +236,16 @@ pub(crate) struct Cli {
     )]
     pub(crate) nodes: Option<i64>,
 
+    /// sheet: nodes per side n, an integer >= 3 (n² nodes; the four corners are fixed)
+    /// [default: 10]
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        help_heading = "Scene"
+    )]
+    pub(crate) n: Option<i64>,
+
     /// rope: rest length of every spring, in m (> 0) [default: 1]
     #[arg(
         long,
@@ -335,6 +345,9 @@ pub(crate) enum SceneArg {
     /// A straight rope of --nodes nodes between two fixed ends (--rest-length, --node-mass,
     /// --span), at rest
     Rope,
+    /// The sheet of docs/sheet-scene.md: an n × n net (--n), 9 m × 9 m, 100 kg in all,
+    /// structural and shear springs at rest length, four corners fixed, flat and taut at rest
+    Sheet,
     /// A square cloth pinned at its two top corners, undamped springs on the triangle edges,
     /// released at rest
     HangingCloth,
@@ -572,6 +585,12 @@ pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
         ("--node-mass", cli.node_mass.is_some()),
         ("--span", cli.span.is_some()),
     ];
+    if cli.n.is_some() && (cli.scene != SceneArg::Sheet || cli.scene_file.is_some()) {
+        return Err(Failure::input(format!(
+            "--n applies to --scene sheet only (the scene is {})",
+            scene_name(cli)
+        )));
+    }
     if cli.scene != SceneArg::Rope || cli.scene_file.is_some() {
         if let Some((option, _)) = rope_only.iter().find(|(_, given)| *given) {
             return Err(Failure::input(format!(

@@ -6,7 +6,9 @@ use crate::Failure;
 use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
 use mass_spring_solvers::particles::ParticleSystem;
 use mass_spring_solvers::registry::{Builder, SolverSpec};
-use mass_spring_solvers::scene::{RopeParams, THESIS_GRAVITY, THESIS_NODES};
+use mass_spring_solvers::scene::{
+    RopeParams, SheetParams, SHEET_NODES_PER_SIDE, THESIS_GRAVITY, THESIS_NODES,
+};
 use mass_spring_solvers::scene_file::{self, SceneFile, LIMITS};
 use mass_spring_solvers::solver::TimeStepper;
 use mass_spring_solvers::system::{MassSpringSystem, Vec3};
@@ -86,6 +88,16 @@ pub(crate) fn build_scene(cli: &Cli) -> Result<Model, Failure> {
             let mut rope = RopeParams::thesis(k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
             rope.gravity = g.unwrap_or(THESIS_GRAVITY);
             Model::Springs(rope.build()?)
+        }
+        SceneArg::Sheet => {
+            let n = match cli.n {
+                Some(n) => check_count("--n", n, 3)?,
+                None => SHEET_NODES_PER_SIDE,
+            };
+            check_memory("--n", n.saturating_mul(n))?;
+            let mut sheet = SheetParams::spec(n, k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
+            sheet.gravity = g.unwrap_or(THESIS_GRAVITY);
+            Model::Springs(sheet.build()?)
         }
         SceneArg::Rope => {
             let mut rope = RopeParams::thesis(k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
