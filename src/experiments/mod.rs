@@ -248,3 +248,34 @@ pub fn faithful_results() -> &'static ResultSet {
             .expect("the faithful thesis experiments run without error")
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The k = 1e3 reference is one of the longest runs (2.8 s of CPU of the faithful 20 s, with
+    /// the 50- and 70-iteration rows at dt = 1e-3): its Newton iterations are few but dear, and
+    /// the pool must start it among the first, not after every cheaper solver row.
+    #[test]
+    fn the_dear_runs_are_scheduled_first() {
+        let faithful = Configuration::faithful();
+        let mut rows: Vec<&PublishedRow> = published_rows().iter().collect();
+        rows.sort_by(|a, b| expected_cost(b, &faithful).total_cmp(&expected_cost(a, &faithful)));
+        let reference = rows
+            .iter()
+            .position(|r| r.solver == SolverKind::BackwardEuler && r.stiffness == 1e3)
+            .unwrap();
+        assert!(
+            reference < 4,
+            "the k = 1e3 reference is scheduled {reference}th"
+        );
+        // A time limit shorter than the published run cuts its expected cost in proportion.
+        let row = rows[0];
+        let mut cut = faithful;
+        cut.stop.max_time = 0.5 * row.ke_peaks as f64 * row.half_period_s;
+        assert_eq!(
+            expected_cost(row, &cut),
+            0.5 * expected_cost(row, &faithful)
+        );
+    }
+}
