@@ -236,7 +236,8 @@ pub fn run_grid(
         .map(GridReference::compute)
         .into_iter()
         .collect::<Result<Vec<_>>>()?;
-    let cost = |row: &GridRow| row.spec.iterations as f64 / row.dt_s;
+    let cost =
+        |row: &GridRow| row.spec.id.info().relative_cost * row.spec.iterations as f64 / row.dt_s;
     run_parallel(
         rows,
         cost,

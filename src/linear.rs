@@ -146,8 +146,12 @@ impl SymmetricMatrix {
     }
 }
 
-/// Matrices with a half-bandwidth up to this use the banded factorisation.
-pub const BANDED_MAX_BANDWIDTH: usize = 16;
+/// Matrices with a half-bandwidth up to this use the banded factorisation, plain scalar code
+/// whose results do not depend on the CPU; wider ones go to faer, which picks SIMD kernels at
+/// run time. It covers Backward Euler on a 10×10 sheet (3 unknowns per node, springs reaching
+/// 11 nodes: half-bandwidth 35), where the band is also the faster: Figure 1's sheet run takes
+/// 0.61 s of CPU banded against 0.87 s with faer's sparse Cholesky. A 15×15 sheet (50) is past it.
+pub const BANDED_MAX_BANDWIDTH: usize = 40;
 
 /// A factorisation of a symmetric positive definite matrix ($`LDL^\top`$ or $`LL^\top`$),
 /// analysed once for its pattern.
@@ -803,6 +807,61 @@ mod tests {
         for (xi, bi) in x.iter().zip(&b) {
             assert!((xi - bi).abs() < 1e-12, "{xi} vs {bi}");
         }
+    }
+
+    /// The pattern of `system`'s springs with `block` unknowns per node, made positive
+    /// definite by a dominant diagonal, and the factorisation [`Factorization::new`] picks.
+    fn factorization_of(system: &crate::system::MassSpringSystem, block: usize) -> Factorization {
+        let edges: Vec<_> = system.springs().iter().map(|s| (s.a, s.b)).collect();
+        let mut a = SymmetricMatrix::from_node_graph(system.len(), block, &edges);
+        for &(i, j) in &edges {
+            for c in 0..block {
+                let (p, q) = (i * block + c, j * block + c);
+                a.add(p, p, 2.0);
+                a.add(q, q, 2.0);
+                a.add(p, q, -1.0);
+                a.add(q, p, -1.0);
+            }
+        }
+        for i in 0..a.dim() {
+            a.add(i, i, 1.0);
+        }
+        Factorization::new(&a).unwrap()
+    }
+
+    /// Determinism across CPUs: every solve of the rope and of the 10×10 sheet runs on this
+    /// crate's scalar factorisations, never on faer's run-time dispatched kernels.
+    #[test]
+    fn the_rope_and_the_sheet_never_reach_faer() {
+        use crate::scene::{thesis_rope, SheetParams, SheetSupport, SHEET_NODES_PER_SIDE};
+        let rope = thesis_rope(1e3).unwrap();
+        // Liu 2013 and ADMM-PD: one unknown per node; Backward Euler: three.
+        assert!(matches!(
+            factorization_of(&rope, 1),
+            Factorization::Tridiagonal(_)
+        ));
+        assert!(matches!(
+            factorization_of(&rope, 3),
+            Factorization::Banded(_)
+        ));
+        for support in [SheetSupport::FourCorners, SheetSupport::TwoCorners] {
+            let sheet = SheetParams::spec(SHEET_NODES_PER_SIDE, 1e3)
+                .with_support(support)
+                .build()
+                .unwrap();
+            for block in [1, 3] {
+                assert!(
+                    matches!(factorization_of(&sheet, block), Factorization::Banded(_)),
+                    "{SHEET_NODES_PER_SIDE}×{SHEET_NODES_PER_SIDE} sheet, {block} unknowns per node"
+                );
+            }
+        }
+        // Past the threshold, faer: a 15×15 sheet with three unknowns per node.
+        let wide = SheetParams::spec(15, 1e3).build().unwrap();
+        assert!(matches!(
+            factorization_of(&wide, 3),
+            Factorization::Sparse(_)
+        ));
     }
 
     #[test]

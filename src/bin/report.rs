@@ -2,25 +2,31 @@
 //! parallel), then the forensic configurations of the rows run, and replaces `report/`
 //! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv`, `MANIFEST` and the git-ignored
 //! `run-info.md`; what the previous report did not write is carried over (see
-//! [`mass_spring_solvers::report::publish`]). Each phase prints one line with its time to
-//! stderr (a live counter too when stderr is a terminal).
+//! [`mass_spring_solvers::report::publish`]). Each phase runs through
+//! [`Phases::run`](mass_spring_solvers::report::output::Phases::run), which prints one line with
+//! its wall and CPU time (and its budget, if it has one) to stderr and records them for
+//! `run-info.md`; a live counter shows too when stderr is a terminal.
 
 use clap::Parser;
 use mass_spring_solvers::experiments::{published_rows, run_all, Configuration, PublishedRow};
 use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::report::beyond::BeyondChapter;
-use mass_spring_solvers::report::output::{OutputFile, RunInfo};
+use mass_spring_solvers::report::output::{OutputFile, Phases, RunInfo};
 use mass_spring_solvers::report::publish::{fixture, ReportTarget};
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
 use mass_spring_solvers::report::{crate_root, render, repository_containing, ReportData, Sources};
+use mass_spring_solvers::sheet_equilibrium::{equilibrium_csv, report_equilibria};
 use mass_spring_solvers::{Error, Result};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
+
+/// The budget of the chapter beyond the thesis (issue 12: at most 20 s on 2 cores).
+const BEYOND_BUDGET: Duration = Duration::from_secs(20);
 
 /// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
 const FIXTURE_FILES: usize = 400;
@@ -44,14 +50,6 @@ struct Args {
     /// Tests only: write a synthetic report whose files name TAG instead of running anything.
     #[arg(long, value_name = "TAG", hide = true)]
     fixture: Option<String>,
-}
-
-/// Records a finished phase and prints `report: <phase>: <seconds> s` on stderr, terminal or not,
-/// so that a log shows where the time went.
-fn phase_done(phases: &mut Vec<(String, Duration)>, label: String, started: Instant) {
-    let elapsed = started.elapsed();
-    eprintln!("report: {label}: {:.1} s", elapsed.as_secs_f64());
-    phases.push((label, elapsed));
 }
 
 /// `label: done/total` on one stderr line, only when stderr is a terminal.
@@ -110,40 +108,30 @@ fn run(args: Args) -> Result<String> {
         .filter(|s| rows.iter().any(|r| r.solver == *s))
         .collect();
     let sources = Sources::read(&root, &solvers)?;
-    let mut phases = Vec::new();
-    let t = Instant::now();
-    let results = run_all(&rows, &Configuration::faithful(), &progress("experiments"))?;
-    phase_done(
-        &mut phases,
+    let mut phases = Phases::default();
+    let results = phases.run(
         format!("{} thesis experiments (parallel)", rows.len()),
-        t,
-    );
-    let t = Instant::now();
-    let forensics = Forensics::compute(&results, &progress("forensic configurations"))?;
-    phase_done(
-        &mut phases,
-        "forensic configurations and gravity mismatch (parallel)".to_string(),
-        t,
-    );
-    let t = Instant::now();
-    let runs = FigureRuns::compute(&results, &progress("figure runs"))?;
-    let catenary = Catenary::compute()?;
-    phase_done(
-        &mut phases,
-        "figure runs, sheet and catenary".to_string(),
-        t,
-    );
-    let t = Instant::now();
-    let tutorial = TutorialChapter::compute()?;
-    phase_done(&mut phases, "the tutorial's chapter".to_string(), t);
-    let t = Instant::now();
-    let beyond = BeyondChapter::compute(&progress("beyond the thesis"))?;
-    phase_done(
-        &mut phases,
-        "beyond the thesis: newer solvers (parallel)".to_string(),
-        t,
-    );
-    let t = Instant::now();
+        None,
+        || run_all(&rows, &Configuration::faithful(), &progress("experiments")),
+    )?;
+    let forensics = phases.run(
+        "forensic configurations and gravity mismatch (parallel)",
+        None,
+        || Forensics::compute(&results, &progress("forensic configurations")),
+    )?;
+    let (runs, catenary) = phases.run("figure runs, sheet and catenary", None, || {
+        Ok::<_, Error>((
+            FigureRuns::compute(&results, &progress("figure runs"))?,
+            Catenary::compute()?,
+        ))
+    })?;
+    let tutorial = phases.run("the tutorial's chapter", None, TutorialChapter::compute)?;
+    let beyond = phases.run(
+        "beyond the thesis: newer solvers (parallel)",
+        Some(BEYOND_BUDGET),
+        || BeyondChapter::compute(&progress("beyond the thesis")),
+    )?;
+    let sheet = phases.run("the sheet's exact equilibrium", None, report_equilibria)?;
     let data = ReportData {
         results,
         forensics: Some(forensics),
@@ -153,13 +141,11 @@ fn run(args: Args) -> Result<String> {
         beyond,
         sources,
     };
-    let mut files = render(&data)?;
-    let sheet = mass_spring_solvers::sheet_equilibrium::report_equilibria()?;
+    let mut files = phases.run("rendering (Markdown, SVG, CSV)", None, || render(&data))?;
     files.push(OutputFile::text(
         "data/sheet_equilibrium.csv",
-        mass_spring_solvers::sheet_equilibrium::equilibrium_csv(&sheet),
+        equilibrium_csv(&sheet),
     ));
-    phase_done(&mut phases, "rendering (Markdown, SVG, CSV)".to_string(), t);
     let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
     let classes = data.forensics.as_ref().map_or(String::new(), |f| {
         let counts: Vec<String> = Evidence::ALL
@@ -170,7 +156,7 @@ fn run(args: Args) -> Result<String> {
         format!("; evidence: {}", counts.join(", "))
     });
     let info = RunInfo {
-        phases,
+        phases: phases.into_phases(),
         rows_run: data.results.rows.len(),
     };
     files.push(OutputFile::text("run-info.md", info.render(&root)));

@@ -110,7 +110,7 @@ pub enum ConfigurationId {
     LiuStartInertial,
     /// A point of the Liu hypothesis's grid.
     Liu(LiuHypothesis),
-    /// ADMM-PD with a labelled departure ([`ConfigurationId::ADMM_VARIANTS`]).
+    /// ADMM-PD with a labelled departure ([`AdmmCandidate::variant`]).
     Admm(AdmmCandidate),
 }
 

@@ -27,7 +27,7 @@ pub use liu_fit::LiuFit;
 
 use crate::error::Result;
 use crate::experiments::{
-    faithful_results, measure, published_cost, run_experiment, run_parallel, same_experiment,
+    expected_cost, faithful_results, measure, run_experiment, run_parallel, same_experiment,
     Configuration, Measured, PublishedRow, Reference, ResultSet,
 };
 use crate::fast_mass_spring::{FastMassSpring, FirstIterate};
@@ -127,7 +127,7 @@ fn run_unique(
         .collect();
     let runs = run_parallel(
         &unique,
-        |(row, _)| published_cost(row),
+        |(row, configuration)| expected_cost(row, configuration),
         |(row, configuration)| run_experiment(row, configuration),
         progress,
     );

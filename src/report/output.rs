@@ -2,7 +2,7 @@
 //! [`crate::report::publish`]'s concern.
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 /// A file of the report: path relative to the output directory, and contents.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -24,10 +24,105 @@ impl OutputFile {
 /// What varies from run to run, for `run-info.md`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunInfo {
-    /// Wall time of each phase.
-    pub phases: Vec<(String, Duration)>,
+    /// Each phase's times.
+    pub phases: Vec<Phase>,
     /// The rows run, out of 56.
     pub rows_run: usize,
+}
+
+/// One timed phase of a run: a chapter's computations, the rendering.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Phase {
+    pub label: String,
+    pub wall: Duration,
+    /// CPU time of the whole process (user + system, every thread) during the phase; None
+    /// where the platform does not tell it.
+    pub cpu: Option<Duration>,
+    /// The phase's budget in wall time on two idle cores, if it has one.
+    pub budget: Option<Duration>,
+}
+
+impl Phase {
+    /// Whether it took longer than its budget: in wall time, and in CPU time over `cores` too
+    /// (on a loaded machine the wall time of a phase says little, but the CPU time of a phase
+    /// that keeps every core busy, divided by the cores, is its wall time on idle cores).
+    pub fn over_budget(&self, cores: usize) -> bool {
+        self.budget.is_some_and(|b| {
+            self.wall > b && self.cpu.is_none_or(|cpu| cpu > b * cores.max(1) as u32)
+        })
+    }
+
+    /// `<label>: 10.4 s (CPU 20.1 s, budget 20 s)`, the line the report prints on stderr.
+    pub fn summary(&self) -> String {
+        let mut detail = Vec::new();
+        if let Some(cpu) = self.cpu {
+            detail.push(format!("CPU {:.1} s", cpu.as_secs_f64()));
+        }
+        if let Some(b) = self.budget {
+            detail.push(format!("budget {} s", b.as_secs_f64()));
+        }
+        let detail = if detail.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", detail.join(", "))
+        };
+        format!("{}: {:.1} s{detail}", self.label, self.wall.as_secs_f64())
+    }
+}
+
+/// User + system CPU time of this process so far (every thread), from `/proc/self/stat`
+/// (fields 14-15, in the kernel's user-visible ticks of 1/100 s); None elsewhere.
+pub fn process_cpu_time() -> Option<Duration> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The command name (field 2) may hold spaces; the fields after it are plain numbers.
+    let after_name = &stat[stat.rfind(')')? + 1..];
+    let fields: Vec<&str> = after_name.split_whitespace().collect();
+    // after_name starts at field 3, so fields 14 and 15 are at 11 and 12.
+    let ticks = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    Some(Duration::from_millis(ticks * 10))
+}
+
+/// The phases of a run, timed as they go: `phases.run("label", budget, || work())` runs the
+/// work, records its wall and CPU time and prints [`Phase::summary`] on stderr (a line per
+/// phase, terminal or not), so that every chapter reports its own time the same way.
+#[derive(Debug, Default)]
+pub struct Phases {
+    phases: Vec<Phase>,
+}
+
+impl Phases {
+    /// Runs `work` as the phase `label` with an optional wall-time `budget`.
+    pub fn run<T>(
+        &mut self,
+        label: impl Into<String>,
+        budget: Option<Duration>,
+        work: impl FnOnce() -> T,
+    ) -> T {
+        let (started, cpu_before) = (Instant::now(), process_cpu_time());
+        let out = work();
+        let phase = Phase {
+            label: label.into(),
+            wall: started.elapsed(),
+            cpu: cpu_before
+                .zip(process_cpu_time())
+                .map(|(before, after)| after.saturating_sub(before)),
+            budget,
+        };
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let over = if phase.over_budget(cores) {
+            " — over budget"
+        } else {
+            ""
+        };
+        eprintln!("report: {}{over}", phase.summary());
+        self.phases.push(phase);
+        out
+    }
+
+    /// The phases so far, in order.
+    pub fn into_phases(self) -> Vec<Phase> {
+        self.phases
+    }
 }
 
 fn command_output(program: &str, args: &[&str]) -> Option<String> {
@@ -112,13 +207,33 @@ impl RunInfo {
             command_output("rustc", &["--version"]).unwrap_or_else(|| "rustc not found".into())
         );
         out += &format!("- experiment rows run: {} of 56\n", self.rows_run);
-        out += "\n| phase | wall time (s) |\n| --- | ---: |\n";
+        out += "\nCPU time is the process's user + system time over all its threads; on a loaded \
+                machine it, divided by the cores, is the figure to judge a phase by.\n";
+        out += "\n| phase | wall time (s) | CPU time (s) | budget, wall on idle cores (s) |\n| --- | ---: | ---: | ---: |\n";
+        let seconds =
+            |d: Option<Duration>| d.map_or("–".into(), |d| format!("{:.2}", d.as_secs_f64()));
         let mut total = Duration::ZERO;
-        for (name, d) in &self.phases {
-            total += *d;
-            out += &format!("| {name} | {:.2} |\n", d.as_secs_f64());
+        let mut total_cpu = Some(Duration::ZERO);
+        for p in &self.phases {
+            total += p.wall;
+            total_cpu = total_cpu.zip(p.cpu).map(|(t, c)| t + c);
+            let budget = match p.budget {
+                Some(b) if p.over_budget(cores) => format!("{} (over)", b.as_secs_f64()),
+                Some(b) => b.as_secs_f64().to_string(),
+                None => "–".into(),
+            };
+            out += &format!(
+                "| {} | {:.2} | {} | {budget} |\n",
+                p.label,
+                p.wall.as_secs_f64(),
+                seconds(p.cpu)
+            );
         }
-        out += &format!("| total | {:.2} |\n", total.as_secs_f64());
+        out += &format!(
+            "| total | {:.2} | {} | |\n",
+            total.as_secs_f64(),
+            seconds(total_cpu)
+        );
         out
     }
 }
@@ -126,6 +241,50 @@ impl RunInfo {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_phase_records_its_time_and_its_budget() {
+        let mut phases = Phases::default();
+        let start_cpu = process_cpu_time();
+        // Busy until the process has used 30 ms of CPU (3 ticks), however loaded the machine.
+        let busy = phases.run("busy", Some(Duration::from_secs(20)), || {
+            let started = Instant::now();
+            let mut x = 0u64;
+            while started.elapsed() < Duration::from_secs(10)
+                && process_cpu_time()
+                    .zip(start_cpu)
+                    .is_none_or(|(now, start)| now < start + Duration::from_millis(30))
+            {
+                for _ in 0..1000 {
+                    x = std::hint::black_box(x.wrapping_add(1));
+                }
+            }
+            x
+        });
+        assert!(busy > 0);
+        assert_eq!(phases.run("quick", None, || 7), 7);
+        let phases = phases.into_phases();
+        let labels: Vec<&str> = phases.iter().map(|p| p.label.as_str()).collect();
+        assert_eq!(labels, ["busy", "quick"]);
+        if cfg!(target_os = "linux") {
+            let cpu = phases[0].cpu.expect("Linux has /proc/self/stat");
+            assert!(cpu >= Duration::from_millis(20), "{cpu:?}");
+        }
+        assert!(!phases[0].over_budget(2));
+        assert!(phases[0].summary().starts_with("busy: "));
+        assert!(phases[0].summary().ends_with(" s, budget 20 s)"));
+        assert_eq!(phases[1].budget, None);
+        let slow = |cpu: u64| Phase {
+            label: "slow".into(),
+            wall: Duration::from_secs(30),
+            cpu: Some(Duration::from_secs(cpu)),
+            budget: Some(Duration::from_secs(20)),
+        };
+        // 30 s of wall against a 20 s budget: over when the CPU time, over the cores, is too.
+        assert!(slow(50).over_budget(2));
+        assert!(!slow(35).over_budget(2));
+        assert_eq!(slow(50).summary(), "slow: 30.0 s (CPU 50.0 s, budget 20 s)");
+    }
 
     #[test]
     fn civil_time() {

@@ -7,6 +7,7 @@
 //! [`forensics::forensic_results`]: mass_spring_solvers::forensics::forensic_results
 
 mod forensics;
+mod reference;
 mod report;
 mod tables_liu_admm;
 mod tables_xpbd;
