@@ -20,7 +20,8 @@ use crate::error::Result;
 use crate::experiments::run_parallel;
 use crate::metrics::{rest_error_max, rest_error_sum, StoppingRule};
 use crate::registry::{Builder, SolverId, SolverSpec};
-use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
+use crate::scene::{thesis_rope, SheetParams, SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
+use crate::sheet_equilibrium::sheet_equilibrium;
 use crate::solver::{simulate, Recording, RunOptions};
 use crate::system::{MassSpringSystem, State, Vec3};
 
@@ -57,29 +58,96 @@ pub const STEP10_DT: f64 = 1e-2;
 
 /// The three settings of a solver in the grid (for the thesis's four, their tables'
 /// iteration counts are the thesis's own and they are not rerun here).
-pub fn grid_settings(id: SolverId) -> Option<[SolverSpec; 3]> {
-    let counts = |counts: [usize; 3]| Some(counts.map(|m| SolverSpec::new(id, m)));
+pub fn grid_settings(id: SolverId) -> Option<Vec<SolverSpec>> {
+    let counts = |counts: &[usize]| Some(counts.iter().map(|&m| SolverSpec::new(id, m)).collect());
     match id {
-        SolverId::Pbd => counts([1, 20, 50]),
+        // The thesis's own, at the counts of its Tables 1-7.
+        SolverId::BackwardEuler => counts(&[5]),
+        SolverId::Xpbd | SolverId::AdmmPd => counts(&[1, 20, 50]),
+        SolverId::FastMassSpring => counts(&[1, 30, 70]),
+        SolverId::Pbd => counts(&[1, 20, 50]),
         // The accelerated forms at their base's counts (Tables 4-7).
-        SolverId::ChebyshevLiu | SolverId::AndersonLiu => counts([1, 30, 70]),
-        SolverId::ChebyshevAdmm | SolverId::AndersonAdmm => counts([1, 20, 50]),
+        SolverId::ChebyshevLiu | SolverId::AndersonLiu => counts(&[1, 30, 70]),
+        SolverId::ChebyshevAdmm | SolverId::AndersonAdmm => counts(&[1, 20, 50]),
         // XPBD's counts as substeps: the same number of constraint sweeps as Tables 2-3.
-        SolverId::XpbdSubsteps => counts([1, 20, 50]),
-        SolverId::Lbfgs | SolverId::Vbd => counts([1, 5, 20]),
+        SolverId::XpbdSubsteps => counts(&[1, 20, 50]),
+        SolverId::Lbfgs | SolverId::Vbd => counts(&[1, 5, 20]),
         // The damped pair at fixed iterations, three dampings: none, mass- and
         // stiffness-proportional.
         SolverId::DampedBackwardEuler | SolverId::DampedAdmm => {
             let iterations = if id == SolverId::DampedAdmm { 50 } else { 5 };
-            Some(GRID_DAMPINGS.map(|damping| {
-                let mut spec = SolverSpec::new(id, iterations);
-                spec.params.damping = damping;
-                spec
-            }))
+            Some(
+                GRID_DAMPINGS
+                    .iter()
+                    .map(|&damping| {
+                        let mut spec = SolverSpec::new(id, iterations);
+                        spec.params.damping = damping;
+                        spec
+                    })
+                    .collect(),
+            )
         }
         _ => None,
     }
 }
+
+/// The scenes of the grid: the thesis rope and the sheet of `docs/sheet-scene.md`
+/// ([`SHEET_NODES_PER_SIDE`] nodes a side), the thesis's experiment one dimension up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GridScene {
+    Rope,
+    Sheet,
+}
+
+impl GridScene {
+    pub const ALL: [GridScene; 2] = [GridScene::Rope, GridScene::Sheet];
+
+    /// The identifier in the CSV files.
+    pub fn id(self) -> &'static str {
+        match self {
+            GridScene::Rope => "rope",
+            GridScene::Sheet => "sheet",
+        }
+    }
+
+    /// The scene at `stiffness`.
+    pub fn system(self, stiffness: f64) -> Result<MassSpringSystem> {
+        match self {
+            GridScene::Rope => thesis_rope(stiffness),
+            GridScene::Sheet => SheetParams::spec(SHEET_NODES_PER_SIDE, stiffness).build(),
+        }
+    }
+
+    /// The window every run of the scene stops at, at the latest, s.
+    pub fn max_time(self) -> f64 {
+        match self {
+            GridScene::Rope => GRID_MAX_TIME,
+            GridScene::Sheet => SHEET_MAX_TIME,
+        }
+    }
+
+    /// The exact static equilibrium at `stiffness`: the discrete elastic chain (rope), the
+    /// Newton minimiser of [`crate::sheet_equilibrium`] (sheet).
+    pub fn equilibrium(self, stiffness: f64) -> Result<Vec<Vec3>> {
+        match self {
+            GridScene::Rope => Ok(ElasticChain::thesis_rope(stiffness)
+                .and_then(|chain| chain.solve_equilibrium())
+                .map_err(|e| {
+                    crate::Error::Input(format!("exact catenary at k = {stiffness} N/m: {e}"))
+                })?
+                .positions),
+            GridScene::Sheet => {
+                Ok(sheet_equilibrium(&SheetParams::spec(SHEET_NODES_PER_SIDE, stiffness))?.x)
+            }
+        }
+    }
+}
+
+/// The sheet's window, s: one simulated-time cap for every sheet run, the reference's
+/// included, chosen so that the sheet grid fits its budget (60 s of `make report` on 2
+/// cores); the sheet's slowest swing lasts about a second, so the window holds a few of its
+/// kinetic-energy peaks.
+pub const SHEET_MAX_TIME: f64 = 3.0;
 
 /// The solvers of the grid, in registry order.
 pub fn grid_solvers() -> Vec<SolverId> {
@@ -111,8 +179,9 @@ pub fn setting_label(spec: &SolverSpec) -> String {
 /// One experiment of the grid.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GridRow {
+    pub scene: GridScene,
     pub spec: SolverSpec,
-    /// Index of the setting in [`grid_settings`] (0, 1, 2).
+    /// Index of the setting in [`grid_settings`].
     pub setting: usize,
     pub dt_s: f64,
     pub stiffness: f64,
@@ -120,7 +189,7 @@ pub struct GridRow {
 
 /// Every experiment of the grid: per solver, time step, setting and stiffness, in the order
 /// of Tables 2-7.
-pub fn grid_rows() -> Vec<GridRow> {
+pub fn grid_rows(scene: GridScene) -> Vec<GridRow> {
     let mut rows = Vec::new();
     for id in grid_solvers() {
         let settings = grid_settings(id).expect("grid_solvers has settings");
@@ -128,6 +197,7 @@ pub fn grid_rows() -> Vec<GridRow> {
             for dt_s in GRID_DTS {
                 for (setting, spec) in settings.iter().enumerate() {
                     rows.push(GridRow {
+                        scene,
                         spec: *spec,
                         setting,
                         dt_s,
@@ -173,6 +243,7 @@ pub struct GridResult {
 /// What a grid run of one stiffness is compared with.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GridReference {
+    pub scene: GridScene,
     pub stiffness: f64,
     /// The thesis's reference (Backward Euler, dt = 1e-3 s, 5 Newton iterations) over the
     /// window: its state every step would be needed for runs that stop early, so the run is
@@ -184,12 +255,13 @@ pub struct GridReference {
 }
 
 impl GridReference {
-    /// The thesis reference of `stiffness` over the window and the exact equilibrium.
-    pub fn compute(stiffness: f64) -> Result<Self> {
-        let system = thesis_rope(stiffness)?;
+    /// The thesis reference of `scene` at `stiffness` over the window, and the exact
+    /// equilibrium.
+    pub fn compute(scene: GridScene, stiffness: f64) -> Result<Self> {
+        let system = scene.system(stiffness)?;
         let mut be = BackwardEuler::reference(&system)?;
         let options = RunOptions {
-            stop: grid_stop(),
+            stop: grid_stop(scene),
             recording: Recording {
                 kinetic_energy: false,
                 positions_every: Some(1),
@@ -197,13 +269,9 @@ impl GridReference {
             ..RunOptions::default()
         };
         let run = simulate(&mut be, system.initial_state(), &options)?;
-        let equilibrium = ElasticChain::thesis_rope(stiffness)
-            .and_then(|chain| chain.solve_equilibrium())
-            .map_err(|e| {
-                crate::Error::Input(format!("exact catenary at k = {stiffness} N/m: {e}"))
-            })?
-            .positions;
+        let equilibrium = scene.equilibrium(stiffness)?;
         Ok(Self {
+            scene,
             stiffness,
             half_period_thesis: run.half_period_thesis(),
             trajectory: run.positions.into_iter().map(|(_, s)| s.x).collect(),
@@ -218,10 +286,10 @@ impl GridReference {
     }
 }
 
-/// The thesis's stopping rule within the grid's window.
-fn grid_stop() -> StoppingRule {
+/// The thesis's stopping rule within the scene's window.
+fn grid_stop(scene: GridScene) -> StoppingRule {
     StoppingRule {
-        max_time: GRID_MAX_TIME,
+        max_time: scene.max_time(),
         ..StoppingRule::default()
     }
 }
@@ -232,10 +300,20 @@ pub fn run_grid(
     rows: &[GridRow],
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Vec<GridResult>> {
-    let references = THESIS_STIFFNESSES
-        .map(GridReference::compute)
-        .into_iter()
-        .collect::<Result<Vec<_>>>()?;
+    let mut pairs: Vec<(GridScene, f64)> = Vec::new();
+    for row in rows {
+        if !pairs.contains(&(row.scene, row.stiffness)) {
+            pairs.push((row.scene, row.stiffness));
+        }
+    }
+    let references = run_parallel(
+        &pairs,
+        |_| 1.0,
+        |&(scene, k)| GridReference::compute(scene, k),
+        &|_, _| {},
+    )
+    .into_iter()
+    .collect::<Result<Vec<_>>>()?;
     let cost =
         |row: &GridRow| row.spec.id.info().relative_cost * row.spec.iterations as f64 / row.dt_s;
     run_parallel(
@@ -244,8 +322,8 @@ pub fn run_grid(
         |row| {
             let reference = references
                 .iter()
-                .find(|r| r.stiffness == row.stiffness)
-                .expect("a reference for each thesis stiffness");
+                .find(|r| r.scene == row.scene && r.stiffness == row.stiffness)
+                .expect("a reference for each scene and stiffness of the rows");
             run_grid_row(row, reference)
         },
         progress,
@@ -255,10 +333,10 @@ pub fn run_grid(
 }
 
 fn run_grid_row(row: &GridRow, reference: &GridReference) -> Result<GridResult> {
-    let system = thesis_rope(row.stiffness)?;
+    let system = row.scene.system(row.stiffness)?;
     let mut solver = row.spec.build_send(&system, row.dt_s)?;
     let options = RunOptions {
-        stop: grid_stop(),
+        stop: grid_stop(row.scene),
         ..RunOptions::default()
     };
     let run = simulate(solver.as_mut(), system.initial_state(), &options)?;
@@ -478,4 +556,56 @@ pub fn iterations_to(
         }
     }
     Ok(Some(hi))
+}
+
+/// The solvers ranked by the gap to the reference each reaches at its best setting, at one
+/// scene, stiffness and time step (smallest first), for the solvers of `solvers` that ran
+/// there. The reference's own method (Backward Euler and its damped form) is left out.
+pub fn ranking(
+    results: &[GridResult],
+    scene: GridScene,
+    stiffness: f64,
+    dt_s: f64,
+    solvers: &[SolverId],
+) -> Vec<(SolverId, f64)> {
+    let mut best: Vec<(SolverId, f64)> = solvers
+        .iter()
+        .filter_map(|&id| {
+            results
+                .iter()
+                .filter(|r| {
+                    r.row.scene == scene
+                        && r.row.stiffness == stiffness
+                        && r.row.dt_s == dt_s
+                        && r.row.spec.id == id
+                })
+                .map(|r| r.reference_gap_sum)
+                .min_by(f64::total_cmp)
+                .map(|gap| (id, gap))
+        })
+        .collect();
+    best.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    best
+}
+
+/// Kendall's τ between two rankings of the same items (1: the same order, −1: reversed);
+/// None for fewer than two items in common.
+pub fn kendall_tau(a: &[SolverId], b: &[SolverId]) -> Option<f64> {
+    let common: Vec<SolverId> = a.iter().copied().filter(|id| b.contains(id)).collect();
+    let position = |list: &[SolverId], id: SolverId| list.iter().position(|&x| x == id);
+    let mut concordant = 0i64;
+    let mut discordant = 0i64;
+    for i in 0..common.len() {
+        for j in i + 1..common.len() {
+            let in_a = position(a, common[i])?.cmp(&position(a, common[j])?);
+            let in_b = position(b, common[i])?.cmp(&position(b, common[j])?);
+            if in_a == in_b {
+                concordant += 1;
+            } else {
+                discordant += 1;
+            }
+        }
+    }
+    let pairs = concordant + discordant;
+    (pairs > 0).then(|| (concordant - discordant) as f64 / pairs as f64)
 }

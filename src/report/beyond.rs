@@ -4,8 +4,8 @@
 
 use crate::beyond::{
     convergence_curves, grid_rows, grid_settings, grid_solvers, iterations_to, run_grid,
-    setting_label, ConvergenceCurve, GridResult, Start, CONVERGENCE_ITERATIONS, GRID_DTS,
-    GRID_MAX_TIME, STEP10_DT,
+    setting_label, ConvergenceCurve, GridResult, GridScene, Start, CONVERGENCE_ITERATIONS,
+    GRID_DTS, GRID_MAX_TIME, STEP10_DT,
 };
 use crate::error::Result;
 use crate::registry::{SolverId, SolverSpec};
@@ -16,6 +16,15 @@ use crate::report::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series,
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
+
+/// The solvers the chapter's tables show: the grid's, less the thesis's four (whose tables
+/// are Tables 1-7; they run in the grid for the sheet chapter's rankings).
+pub fn chapter_solvers() -> Vec<SolverId> {
+    grid_solvers()
+        .into_iter()
+        .filter(|id| !SolverId::THESIS_TABLES.contains(id))
+        .collect()
+}
 
 /// The gap the chapter counts iterations to, m.
 pub const GAP_TOLERANCE: f64 = 1e-6;
@@ -50,6 +59,67 @@ impl Acceleration {
 
 /// The most iterations [`Acceleration`] searches, per solver.
 pub const ACCELERATION_MAX_ITERATIONS: usize = 5000;
+
+/// The grid's CSV (`beyond_results.csv`, `sheet_results.csv`): the columns of `results.csv`
+/// (`table` empty: no thesis table; `error` the gap to the reference at the run's end), then
+/// the configuration (the setting's label), the scene, the run's end, whether the window cut
+/// it, and the gap to the exact equilibrium.
+pub fn grid_csv<'a>(rows: impl Iterator<Item = &'a GridResult>) -> String {
+    let mut out = format!("{BEYOND_HEADER}\n");
+    for r in rows {
+        out += &format!(
+            ",{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            r.row.spec.id,
+            full(r.row.dt_s),
+            r.row.spec.iterations,
+            full(r.row.stiffness),
+            full(r.reference_gap_sum),
+            r.peaks,
+            full_opt(r.half_period_thesis),
+            full_opt(r.period_rel_error),
+            full_opt(r.half_period_exact),
+            setting_label(&r.row.spec),
+            r.row.scene.id(),
+            full(r.end_time),
+            r.hit_time_limit,
+            full(r.equilibrium_gap_sum),
+        );
+    }
+    out
+}
+
+/// One solver's grid in the layout of Tables 2-7, its rows in `rows`' order.
+pub fn grid_table<'a>(rows: impl Iterator<Item = &'a GridResult>) -> MarkdownTable {
+    let mut t = MarkdownTable::new(&[
+        "k (N/m)",
+        "dt (s)",
+        "setting",
+        "nº máx. E_k",
+        "T/2 (s)",
+        "T/2 rel. error",
+        "gap to the reference (m)",
+        "gap to the equilibrium (m)",
+        "note",
+    ]);
+    for r in rows {
+        t.row(vec![
+            stiffness_label(r.row.stiffness),
+            full(r.row.dt_s),
+            setting_label(&r.row.spec),
+            r.peaks.to_string(),
+            r.half_period_thesis.map_or("-".into(), sig4),
+            r.period_rel_error.map_or("-".into(), percent),
+            sig4(r.reference_gap_sum),
+            sig4(r.equilibrium_gap_sum),
+            if r.hit_time_limit {
+                String::new()
+            } else {
+                format!("stopped by the rule at {} s", sig4(r.end_time))
+            },
+        ]);
+    }
+    t
+}
 
 /// Every result of the chapter.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,7 +162,7 @@ impl BeyondChapter {
     /// Runs the grid and the convergence curves.
     pub fn compute(progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
         Ok(Self {
-            grid: run_grid(&grid_rows(), progress)?,
+            grid: run_grid(&grid_rows(GridScene::Rope), progress)?,
             curves: convergence_curves(progress)?,
             acceleration: accelerations()?,
         })
@@ -165,28 +235,14 @@ impl BeyondChapter {
         files
     }
 
-    /// `beyond_results.csv`: one row per grid experiment (`table` empty: no thesis table).
+    /// `beyond_results.csv`: one row per grid experiment of the chapter's solvers.
     pub fn results_csv(&self) -> String {
-        let mut out = format!("{BEYOND_HEADER}\n");
-        for r in &self.grid {
-            out += &format!(
-                ",{},{},{},{},{},{},{},{},{},{},rope,{},{},{}\n",
-                r.row.spec.id,
-                full(r.row.dt_s),
-                r.row.spec.iterations,
-                full(r.row.stiffness),
-                full(r.reference_gap_sum),
-                r.peaks,
-                full_opt(r.half_period_thesis),
-                full_opt(r.period_rel_error),
-                full_opt(r.half_period_exact),
-                setting_label(&r.row.spec),
-                full(r.end_time),
-                r.hit_time_limit,
-                full(r.equilibrium_gap_sum),
-            );
-        }
-        out
+        let solvers = chapter_solvers();
+        grid_csv(
+            self.grid
+                .iter()
+                .filter(|r| solvers.contains(&r.row.spec.id)),
+        )
     }
 
     /// `convergence.csv`: one row per curve and iteration; a failed step has no gap.
@@ -234,7 +290,7 @@ impl BeyondChapter {
 
     /// The chapter's section of `REPORT.md`, headed `## {number}.`.
     pub fn section(&self, number: u32, figures: &[ChapterFigure]) -> String {
-        let solvers = grid_solvers();
+        let solvers = chapter_solvers();
         let mut md =
             format!("## {number}. Beyond the thesis: newer solvers on the thesis rope (§5)\n\n");
         md += &format!(
@@ -292,34 +348,7 @@ impl BeyondChapter {
         );
         for &id in &solvers {
             md += &format!("**`{}`** ({})\n\n", id.id(), id.info().summary);
-            let mut t = MarkdownTable::new(&[
-                "k (N/m)",
-                "dt (s)",
-                "setting",
-                "nº máx. E_k",
-                "T/2 (s)",
-                "T/2 rel. error",
-                "gap to the reference (m)",
-                "gap to the equilibrium (m)",
-                "note",
-            ]);
-            for r in self.grid.iter().filter(|r| r.row.spec.id == id) {
-                t.row(vec![
-                    stiffness_label(r.row.stiffness),
-                    full(r.row.dt_s),
-                    setting_label(&r.row.spec),
-                    r.peaks.to_string(),
-                    r.half_period_thesis.map_or("-".into(), sig4),
-                    r.period_rel_error.map_or("-".into(), percent),
-                    sig4(r.reference_gap_sum),
-                    sig4(r.equilibrium_gap_sum),
-                    if r.hit_time_limit {
-                        String::new()
-                    } else {
-                        format!("stopped by the rule at {} s", sig4(r.end_time))
-                    },
-                ]);
-            }
+            let t = grid_table(self.grid.iter().filter(|r| r.row.spec.id == id));
             md += &t.render();
             md += "\n";
         }

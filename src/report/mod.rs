@@ -21,6 +21,7 @@ pub mod plot;
 pub mod publish;
 pub mod rest_state;
 pub mod runs;
+pub mod sheet;
 pub mod tables;
 pub mod traceability;
 pub mod tutorial;
@@ -38,6 +39,7 @@ use crate::report::output::OutputFile;
 use crate::report::plot::{layout, Chart, Layout};
 use crate::report::rest_state::Catenary;
 use crate::report::runs::FigureRuns;
+use crate::report::sheet::SheetChapter;
 use crate::report::traceability::{PaperTag, Quote, Tag};
 use crate::report::tutorial::TutorialChapter;
 use crate::report::versions::Versions;
@@ -116,6 +118,8 @@ pub struct ReportData {
     pub tutorial: TutorialChapter,
     /// The chapter after the thesis's: the newer solvers.
     pub beyond: BeyondChapter,
+    /// The sheet: the thesis's experiment one dimension up.
+    pub sheet: SheetChapter,
     pub sources: Sources,
 }
 
@@ -155,10 +159,18 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let figures = figures::all(data)?;
     let tutorial_figures = data.tutorial.figures()?;
     let beyond_figures = data.beyond.figures()?;
+    let sheet_figures = data.sheet.figures()?;
     let mut files = vec![OutputFile::text(
         "REPORT.md",
-        markdown(data, &figures, &tutorial_figures, &beyond_figures),
+        markdown(
+            data,
+            &figures,
+            &tutorial_figures,
+            &beyond_figures,
+            &sheet_figures,
+        ),
     )];
+    files.extend(data.sheet.files(&sheet_figures));
     files.extend(data.tutorial.files(&tutorial_figures));
     files.extend(data.beyond.files(&beyond_figures));
     for f in &figures {
@@ -290,6 +302,7 @@ fn markdown(
     figures: &[figures::Figure],
     tutorial_figures: &[ChapterFigure],
     beyond_figures: &[ChapterFigure],
+    sheet_figures: &[ChapterFigure],
 ) -> String {
     let r = &data.results;
     let mut md = String::new();
@@ -323,8 +336,8 @@ fn markdown(
     md += "Contents: 1 Mass-spring systems · 2 The test scene · 3 Measurements · 4 Results (Tables 1-7) · \
            5 Reproduction summary · 6 Forensic reproduction: evidence classes · 7 Conclusions revisited \
            (Tables 8-12, Figures 5-15) · 8 Analytic catenary · 9 The particle-system tutorial, verified · \
-           10 Beyond the thesis: newer solvers · 11 Errata · 12 Equation traceability · 13 Data files · \
-           14 Versions\n\n";
+           10 Beyond the thesis: newer solvers · 11 The sheet, one dimension up · 12 Errata · \
+           13 Equation traceability · 14 Data files · 15 Versions\n\n";
 
     md += "## 1. Mass-spring systems (§2.1)\n\n";
     md += &figure_md(figures, 1);
@@ -417,14 +430,15 @@ fn markdown(
 
     md += &data.tutorial.section(9, tutorial_figures);
     md += &data.beyond.section(10, beyond_figures);
+    md += &data.sheet.section(11, sheet_figures, &data.beyond.grid);
 
-    md += "## 11. Errata\n\n";
+    md += "## 12. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 12. Equation traceability\n\n";
+    md += "## 13. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -437,7 +451,7 @@ fn markdown(
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 12.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 13.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -450,13 +464,13 @@ fn markdown(
         );
     }
 
-    md += "### 12.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
+    md += "### 13.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
            implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
            cannot mistake for a thesis equation. Built at report time from those tags.\n\n";
     md += &traceability::paper_table(&data.sources.paper_tags).render();
     md += "\n";
 
-    md += "## 13. Data files\n\n";
+    md += "## 14. Data files\n\n";
     md += &format!(
         "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
          `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
@@ -479,6 +493,10 @@ fn markdown(
          - [`data/beyond_results.csv`](data/beyond_results.csv): `{}`, the grid of section 10 (`table` empty).\n\
          - [`data/convergence.csv`](data/convergence.csv): the gap to the converged Backward Euler step after \
          each iteration of one step, every iterative solver (section 10.3).\n\
+         - [`data/sheet_results.csv`](data/sheet_results.csv): the sheet's grid (section 11), the columns of \
+         `beyond_results.csv`.\n\
+         - [`data/sheet_equilibrium.csv`](data/sheet_equilibrium.csv): `stiffness,n,i,j,x,y,z`, the sheet's exact \
+         equilibrium at n = 10 and 20, full precision.\n\
          - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
          peak count, T/2 and rest-state error (Figure 16).\n\n",
         data::RESULTS_HEADER,
@@ -488,7 +506,7 @@ fn markdown(
         beyond::BEYOND_HEADER
     );
 
-    md += "## 14. Crate and dependency versions\n\n";
+    md += "## 15. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

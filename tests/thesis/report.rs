@@ -16,6 +16,7 @@ use mass_spring_solvers::report::plot::Layout;
 use mass_spring_solvers::report::publish::write_report;
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
+use mass_spring_solvers::report::sheet::SheetChapter;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
 use mass_spring_solvers::report::{
     crate_root, figures, render, solvers_in, tables, ReportData, Sources,
@@ -34,6 +35,7 @@ fn data() -> &'static ReportData {
         let catenary = Catenary::compute().expect("the exact catenary solves");
         let beyond =
             BeyondChapter::compute(&|_, _| {}).expect("the chapter beyond the thesis runs");
+        let sheet = SheetChapter::compute(&|_, _| {}).expect("the sheet chapter runs");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),
@@ -41,6 +43,7 @@ fn data() -> &'static ReportData {
             catenary,
             tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
             beyond,
+            sheet,
             sources,
         }
     })
