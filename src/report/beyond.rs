@@ -2,6 +2,7 @@
 //! rope, with the thesis's metrics and ground truth ([`crate::beyond`]): the grid of Tables
 //! 2-7 for each, and every solver's convergence toward the converged Backward Euler step.
 
+use crate::beyond::GridRow;
 use crate::beyond::{
     convergence_curves, grid_rows, grid_settings, grid_solvers, iterations_to, run_grid,
     setting_label, ConvergenceCurve, GridResult, GridScene, Start, CONVERGENCE_ITERATIONS,
@@ -161,8 +162,16 @@ pub fn accelerations() -> Result<Vec<Acceleration>> {
 impl BeyondChapter {
     /// Runs the grid and the convergence curves.
     pub fn compute(progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
+        Self::compute_rows(&grid_rows(GridScene::Rope), progress)
+    }
+
+    /// The chapter with only `rows` of the grid run (the tests run a part of it).
+    pub fn compute_rows(
+        rows: &[GridRow],
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Self> {
         Ok(Self {
-            grid: run_grid(&grid_rows(GridScene::Rope), progress)?,
+            grid: run_grid(rows, progress)?,
             curves: convergence_curves(progress)?,
             acceleration: accelerations()?,
         })

@@ -4,8 +4,8 @@
 //! on the rope hold one dimension up?
 
 use crate::beyond::{
-    grid_rows, grid_solvers, kendall_tau, ranking, run_grid, GridResult, GridScene, GRID_DTS,
-    GRID_MAX_TIME, SHEET_MAX_TIME,
+    grid_rows, grid_solvers, kendall_tau, ranking, run_grid, GridResult, GridRow, GridScene,
+    GRID_DTS, GRID_MAX_TIME, SHEET_MAX_TIME,
 };
 use crate::error::Result;
 use crate::registry::SolverId;
@@ -49,8 +49,16 @@ pub struct RankingCell {
 impl SheetChapter {
     /// Runs the sheet's grid and solves the exact equilibria.
     pub fn compute(progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
+        Self::compute_rows(&grid_rows(GridScene::Sheet), progress)
+    }
+
+    /// The chapter with only `rows` of the grid run (the tests run a part of it).
+    pub fn compute_rows(
+        rows: &[GridRow],
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Self> {
         Ok(Self {
-            grid: run_grid(&grid_rows(GridScene::Sheet), progress)?,
+            grid: run_grid(rows, progress)?,
             equilibria: report_equilibria()?,
         })
     }

@@ -7,6 +7,7 @@
 //! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
 //! accept it with `INSTA_UPDATE=always cargo test --test thesis`.
 
+use mass_spring_solvers::beyond::{grid_rows, GridRow, GridScene};
 use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::beyond::BeyondChapter;
@@ -33,9 +34,19 @@ fn data() -> &'static ReportData {
             .expect("the sources read and quote");
         let runs = FigureRuns::compute(&results, &|_, _| {}).expect("the figure runs run");
         let catenary = Catenary::compute().expect("the exact catenary solves");
-        let beyond =
-            BeyondChapter::compute(&|_, _| {}).expect("the chapter beyond the thesis runs");
-        let sheet = SheetChapter::compute(&|_, _| {}).expect("the sheet chapter runs");
+        // The chapters beyond the thesis on the grids' dt = 0.1 s rows only: the full grids
+        // cost a minute of CPU (`make report` runs them); their logic is tested in
+        // tests/beyond.rs.
+        let coarse = |scene| -> Vec<GridRow> {
+            grid_rows(scene)
+                .into_iter()
+                .filter(|r| r.dt_s == 0.1)
+                .collect()
+        };
+        let beyond = BeyondChapter::compute_rows(&coarse(GridScene::Rope), &|_, _| {})
+            .expect("the chapter beyond the thesis runs");
+        let sheet = SheetChapter::compute_rows(&coarse(GridScene::Sheet), &|_, _| {})
+            .expect("the sheet chapter runs");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),
