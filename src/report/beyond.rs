@@ -10,10 +10,10 @@ use crate::beyond::{
 };
 use crate::error::Result;
 use crate::registry::{SolverId, SolverSpec};
-use crate::report::figures::colour;
+use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, full_opt, percent, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, LegendPlace, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
@@ -188,10 +188,10 @@ impl BeyondChapter {
                 Axis::log("gap to the converged step (m)"),
             );
             panel.heading = format!("start: {}", start.id());
-            // One legend, beside the second panel: the first one's series have no label.
-            panel.legend = LegendPlace::Right;
+            // One legend, under the second panel: the first one's series have no label.
+            panel.legend = LegendPlace::Below;
             let labelled = start == Start::Step10;
-            for (k, curve) in self.figure_curves(start).enumerate() {
+            for curve in self.figure_curves(start) {
                 let points: Vec<(f64, f64)> = curve
                     .gaps
                     .iter()
@@ -201,14 +201,13 @@ impl BeyondChapter {
                 for (m, g) in &points {
                     csv += &format!("{},{},{m},{}\n", curve.spec.id, start.id(), full(*g));
                 }
-                let line = [Line::Solid, Line::Dashed, Line::Dotted][k % 3];
                 panel.series.push(
                     Series::line(
                         if labelled { curve.spec.id.id() } else { "" },
                         points,
                         colour(curve.spec.id, 0),
                     )
-                    .with_line(line)
+                    .with_line(solver_line(curve.spec.id))
                     .with_marker(Marker::None, true),
                 );
             }
@@ -216,7 +215,7 @@ impl BeyondChapter {
         }
         Ok(vec![ChapterFigure::new(
             "beyond_convergence",
-            &Chart::new(FULL_WIDTH_MM, 80.0, panels),
+            &Chart::new(FULL_WIDTH_MM, 120.0, panels),
             csv,
         )?])
     }

@@ -93,6 +93,16 @@ fn solver_marker(solver: SolverId) -> Marker {
     }
 }
 
+/// The line of a solver in a figure of many solvers: solid for the thesis's four; for the
+/// others, with [`colour`], a (colour, line) pair of their own (five colours, then the next
+/// line style).
+pub fn solver_line(solver: SolverId) -> Line {
+    if SolverId::THESIS_TABLES.contains(&solver) {
+        return Line::Solid;
+    }
+    [Line::Solid, Line::Dashed, Line::Dotted][registry_index(solver) / OTHER_SOLVERS.len() % 3]
+}
+
 /// The colours of the solvers outside the thesis's tables (Okabe-Ito, black and the thesis
 /// solvers' hues left out).
 const OTHER_SOLVERS: [Rgb; 5] = [

@@ -261,19 +261,24 @@ fn catenary_csv_holds_both_stiffnesses_at_full_precision() {
     assert_eq!(y4, exact[4].y);
 }
 
-/// Every figure of the report as (file stem, layout, SVG): Figures 1-16 and the tutorial
-/// chapter's.
+/// Every figure of the report as (file stem, layout, SVG): Figures 1-16, the tutorial
+/// chapter's and those of the chapters beyond the thesis.
 fn every_figure() -> Vec<(String, Layout, String)> {
     let thesis = figures::all(data()).unwrap();
     assert_eq!(thesis.len(), 16);
     let tutorial = data().tutorial.figures().unwrap();
     assert_eq!(tutorial.len(), 7);
+    let beyond = data().beyond.figures().unwrap();
+    let sheet = data().sheet.figures().unwrap();
+    assert_eq!(beyond.len() + sheet.len(), 2);
     thesis
         .into_iter()
         .map(|f| (f.stem, f.layout, f.svg))
         .chain(
             tutorial
                 .into_iter()
+                .chain(beyond)
+                .chain(sheet)
                 .map(|f| (f.stem.to_string(), f.layout, f.svg)),
         )
         .collect()
