@@ -8,6 +8,7 @@ use mass_spring_solvers::anderson::{Anderson, AndersonParams};
 use mass_spring_solvers::backward_euler::{
     converged_step, incremental_potential, ConvergedStepOptions,
 };
+use mass_spring_solvers::beyond::Start;
 use mass_spring_solvers::chebyshev::{estimate_spectral_radius, Chebyshev, ChebyshevParams};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::local_global::Base;
@@ -17,11 +18,7 @@ use mass_spring_solvers::{Error, MassSpringSystem, State, TimeStepper, Vec3};
 /// The moving start state shared by the new solvers' tests: the thesis rope after 10
 /// converged Backward Euler steps of dt = 1e-2 from its start.
 fn step10(system: &MassSpringSystem) -> State {
-    let mut state = system.initial_state();
-    for _ in 0..10 {
-        state = converged_step(system, &state, 1e-2, ConvergedStepOptions::default()).unwrap();
-    }
-    state
+    Start::Step10.state(system).unwrap()
 }
 
 /// The two shared start states, named.

@@ -8,6 +8,7 @@ use mass_spring_solvers::admm::AdmmPd;
 use mass_spring_solvers::backward_euler::{
     converged_step, damped_converged_step, BackwardEuler, ConvergedStepOptions,
 };
+use mass_spring_solvers::beyond::{gap, Start};
 use mass_spring_solvers::damped_admm::DampedAdmm;
 use mass_spring_solvers::damping::{rayleigh_force, spring_hessian, RayleighDamping};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
@@ -20,19 +21,7 @@ use nalgebra::{DMatrix, Rotation3};
 /// The shared moving state: 10 converged Backward Euler steps of dt = 1e-2 from the thesis
 /// rope's start.
 fn step10(system: &MassSpringSystem) -> State {
-    let mut state = system.initial_state();
-    for _ in 0..10 {
-        state = converged_step(system, &state, 1e-2, ConvergedStepOptions::default()).unwrap();
-    }
-    state
-}
-
-/// Largest distance between the positions of two states, m.
-fn gap(a: &State, b: &State) -> f64 {
-    a.x.iter()
-        .zip(&b.x)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
+    Start::Step10.state(system).unwrap()
 }
 
 fn one_step(solver: &mut dyn TimeStepper, state: &State) -> State {

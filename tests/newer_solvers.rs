@@ -6,6 +6,7 @@
 use mass_spring_solvers::backward_euler::{
     converged_step, incremental_potential, ConvergedStepOptions,
 };
+use mass_spring_solvers::beyond::Start;
 use mass_spring_solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use mass_spring_solvers::metrics::StoppingRule;
 use mass_spring_solvers::particles::integrators::{Integrator, ParticleStepper};
@@ -26,11 +27,7 @@ fn rest(rope: &MassSpringSystem) -> State {
 
 /// `step10`: 10 converged Backward Euler steps of dt = 1e-2 from `rest`, a moving state.
 fn step10(rope: &MassSpringSystem) -> State {
-    let mut state = rest(rope);
-    for _ in 0..10 {
-        state = converged_step(rope, &state, 1e-2, ConvergedStepOptions::default()).unwrap();
-    }
-    state
+    Start::Step10.state(rope).unwrap()
 }
 
 /// Largest distance between corresponding nodes, m.

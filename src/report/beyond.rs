@@ -228,10 +228,7 @@ impl BeyondChapter {
 
     /// The chapter's files: the figure, `data/beyond_results.csv` and `data/convergence.csv`.
     pub fn files(&self, figures: &[ChapterFigure]) -> Vec<OutputFile> {
-        let mut files: Vec<OutputFile> = figures
-            .iter()
-            .flat_map(|f| crate::report::figure_files(f.stem, &f.svg, &f.csv))
-            .collect();
+        let mut files = crate::report::chapter_figure_files(figures);
         files.push(OutputFile::text(
             "data/beyond_results.csv",
             self.results_csv(),

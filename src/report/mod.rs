@@ -146,6 +146,14 @@ impl ChapterFigure {
     }
 }
 
+/// The files of a chapter's figures: `figures/<stem>.svg` and `data/<stem>.csv` each.
+pub fn chapter_figure_files(figures: &[ChapterFigure]) -> Vec<OutputFile> {
+    figures
+        .iter()
+        .flat_map(|f| figure_files(f.stem, &f.svg, &f.csv))
+        .collect()
+}
+
 /// A figure's two files: `figures/<stem>.svg` and the points it draws, `data/<stem>.csv`.
 pub fn figure_files(stem: &str, svg: &str, csv: &str) -> [OutputFile; 2] {
     [

@@ -143,10 +143,7 @@ impl SheetChapter {
     /// The chapter's files: the figure, `data/sheet_results.csv` and
     /// `data/sheet_equilibrium.csv`.
     pub fn files(&self, figures: &[ChapterFigure]) -> Vec<OutputFile> {
-        let mut files: Vec<OutputFile> = figures
-            .iter()
-            .flat_map(|f| crate::report::figure_files(f.stem, &f.svg, &f.csv))
-            .collect();
+        let mut files = crate::report::chapter_figure_files(figures);
         files.push(OutputFile::text(
             "data/sheet_results.csv",
             grid_csv(self.grid.iter()),

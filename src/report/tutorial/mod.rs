@@ -67,10 +67,7 @@ impl TutorialChapter {
 
     /// The chapter's files: `figures/tutorial_*.svg` and `data/tutorial_*.csv`.
     pub fn files(&self, figures: &[ChapterFigure]) -> Vec<OutputFile> {
-        let mut files: Vec<OutputFile> = figures
-            .iter()
-            .flat_map(|f| crate::report::figure_files(f.stem, &f.svg, &f.csv))
-            .collect();
+        let mut files = crate::report::chapter_figure_files(figures);
         files.push(OutputFile::text(
             "data/tutorial_stability.csv",
             self.stability_csv(),
