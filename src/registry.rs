@@ -457,32 +457,16 @@ fn base_solver(base: Base) -> SolverId {
     }
 }
 
+/// The iteration an accelerated solver accelerates, as the accelerations name it.
+fn accelerated_base(id: SolverId) -> Base {
+    match id.info().accelerates {
+        Some(SolverId::AdmmPd) => Base::Admm,
+        _ => Base::Liu,
+    }
+}
+
 /// The entry of Wang 2015's Chebyshev acceleration of `base`.
 fn chebyshev(base: Base) -> SolverInfo {
-    let build = |base: Base| -> fn(
-        &MassSpringSystem,
-        f64,
-        &SolverSpec,
-    ) -> Result<Box<dyn TimeStepper + Send>> {
-        match base {
-            Base::Liu => |system, dt, spec| {
-                Ok(Box::new(Chebyshev::new(
-                    system,
-                    dt,
-                    spec.iterations,
-                    spec.params.chebyshev(Base::Liu),
-                )?))
-            },
-            Base::Admm => |system, dt, spec| {
-                Ok(Box::new(Chebyshev::new(
-                    system,
-                    dt,
-                    spec.iterations,
-                    spec.params.chebyshev(Base::Admm),
-                )?))
-            },
-        }
-    };
     SolverInfo {
         id: match base {
             Base::Liu => "chebyshev_liu",
@@ -516,36 +500,15 @@ fn chebyshev(base: Base) -> SolverInfo {
         ],
         relative_cost: 2.0,
         accelerates: Some(base_solver(base)),
-        builder: Builder::Springs(build(base)),
+        builder: Builder::Springs(|system, dt, spec| {
+            let params = spec.params.chebyshev(accelerated_base(spec.id));
+            Ok(Box::new(Chebyshev::new(system, dt, spec.iterations, params)?))
+        }),
     }
 }
 
 /// The entry of Peng et al. 2018's Anderson acceleration of `base`.
 fn anderson(base: Base) -> SolverInfo {
-    let build = |base: Base| -> fn(
-        &MassSpringSystem,
-        f64,
-        &SolverSpec,
-    ) -> Result<Box<dyn TimeStepper + Send>> {
-        match base {
-            Base::Liu => |system, dt, spec| {
-                Ok(Box::new(Anderson::new(
-                    system,
-                    dt,
-                    spec.iterations,
-                    spec.params.anderson(Base::Liu),
-                )?))
-            },
-            Base::Admm => |system, dt, spec| {
-                Ok(Box::new(Anderson::new(
-                    system,
-                    dt,
-                    spec.iterations,
-                    spec.params.anderson(Base::Admm),
-                )?))
-            },
-        }
-    };
     SolverInfo {
         id: match base {
             Base::Liu => "anderson_liu",
@@ -569,7 +532,10 @@ fn anderson(base: Base) -> SolverInfo {
         }],
         relative_cost: 12.0,
         accelerates: Some(base_solver(base)),
-        builder: Builder::Springs(build(base)),
+        builder: Builder::Springs(|system, dt, spec| {
+            let params = spec.params.anderson(accelerated_base(spec.id));
+            Ok(Box::new(Anderson::new(system, dt, spec.iterations, params)?))
+        }),
     }
 }
 
