@@ -21,14 +21,14 @@ fn bad_input_is_named() {
     let (code, _, err) = timing(&["--point", "nope", "10"]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("--point SOLVER") && err.contains("liu"),
+        err.contains("--point SOLVER") && err.contains("fast_mass_spring"),
         "{err}"
     );
-    let (code, _, err) = timing(&["--point", "liu", "ten"]);
+    let (code, _, err) = timing(&["--point", "fast_mass_spring", "ten"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--point N"), "{err}");
     for n in ["1", "2", "100000000"] {
-        let (code, _, err) = timing(&["--point", "liu", n]);
+        let (code, _, err) = timing(&["--point", "fast_mass_spring", n]);
         assert_eq!(code, 2, "{err}");
         assert!(err.contains("sheet.nodes_per_side"), "{err}");
     }
@@ -45,11 +45,11 @@ fn bad_input_is_named() {
 /// A point's row: the sheet's counts, a factor for Liu, times that are positive and finite.
 #[test]
 fn a_point_is_one_row_of_positive_times() {
-    let (code, out, err) = timing(&["--point", "liu", "20"]);
+    let (code, out, err) = timing(&["--point", "fast_mass_spring", "20"]);
     assert_eq!(code, 0, "{err}");
     let row: Vec<&str> = out.trim().split(',').collect();
     assert_eq!(row.len(), 21, "{out}");
-    assert_eq!(&row[..4], ["liu", "20", "400", "1482"]);
+    assert_eq!(&row[..4], ["fast_mass_spring", "20", "400", "1482"]);
     assert!(
         row[4].parse::<usize>().unwrap() > 1482,
         "the factor fills in: {out}"

@@ -1,7 +1,7 @@
 //! `make timing`: how each solver's cost grows with the sheet (issue 13 step 4,
 //! `docs/sheet-scene.md`, "The family for scaling").
 //!
-//! For n = 10 to 320 nodes per side at k = 1e6 N/m and every solver of [`SOLVERS`]: the set-up
+//! For n = 10 to 320 nodes per side at k = 1e6 N/m and every solver of [`solvers`] (the registry's): the set-up
 //! (building the solver: for Liu 2013 and ADMM-PD the matrix, its symbolic analysis and its
 //! factorisation), the time per iteration (local and global step apart for Liu and ADMM), a
 //! whole step, the non-zeros of the factor and the process's peak memory. Each point runs in a
@@ -25,12 +25,11 @@ use mass_spring_solvers::backward_euler::BackwardEuler;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
-use mass_spring_solvers::pbd::Pbd;
+use mass_spring_solvers::registry::{Builder, SolverId, SolverSpec};
 use mass_spring_solvers::report::plot::{
     self, Axis, Chart, LegendPlace, Marker, Panel, Rgb, Series,
 };
 use mass_spring_solvers::scene::SheetParams;
-use mass_spring_solvers::xpbd::Xpbd;
 use mass_spring_solvers::{MassSpringSystem, State, TimeStepper};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -55,7 +54,7 @@ const REPEATS: usize = 5;
 const LONG_SECONDS: f64 = 0.5;
 
 /// One solver of the study: how to build it, and whether its iterations split into a local and
-/// a global step. The lead's solver registry replaces this list; a new solver is one entry.
+/// a global step.
 struct Solver {
     id: &'static str,
     name: &'static str,
@@ -65,8 +64,8 @@ struct Solver {
 enum Kind {
     /// Local/global iterations with one prefactored n×n matrix: Liu 2013 and ADMM-PD.
     Projective(fn(&MassSpringSystem) -> Result<Box<dyn LocalGlobal>>),
-    /// Iterations without a factor (XPBD, PBD): one step of [`ITERATIONS`].
-    Iterative(fn(&MassSpringSystem) -> Result<Box<dyn TimeStepper>>),
+    /// Any other solver of the registry: one step of [`ITERATIONS`].
+    Iterative(SolverSpec),
     /// Backward Euler: a step of [`NEWTON_ITERATIONS`] factorisations of the 3n×3n matrix.
     Newton,
 }
@@ -95,33 +94,42 @@ impl LocalGlobal for AdmmPd {
     }
 }
 
-const SOLVERS: &[Solver] = &[
-    Solver {
-        id: "liu",
-        name: "Liu 2013",
-        kind: Kind::Projective(|s| Ok(Box::new(FastMassSpring::new(s, DT, ITERATIONS)?))),
-    },
-    Solver {
-        id: "admm",
-        name: "ADMM-PD",
-        kind: Kind::Projective(|s| Ok(Box::new(AdmmPd::new(s, DT, ITERATIONS)?))),
-    },
-    Solver {
-        id: "xpbd",
-        name: "XPBD",
-        kind: Kind::Iterative(|s| Ok(Box::new(Xpbd::new(s, DT, ITERATIONS)?))),
-    },
-    Solver {
-        id: "pbd",
-        name: "PBD",
-        kind: Kind::Iterative(|s| Ok(Box::new(Pbd::new(s, DT, ITERATIONS, 1.0)?))),
-    },
-    Solver {
-        id: "be",
-        name: "Backward Euler",
-        kind: Kind::Newton,
-    },
-];
+/// Every solver of the registry that runs springs and gravity with iterations (the damped
+/// Backward Euler aside: Backward Euler's cost plus a damping term), in registry order.
+/// Chebyshev takes a given spectral radius, 0.99: its estimate runs the plain iteration up to
+/// 2000 times, which would dominate its set-up at every size.
+fn solvers() -> Vec<Solver> {
+    SolverId::ALL
+        .into_iter()
+        .filter(|&id| {
+            let info = id.info();
+            matches!(info.builder, Builder::Springs(_))
+                && info.iteration.is_some()
+                && id != SolverId::DampedBackwardEuler
+        })
+        .map(|id| Solver {
+            id: id.id(),
+            name: id.info().abbreviation,
+            kind: match id {
+                SolverId::FastMassSpring => {
+                    Kind::Projective(|s| Ok(Box::new(FastMassSpring::new(s, DT, ITERATIONS)?)))
+                }
+                SolverId::AdmmPd => {
+                    Kind::Projective(|s| Ok(Box::new(AdmmPd::new(s, DT, ITERATIONS)?)))
+                }
+                SolverId::BackwardEuler => Kind::Newton,
+                _ => {
+                    let mut spec = SolverSpec::new(id, ITERATIONS);
+                    spec.params.spectral_radius = Some(CHEBYSHEV_SPECTRAL_RADIUS);
+                    Kind::Iterative(spec)
+                }
+            },
+        })
+        .collect()
+}
+
+/// The spectral radius Chebyshev is given here (see [`solvers`]).
+const CHEBYSHEV_SPECTRAL_RADIUS: f64 = 0.99;
 
 #[derive(Parser)]
 #[command(about = "The sheet's scaling study: writes report/timing/ (TIMING.md, CSVs, figure)")]
@@ -258,7 +266,7 @@ fn measure(solver: &Solver, n: usize) -> Result<Point> {
         SymmetricMatrix::from_node_graph(system.len(), block, &edges)
     };
     let initial = system.initial_state();
-    match solver.kind {
+    match &solver.kind {
         Kind::Projective(build) => {
             point.setup = time(|| build(&system).map(drop))?;
             let mut s = build(&system)?;
@@ -290,9 +298,10 @@ fn measure(solver: &Solver, n: usize) -> Result<Point> {
                 _ => factor_nonzeros(&a, true)?,
             });
         }
-        Kind::Iterative(build) => {
-            point.setup = time(|| build(&system).map(drop))?;
-            let mut s = build(&system)?;
+        Kind::Iterative(spec) => {
+            let build = || spec.build_send(&system, DT);
+            point.setup = time(|| build().map(drop))?;
+            let mut s = build()?;
             point.step = time(|| {
                 let mut state = initial.clone();
                 s.step(&mut state)
@@ -518,7 +527,7 @@ fn figure(points: &[Point]) -> Result<String> {
         Marker::Cross,
         Marker::Circle,
     ];
-    for (k, solver) in SOLVERS.iter().enumerate() {
+    for (k, solver) in solvers().iter().enumerate() {
         let mine: Vec<&Point> = points.iter().filter(|p| p.solver == solver.id).collect();
         if mine.is_empty() {
             continue;
@@ -541,7 +550,8 @@ fn figure(points: &[Point]) -> Result<String> {
                 None => solver.name.to_string(),
             };
             panel.series.push(
-                Series::line(label, xy, COLOURS[k % COLOURS.len()]).with_marker(markers[k], true),
+                Series::line(label, xy, COLOURS[k % COLOURS.len()])
+                    .with_marker(markers[k % markers.len()], true),
             );
         }
     }
@@ -586,8 +596,10 @@ fn run_child(exe: &Path, solver: &Solver, n: usize) -> Result<Point> {
 
 fn run(args: Args) -> Result<String> {
     if let Some(point) = args.point {
-        let solver = SOLVERS.iter().find(|s| s.id == point[0]).ok_or_else(|| {
-            Error::invalid("--point SOLVER", &point[0], "liu, admm, xpbd, pbd or be")
+        let all = solvers();
+        let solver = all.iter().find(|s| s.id == point[0]).ok_or_else(|| {
+            let ids: Vec<&str> = all.iter().map(|s| s.id).collect();
+            Error::invalid("--point SOLVER", &point[0], &ids.join(", "))
         })?;
         let n: usize = point[1]
             .parse()
@@ -611,7 +623,7 @@ fn run(args: Args) -> Result<String> {
     let load_before = load_average();
     let mut points = Vec::new();
     for &n in &sides {
-        for solver in SOLVERS {
+        for solver in &solvers() {
             let t = Instant::now();
             let p = run_child(&exe, solver, n)?;
             eprintln!(
@@ -750,8 +762,8 @@ fn timing_md(
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for p in points {
-        let name = SOLVERS
-            .iter()
+        let name = solvers()
+            .into_iter()
             .find(|s| s.id == p.solver)
             .map_or("?", |s| s.name);
         let _ = writeln!(
@@ -788,7 +800,7 @@ fn timing_md(
     );
     let _ = writeln!(w, "| solver | per iteration | set-up | step |");
     let _ = writeln!(w, "|---|---:|---:|---:|");
-    for solver in SOLVERS {
+    for solver in &solvers() {
         let fit = |f: fn(&Point) -> f64| {
             let xy: Vec<(f64, f64)> = points
                 .iter()
