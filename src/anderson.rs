@@ -145,7 +145,7 @@ impl AndersonMixing {
 
     /// [Peng 2018, Eq. 4] Given $`G(v_k)`$, the next iterate
     /// $`v_{k+1} = G(v_k) - \sum_j \theta_j^* \Delta G_j`$, $`\theta^*`$ the least-squares
-    /// minimiser of $`|F_k - \sum_j \theta_j \Delta F_j|`$ ([`AndersonMixing::theta`]). A
+    /// minimiser of $`|F_k - \sum_j \theta_j \Delta F_j|`$ (`AndersonMixing::theta`). A
     /// non-finite $`G`$ is passed on unchanged, for the step to report.
     pub fn extrapolate(&mut self, g: &[f64]) -> &[f64] {
         for ((f, g), v) in self.f.iter_mut().zip(g).zip(&self.v) {

@@ -543,7 +543,7 @@ impl BandedLdlt {
 /// ours to read.
 ///
 /// Three right-hand sides (Liu's and ADMM's coordinates) on a simplicial factor are solved by
-/// [`Self::solve_three`], not by faer: faer sweeps the three columns of the column-major
+/// `SparseCholesky::solve_three`, not by faer: faer sweeps the three columns of the column-major
 /// right-hand side, so every entry of $`L`$ touches three cache lines n values apart, and it
 /// permutes through a fresh buffer each solve; interleaving the coordinates makes it one line
 /// and a reused buffer, and the backward substitution sums in four partial sums: 1.6 ms to
@@ -618,7 +618,7 @@ impl SparseCholesky {
 
     /// [`Self::new`] with the simplicial factor whatever the size: slower to factor than a
     /// supernodal one past some thousands of unknowns, but solved for three right-hand sides by
-    /// [`Self::solve_three`], several times faster than faer's supernodal solve on the sheet
+    /// `SparseCholesky::solve_three`, several times faster than faer's supernodal solve on the sheet
     /// (`make timing`), and by scalar loops only.
     pub fn simplicial(a: &SymmetricMatrix) -> Result<Self> {
         Self::with_threshold(a, SupernodalThreshold::FORCE_SIMPLICIAL)
