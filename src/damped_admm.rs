@@ -220,7 +220,7 @@ impl TimeStepper for DampedAdmm {
         &self.system
     }
 
-    /// Algorithm 4 on the damped objective.
+    /// [Brown 2018, dissipation potential] Algorithm 4 on the objective with the damping term.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let it = &mut self.iterate;

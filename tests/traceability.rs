@@ -48,3 +48,28 @@ fn every_solver_step_is_marked_for_quoting() {
         .collect();
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// The second table: every solver after the thesis cites its paper in its own module, with
+/// tags the thesis's table cannot read as thesis equations.
+#[test]
+fn every_newer_solver_cites_its_paper() {
+    use mass_spring_solvers::registry::Family;
+    use mass_spring_solvers::report::traceability::{parse_paper_tag, parse_tag, scan_papers};
+    let tags = scan_papers(&crate_root()).expect("src/ reads");
+    for id in SolverId::ALL
+        .into_iter()
+        .filter(|id| id.info().family == Family::Beyond)
+    {
+        let file = id.info().file;
+        assert!(
+            tags.iter().any(|t| t.file == file),
+            "{id}: no [Author Year, …] tag in {file}"
+        );
+    }
+    assert_eq!(
+        parse_paper_tag("[Wang 2015, Eq. 12] ω"),
+        Some(("Wang 2015".into(), "Eq. 12".into()))
+    );
+    assert_eq!(parse_paper_tag("[`link`] text"), None);
+    assert_eq!(parse_tag("[Wang 2015, Eq. 12] ω"), None);
+}
