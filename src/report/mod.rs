@@ -26,6 +26,7 @@ pub mod tables;
 pub mod traceability;
 pub mod tutorial;
 pub mod versions;
+pub mod work_precision;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use crate::error::Result;
