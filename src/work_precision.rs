@@ -426,12 +426,12 @@ pub fn sweep(
 
 /// The cheapest finished configuration of `id` on `case` whose physical error is at most
 /// `level`: (flops, the result); None if no configuration reaches it.
-pub fn cheapest<'a>(
-    results: &'a [PointResult],
+pub fn cheapest(
+    results: &[PointResult],
     case: Case,
     id: SolverId,
     level: f64,
-) -> Option<&'a PointResult> {
+) -> Option<&PointResult> {
     results
         .iter()
         .filter(|r| r.point.case == case && r.point.spec.id == id)
