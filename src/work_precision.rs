@@ -424,18 +424,19 @@ pub fn sweep(
     Ok((references, results))
 }
 
-/// The cheapest finished configuration of `id` on `case` whose physical error is at most
-/// `level`: (flops, the result); None if no configuration reaches it.
+/// The cheapest finished configuration of `id` on `case` whose error of `kind` is at most
+/// `level`; None if no configuration reaches it.
 pub fn cheapest(
     results: &[PointResult],
     case: Case,
     id: SolverId,
+    kind: ErrorKind,
     level: f64,
 ) -> Option<&PointResult> {
     results
         .iter()
         .filter(|r| r.point.case == case && r.point.spec.id == id)
-        .filter(|r| r.error(ErrorKind::Physical).is_some_and(|e| e <= level))
+        .filter(|r| r.error(kind).is_some_and(|e| e <= level))
         .min_by(|a, b| a.flops.total_cmp(&b.flops))
 }
 
@@ -612,7 +613,7 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
 /// | Liu 2013 | $`s`$ (projection + right-hand side) + $`c`$ + $`G`$ |
 /// | ADMM-PD | $`s`$ ($`Dx`$ 3, $`Dx + \bar u`$ 3, projection, $`\bar u \mathrel{+}= Dx - z`$ 6, $`W^2(z - \bar u)`$ 6, right-hand side 6) + $`c`$ + $`G`$ |
 /// | Chebyshev | its base's + $`\omega`$ 4 + the extrapolation, 6 per coordinate |
-/// | Anderson (window $`m`$) | its base's + the residual and two differences $`3c`$ + the new Gram column $`2mc`$ + the $`m \times m`$ solve $`m^3/3 + 2m^2`$ + the combination $`2mc`$ + the safeguard's energy ($`s`$ spring energies + $`4c`$) |
+/// | Anderson (window $`m`$) | its base's + the residual and two differences $`3c`$ + the new Gram column $`2mc`$ + the $`m \times m`$ solve $`m^3/3 + 2m^2`$ + the combination $`2mc`$ + the safeguard's merit ($`s`$ spring energies + $`4c`$: Liu's energy; ADMM's residual counted the same) |
 /// | L-BFGS (history $`m`$) | the gradient ($`s`$ forces + $`4c`$) + the two-loop recursion $`8mc`$ + the initial-Hessian solve $`G`$ + one line-search energy ($`s`$ + $`4c`$) + the new pair $`2c`$ |
 /// | VBD | each spring's force and Jacobian from both nodes, $`2s`$, + $`n`$ vertex solves ([`FLOPS_VERTEX_SOLVE`]) |
 /// | tutorial integrators | 1, 1 and 4 force evaluations ($`s`$ forces + $`c`$) + 4, 4 and 20 per coordinate |

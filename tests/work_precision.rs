@@ -223,7 +223,9 @@ fn the_cheapest_configuration_is_the_minimum() {
         failed,
         other_case,
     ];
-    let pick = |level| cheapest(&results, case, SolverId::Xpbd, level).map(|r| r.flops);
+    let pick = |level| {
+        cheapest(&results, case, SolverId::Xpbd, ErrorKind::Physical, level).map(|r| r.flops)
+    };
     assert_eq!(pick(0.1), Some(300.0));
     assert_eq!(pick(0.06), Some(500.0));
     assert_eq!(pick(0.01), Some(900.0));

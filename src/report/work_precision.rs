@@ -5,11 +5,11 @@
 
 use crate::beyond::GridScene;
 use crate::error::Result;
-use crate::registry::{SolverId, SolverSpec};
+use crate::registry::{Family, SolverId, SolverSpec};
 use crate::report::figures::colour;
 use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, Line, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::ChapterFigure;
 use crate::work_precision::{
     cheapest, flops_per_iteration, flops_per_step_overhead, flops_setup, most_accurate_within,
@@ -20,6 +20,9 @@ use crate::work_precision::{
 /// The header of `data/work_precision.csv` (issue 14, step 5).
 pub const CSV_HEADER: &str =
     "solver,scene,stiffness,dt_s,tolerance,iterations_mean,error_kind,error,flops";
+
+/// The solver-error level of the section's second table, m.
+pub const SOLVER_ERROR_LEVEL_M: f64 = 1e-6;
 
 /// The budgets, in flops, at which the solvers are compared for accuracy.
 pub const BUDGETS: [f64; 4] = [1e6, 1e7, 1e8, 1e9];
@@ -74,6 +77,23 @@ fn stem(case: Case) -> &'static str {
     }
 }
 
+/// A curve's line: solid for the thesis's solvers and PBD, dashed for the accelerations of
+/// Liu 2013 and ADMM-PD, dotted for the other newer solvers (with the colours of
+/// [`colour`], no two curves alike).
+fn line(id: SolverId) -> Line {
+    match id.info() {
+        info if info.family == Family::Thesis => Line::Solid,
+        info if matches!(
+            info.accelerates,
+            Some(SolverId::FastMassSpring | SolverId::AdmmPd)
+        ) && id != SolverId::Lbfgs =>
+        {
+            Line::Dashed
+        }
+        _ => Line::Dotted,
+    }
+}
+
 impl WorkPrecisionChapter {
     /// The exact motions, the converged Backward Euler trajectories and every configuration.
     pub fn compute(progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
@@ -122,7 +142,8 @@ impl WorkPrecisionChapter {
                         .collect();
                     panel.series.push(
                         Series::line(id.info().abbreviation, points, colour(id, 0))
-                            .with_marker(markers[i % markers.len()], i % 2 == 0),
+                            .with_marker(markers[i % markers.len()], i % 2 == 0)
+                            .with_line(line(id)),
                     );
                 }
                 ChapterFigure::new(
@@ -296,17 +317,19 @@ impl WorkPrecisionChapter {
             for id in sweep_solvers() {
                 let mut row = vec![format!("`{id}`")];
                 for level in ERROR_LEVELS_M {
-                    row.push(cheapest(&self.results, case, id, level).map_or(
-                        "not reached".into(),
-                        |r| {
-                            format!(
-                                "{} flops (dt = {} s, {} it.)",
-                                sig4(r.flops),
-                                full(r.point.dt_s),
-                                r.point.spec.iterations
-                            )
-                        },
-                    ));
+                    row.push(
+                        cheapest(&self.results, case, id, ErrorKind::Physical, level).map_or(
+                            "not reached".into(),
+                            |r| {
+                                format!(
+                                    "{} flops (dt = {} s, {} it.)",
+                                    sig4(r.flops),
+                                    full(r.point.dt_s),
+                                    r.point.spec.iterations
+                                )
+                            },
+                        ),
+                    );
                 }
                 let best = pareto_front(&self.results, case, id, ErrorKind::Physical);
                 row.push(best.last().map_or("–".into(), |r| {
@@ -321,6 +344,41 @@ impl WorkPrecisionChapter {
             md += &t.render();
             md += "\n";
         }
+
+        md += &format!(
+            "Beside them, the solver error: the cheapest configuration of each solver within \
+             {} m of the converged Backward Euler trajectory at its own time step (how much work \
+             it takes to be implicit Euler; the XPBD family and PBD converge elsewhere).\n\n",
+            full(SOLVER_ERROR_LEVEL_M)
+        );
+        let mut header = vec!["solver".to_string()];
+        header.extend(Case::ALL.iter().map(|c| c.label()));
+        let mut t = MarkdownTable::new(&header);
+        for id in sweep_solvers() {
+            let mut row = vec![format!("`{id}`")];
+            for case in Case::ALL {
+                row.push(
+                    cheapest(
+                        &self.results,
+                        case,
+                        id,
+                        ErrorKind::Solver,
+                        SOLVER_ERROR_LEVEL_M,
+                    )
+                    .map_or("not reached".into(), |r| {
+                        format!(
+                            "{} flops (dt = {} s, {} it.)",
+                            sig4(r.flops),
+                            full(r.point.dt_s),
+                            r.point.spec.iterations
+                        )
+                    }),
+                );
+            }
+            t.row(row);
+        }
+        md += &t.render();
+        md += "\n";
 
         md += &format!("### {number}.5 The thesis's question, with the cost counted\n\n");
         md += "At each budget, the solver whose most accurate configuration within it has the \
