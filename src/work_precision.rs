@@ -507,6 +507,21 @@ pub const FLOPS_SPRING_JACOBIAN: f64 = 22.0 + 36.0;
 /// A spring's energy $`\frac k2(|d| - l_0)^2`$: 3 + 6 + 3.
 pub const FLOPS_SPRING_ENERGY: f64 = 12.0;
 
+/// One node's terms of the incremental potential (Eq. 20), $`\frac{m}{2h^2}|x - y|^2 - m\,g\cdot
+/// x`$: 3 + 5 + 2, and 6 for gravity's.
+pub const FLOPS_NODE_POTENTIAL: f64 = 16.0;
+
+/// One spring's term of L-BFGS's potential change between two points
+/// ([`crate::quasi_newton::potential_change`]): $`q`$ 3, $`\delta q`$ 9, $`q'`$ 3, the two
+/// lengths 12, $`\Delta l = \delta q\cdot(q' + q)/(l' + l)`$ 10, the energy change
+/// $`\frac k2\Delta l(\Delta l + 2(l - l_0))`$ 6 and its sum 1.
+pub const FLOPS_SPRING_POTENTIAL_CHANGE: f64 = 44.0;
+
+/// One node's term of the same change: the displacement 3, the inertia term
+/// $`\frac m2\,\delta\cdot(\delta + 2(x - y))/h^2`$ 3 + 3 + 3 + 5 + 4, gravity's 6, their
+/// difference and sum 2.
+pub const FLOPS_NODE_POTENTIAL_CHANGE: f64 = 29.0;
+
 /// Liu 2013's local step for one spring, $`d_j = l_0\,(x_b - x_a)/|x_b - x_a|`$:
 /// 3 + 6 + 1 (division) + 3.
 pub const FLOPS_SPRING_PROJECTION: f64 = 13.0;
@@ -614,7 +629,7 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
 /// | ADMM-PD | $`s`$ ($`Dx`$ 3, $`Dx + \bar u`$ 3, projection, $`\bar u \mathrel{+}= Dx - z`$ 6, $`W^2(z - \bar u)`$ 6, right-hand side 6) + $`c`$ + $`G`$ |
 /// | Chebyshev | its base's + $`\omega`$ 4 + the extrapolation, 6 per coordinate |
 /// | Anderson (window $`m`$) | its base's + the residual and two differences $`3c`$ + the new Gram column $`2mc`$ + the $`m \times m`$ solve $`m^3/3 + 2m^2`$ + the combination $`2mc`$ + the safeguard's merit ($`s`$ spring energies + $`4c`$: Liu's energy; ADMM's residual counted the same) |
-/// | L-BFGS (history $`m`$) | the gradient ($`s`$ forces + $`4c`$) + the two-loop recursion $`8mc`$ + the initial-Hessian solve $`G`$ + one line-search energy ($`s`$ + $`4c`$) + the new pair $`2c`$ |
+/// | L-BFGS (history $`m`$) | the gradient ($`s`$ forces + $`4c`$) + the two-loop recursion $`8mc`$ + the initial-Hessian solve $`G`$ + one line-search trial (the point $`2c`$ and the potential's change, [`FLOPS_SPRING_POTENTIAL_CHANGE`] per spring and [`FLOPS_NODE_POTENTIAL_CHANGE`] per node) + the new pair $`2c`$ |
 /// | VBD | each spring's force and Jacobian from both nodes, $`2s`$, + $`n`$ vertex solves ([`FLOPS_VERTEX_SOLVE`]) |
 /// | tutorial integrators | 1, 1 and 4 force evaluations ($`s`$ forces + $`c`$) + 4, 4 and 20 per coordinate |
 /// | Dormand-Prince 5(4), a step tried | 6 force evaluations (the seventh is the next step's first) + 42 per coordinate for the stages' sums and 14 for the error estimate |
@@ -626,7 +641,7 @@ pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 
     let s = system.springs().len() as f64;
     let c = 3.0 * n;
     let forces = s * FLOPS_SPRING_FORCE + c;
-    let energy = s * FLOPS_SPRING_ENERGY + 4.0 * c;
+    let energy = s * FLOPS_SPRING_ENERGY + n * FLOPS_NODE_POTENTIAL;
     let liu = s * (FLOPS_SPRING_PROJECTION + FLOPS_SPRING_RHS) + c + flops_global_solve(system);
     let admm = s * (3.0 + 3.0 + FLOPS_SPRING_PROJECTION + 6.0 + 6.0 + 6.0)
         + c
@@ -655,7 +670,10 @@ pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 
         SolverId::AndersonAdmm => anderson(admm, spec.params.window as f64),
         SolverId::Lbfgs => {
             let m = spec.params.history as f64;
-            forces + 8.0 * m * c + flops_global_solve(system) + energy + 2.0 * c
+            let gradient = s * FLOPS_SPRING_FORCE + 4.0 * c;
+            let trial =
+                2.0 * c + s * FLOPS_SPRING_POTENTIAL_CHANGE + n * FLOPS_NODE_POTENTIAL_CHANGE;
+            gradient + 8.0 * m * c + flops_global_solve(system) + trial + 2.0 * c
         }
         SolverId::Vbd => {
             2.0 * s * (FLOPS_SPRING_FORCE + FLOPS_SPRING_JACOBIAN) + n * FLOPS_VERTEX_SOLVE

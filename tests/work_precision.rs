@@ -131,6 +131,18 @@ fn the_flop_model_matches_a_hand_count() {
     assert_eq!(flops(SolverId::BackwardEuler, 5), (0.0, 0.0, 719.0));
     // VBD: every spring from both nodes 4·79 = 316, three vertex solves 3·35 = 105.
     assert_eq!(flops(SolverId::Vbd, 1), (0.0, 54.0, 421.0));
+    // L-BFGS, window 5: the gradient 2·21 + 4·9 = 78, the two loops 8·5·9 = 360, the solve 42,
+    // a line-search trial 2·9 + 2·44 + 3·29 = 193, the new pair 18.
+    assert_eq!(flops(SolverId::Lbfgs, 1), (12.0, 63.0, 691.0));
+    // Anderson on Liu, window 5: Liu's 95, the residual and differences 27, the Gram column and
+    // the combination 2·90, the 5 × 5 solve 125/3 + 50, the merit 2·12 + 3·16 = 72.
+    let (setup, overhead, iteration) = flops(SolverId::AndersonLiu, 1);
+    assert_eq!((setup, overhead), (12.0, 63.0));
+    let hand = 95.0 + 27.0 + 180.0 + 125.0 / 3.0 + 50.0 + 72.0;
+    assert!(
+        (iteration - hand).abs() < 1e-9,
+        "{iteration} against {hand}"
+    );
     // A run of Liu with 2 iterations at dt = 0.1 s: 50 steps of 63 + 2·95, after the setup.
     let spec = SolverSpec::new(SolverId::FastMassSpring, 2);
     assert_eq!(run_flops(&spec, &system, 0.1).unwrap(), 12.0 + 50.0 * 253.0);
