@@ -256,3 +256,37 @@ fn the_cheapest_configuration_is_the_minimum() {
     );
     assert_eq!(best.map(|r| r.point.spec.id), Some(SolverId::Pbd));
 }
+
+/// The section's verdict counts and per-case winner, on results whose winners are known: per
+/// budget 1e6, 1e7, 1e8, 1e9 flops the most accurate of the thesis's three in the physical
+/// error is XPBD, ADMM, ADMM, ADMM, and in the rest error XPBD, ADMM, Liu, Liu.
+#[test]
+fn the_verdict_counts_the_budgets_each_solver_wins() {
+    use mass_spring_solvers::report::work_precision::{most_frequent_winner, verdict};
+    let case = Case::ALL[0];
+    let result = |id, flops: f64, physical: f64, rest: f64| PointResult {
+        point: Point {
+            case,
+            spec: SolverSpec::new(id, 1),
+            dt_s: 0.01,
+        },
+        flops,
+        errors: Ok([physical, rest, 0.0].map(|e| WindowError { sum: e, max: e })),
+    };
+    let results = vec![
+        result(SolverId::Xpbd, 5e5, 1.0, 0.5),
+        result(SolverId::AdmmPd, 5e6, 0.5, 0.1),
+        result(SolverId::FastMassSpring, 5e7, 2.0, 1e-3),
+        result(SolverId::XpbdSubsteps, 5e8, 0.01, 1.0),
+    ];
+    // [rest: ADMM-PD wins 1 of 4; physical: XPBD wins 1 of 4].
+    assert_eq!(verdict(&results), [(1, 4), (1, 4)]);
+    assert_eq!(
+        most_frequent_winner(&results, case, ErrorKind::Physical),
+        Some((SolverId::AdmmPd, 2))
+    );
+    assert_eq!(
+        most_frequent_winner(&results, Case::ALL[1], ErrorKind::Physical),
+        None
+    );
+}
