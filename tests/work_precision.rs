@@ -129,8 +129,8 @@ fn the_flop_model_matches_a_hand_count() {
     // and right-hand side 81, the update 18.
     assert_eq!(factor_nnz(9, 5), 30);
     assert_eq!(flops(SolverId::BackwardEuler, 5), (0.0, 0.0, 719.0));
-    // VBD: every spring from both nodes 4·79 = 316, three vertex solves 3·35 = 105.
-    assert_eq!(flops(SolverId::Vbd, 1), (0.0, 54.0, 421.0));
+    // VBD: the one free node sees both springs, 2·(18 + 22 + 9) = 98, and solves once, 35.
+    assert_eq!(flops(SolverId::Vbd, 1), (0.0, 54.0, 133.0));
     // L-BFGS, window 5: the gradient 2·21 + 4·9 = 78, the two loops 8·5·9 = 360, the solve 42,
     // a line-search trial 2·9 + 2·44 + 3·29 = 193, the new pair 18.
     assert_eq!(flops(SolverId::Lbfgs, 1), (12.0, 63.0, 691.0));
