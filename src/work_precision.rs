@@ -710,3 +710,73 @@ pub fn run_flops(spec: &SolverSpec, system: &MassSpringSystem, dt: f64) -> Resul
             * (flops_per_step_overhead(spec, system)
                 + spec.iterations as f64 * flops_per_iteration(spec, system)))
 }
+
+/// Repeats of a wall-clock measurement (issue 14: the minimum of at least 5).
+pub const WALL_REPEATS: usize = 5;
+
+/// A point whose repeats spread by more than this (largest over smallest, less 1) is flagged.
+pub const WALL_SPREAD_FLAG: f64 = 0.2;
+
+/// The wall-clock time of a configuration per simulated second over its repeats, s/s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WallTime {
+    pub min: f64,
+    pub max: f64,
+    pub repeats: usize,
+}
+
+impl WallTime {
+    /// Largest over smallest, less 1.
+    pub fn spread(&self) -> f64 {
+        self.max / self.min - 1.0
+    }
+
+    /// Whether the repeats spread by more than [`WALL_SPREAD_FLAG`].
+    pub fn flagged(&self) -> bool {
+        self.spread() > WALL_SPREAD_FLAG
+    }
+}
+
+/// Runs `point` over the window `repeats` times on the calling thread (solver built and run,
+/// the errors not measured) and times each run.
+pub fn wall_time(point: &Point, repeats: usize) -> Result<WallTime> {
+    if repeats == 0 {
+        return Err(Error::invalid("repeats", repeats, "an integer >= 1"));
+    }
+    let system = point.case.scene.system(point.case.stiffness)?;
+    let mut times = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        let start = std::time::Instant::now();
+        let mut solver = point.spec.build_send(&system, point.dt_s)?;
+        std::hint::black_box(sample_trajectory(solver.as_mut(), system.initial_state())?);
+        times.push(start.elapsed().as_secs_f64() / WINDOW_S);
+    }
+    Ok(WallTime {
+        min: times.iter().copied().fold(f64::INFINITY, f64::min),
+        max: times.iter().copied().fold(0.0, f64::max),
+        repeats,
+    })
+}
+
+/// The header of `work_precision_wall.csv`: the key columns of `work_precision.csv`, the
+/// minimum wall time per simulated second and the repeats' spread.
+pub const WALL_CSV_HEADER: &str =
+    "solver,scene,stiffness,dt_s,tolerance,iterations_mean,wall_s_per_sim_s,spread";
+
+/// `work_precision_wall.csv`, one row per measured configuration.
+pub fn wall_csv(rows: &[(Point, WallTime)]) -> String {
+    let mut out = format!("{WALL_CSV_HEADER}\n");
+    for (p, t) in rows {
+        out += &format!(
+            "{},{},{:?},{:?},,{},{:e},{:.4}\n",
+            p.spec.id,
+            p.case.scene.id(),
+            p.case.stiffness,
+            p.dt_s,
+            p.spec.iterations,
+            t.min,
+            t.spread()
+        );
+    }
+    out
+}

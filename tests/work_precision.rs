@@ -290,3 +290,35 @@ fn the_verdict_counts_the_budgets_each_solver_wins() {
         None
     );
 }
+
+/// The wall-clock CSV of two real measurements: the key columns of `work_precision.csv`, a
+/// positive time and spread, a repeat count checked (no speed is asserted).
+#[test]
+fn the_wall_clock_csv_has_the_key_columns() {
+    let case = Case::ALL[0];
+    let points: Vec<Point> = sweep_points(case)
+        .into_iter()
+        .filter(|p| p.dt_s == 0.1 && p.spec.iterations == 1)
+        .take(2)
+        .collect();
+    let rows: Vec<(Point, WallTime)> = points
+        .iter()
+        .map(|p| (*p, wall_time(p, 2).unwrap()))
+        .collect();
+    let text = wall_csv(&rows);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "solver,scene,stiffness,dt_s,tolerance,iterations_mean,wall_s_per_sim_s,spread"
+    );
+    for (line, (p, t)) in lines.zip(&rows) {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells.len(), 8, "{line}");
+        assert_eq!(cells[0], p.spec.id.id());
+        assert_eq!(cells[4], "");
+        assert!(cells[6].parse::<f64>().unwrap() > 0.0);
+        assert!(cells[7].parse::<f64>().unwrap() >= 0.0);
+        assert!(t.min <= t.max && t.repeats == 2);
+    }
+    assert_eq!(field(wall_time(&points[0], 0).unwrap_err()), "repeats");
+}
