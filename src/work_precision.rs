@@ -19,8 +19,8 @@
 //!   repeated converged Backward Euler steps ([`converged_step`]) at the same $`dt`$.
 //!
 //! **The cost** in floating-point operations, by a model per operation ([`flops_setup`],
-//! [`flops_per_step_overhead`], [`flops_per_iteration`]): a run of $`s`$ steps of $`m`$
-//! iterations costs setup $`+ s\,(`$overhead$`+ m \cdot`$iteration$`)`$.
+//! [`flops_per_step_overhead`], [`flops_of_iteration`]): a run of $`s`$ steps costs setup
+//! $`+ s\,(`$overhead $`+ \sum_j`$ iteration $`j)`$.
 
 use crate::backward_euler::{converged_step, ConvergedStepOptions};
 use crate::beyond::{grid_settings, GridScene};
@@ -614,11 +614,17 @@ pub fn flops_setup(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
 /// prediction $`y = x + h\,v + h^2 M^{-1} f_{ext}`$, 4 per coordinate, and the velocity
 /// $`v = (x - x_n)/h`$, 2 per coordinate, for every solver that iterates on positions; the
 /// right-hand side's inertia $`M y/h^2`$, 1 more per coordinate, for the global-solve
-/// solvers; none for Backward Euler (all inside its Newton iteration); the tutorial's
-/// integrators and XPBD's substeps count all their work per iteration.
+/// solvers, and L-BFGS's first gradient ($`s`$ forces + $`4c`$); none for Backward Euler
+/// (all inside its Newton iteration); the tutorial's integrators and XPBD's substeps count all
+/// their work per iteration.
 pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
     let coordinates = 3.0 * system.len() as f64;
     match spec.id {
+        SolverId::Lbfgs => {
+            7.0 * coordinates
+                + system.springs().len() as f64 * FLOPS_SPRING_FORCE
+                + 4.0 * coordinates
+        }
         SolverId::BackwardEuler | SolverId::DampedBackwardEuler | SolverId::XpbdSubsteps => 0.0,
         SolverId::ExplicitEuler | SolverId::SymplecticEuler | SolverId::Rk4 | SolverId::Rk45 => 0.0,
         SolverId::Pbd | SolverId::Xpbd | SolverId::Vbd => 6.0 * coordinates,
@@ -626,9 +632,11 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
     }
 }
 
-/// Floating-point operations of one iteration of `spec` on `system` ($`n`$ nodes, $`s`$
-/// springs, $`c = 3n`$ coordinates, $`G`$ the global solve of [`flops_solve`] with three
-/// right-hand sides):
+/// Floating-point operations of iteration `j` (from 0) of a step of `spec` on `system`
+/// ($`n`$ nodes, $`s`$ springs, $`c = 3n`$ coordinates, $`G`$ the global solve of
+/// [`flops_solve`] with three right-hand sides). Anderson's columns and L-BFGS's pairs restart
+/// every step, so iteration $`j`$ has $`k = \min(j, m)`$ of them (window $`m`$); every other
+/// solver's iterations cost the same:
 ///
 /// | solver | one iteration |
 /// |---|---|
@@ -638,15 +646,15 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
 /// | Liu 2013 | $`s`$ (projection + right-hand side) + $`c`$ + $`G`$ |
 /// | ADMM-PD | $`s`$ ($`Dx`$ 3, $`Dx + \bar u`$ 3, projection, $`\bar u \mathrel{+}= Dx - z`$ 6, $`W^2(z - \bar u)`$ 6, right-hand side 6) + $`c`$ + $`G`$ |
 /// | Chebyshev | its base's + $`\omega`$ 4 + the extrapolation, 6 per coordinate |
-/// | Anderson (window $`m`$) | its base's + the residual and two differences $`3c`$ + the new Gram column $`2mc`$ + the $`m \times m`$ solve $`m^3/3 + 2m^2`$ + the combination $`2mc`$ + the safeguard's merit ($`s`$ spring energies + $`4c`$: Liu's energy; ADMM's residual counted the same) |
-/// | L-BFGS (history $`m`$) | the gradient ($`s`$ forces + $`4c`$) + the two-loop recursion $`8mc`$ + the initial-Hessian solve $`G`$ + one line-search trial (the point $`2c`$ and the potential's change, [`FLOPS_SPRING_POTENTIAL_CHANGE`] per spring and [`FLOPS_NODE_POTENTIAL_CHANGE`] per node) + the new pair $`2c`$ |
+/// | Anderson, $`k`$ columns | its base's + the residual $`c`$ + from the second iteration on the new column (the two differences $`2c`$, its norm $`2c + 1`$ and scaling $`c`$, its Gram row $`2kc`$) + the right-hand side $`2kc`$ + the $`k \times k`$ SVD, $`21k^3`$ (Golub and Van Loan's count with both bases), and its solve $`2k^2`$ + the combination $`2kc + k`$ + the safeguard's merit ($`s`$ spring energies + [`FLOPS_NODE_POTENTIAL`] per node: Liu's incremental potential; ADMM's residual counted the same) |
+/// | L-BFGS, $`k`$ pairs | the two-loop recursion $`8kc + 3k`$ and the initial-Hessian solve $`G + c`$ + the slope $`2c`$ + one line-search trial (the point $`2c`$ and the potential's change, [`FLOPS_SPRING_POTENTIAL_CHANGE`] per spring and [`FLOPS_NODE_POTENTIAL_CHANGE`] per node) + the new gradient ($`s`$ forces + $`4c`$) + the new pair $`4c + 1`$ |
 /// | VBD | each spring from each of its free nodes ([`FLOPS_SPRING_VERTEX_VISIT`]) + a vertex solve per free node ([`FLOPS_VERTEX_SOLVE`]) |
 /// | tutorial integrators | 1, 1 and 4 force evaluations ($`s`$ forces + $`c`$) + 4, 4 and 20 per coordinate |
 /// | Dormand-Prince 5(4), a step tried | 6 force evaluations (the seventh is the next step's first) + 42 per coordinate for the stages' sums and 14 for the error estimate |
 ///
 /// L-BFGS's line search counts the accepted first trial only: every backtracking step adds an
-/// energy evaluation this model leaves out.
-pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+/// energy evaluation this model leaves out; so are Anderson's rejected extrapolations.
+pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize) -> f64 {
     let n = system.len() as f64;
     let s = system.springs().len() as f64;
     let c = 3.0 * n;
@@ -656,8 +664,21 @@ pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 
     let admm = s * (3.0 + 3.0 + FLOPS_SPRING_PROJECTION + 6.0 + 6.0 + 6.0)
         + c
         + flops_global_solve(system);
-    let anderson = |base: f64, m: f64| {
-        base + 3.0 * c + 2.0 * m * c + m * m * m / 3.0 + 2.0 * m * m + 2.0 * m * c + energy
+    let anderson = |base: f64| {
+        let k = j.min(spec.params.window) as f64;
+        let new_column = if j > 0 {
+            6.0 * c + 1.0 + 2.0 * k * c
+        } else {
+            0.0
+        };
+        base + c
+            + new_column
+            + 2.0 * k * c
+            + 21.0 * k * k * k
+            + 2.0 * k * k
+            + 2.0 * k * c
+            + k
+            + energy
     };
     let chebyshev = |base: f64| base + 4.0 + 6.0 * c;
     match spec.id {
@@ -676,14 +697,15 @@ pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 
         SolverId::AdmmPd | SolverId::DampedAdmm => admm,
         SolverId::ChebyshevLiu => chebyshev(liu),
         SolverId::ChebyshevAdmm => chebyshev(admm),
-        SolverId::AndersonLiu => anderson(liu, spec.params.window as f64),
-        SolverId::AndersonAdmm => anderson(admm, spec.params.window as f64),
+        SolverId::AndersonLiu => anderson(liu),
+        SolverId::AndersonAdmm => anderson(admm),
         SolverId::Lbfgs => {
-            let m = spec.params.history as f64;
-            let gradient = s * FLOPS_SPRING_FORCE + 4.0 * c;
+            let k = j.min(spec.params.history) as f64;
+            let direction = 8.0 * k * c + 3.0 * k + flops_global_solve(system) + c;
             let trial =
                 2.0 * c + s * FLOPS_SPRING_POTENTIAL_CHANGE + n * FLOPS_NODE_POTENTIAL_CHANGE;
-            gradient + 8.0 * m * c + flops_global_solve(system) + trial + 2.0 * c
+            let gradient = s * FLOPS_SPRING_FORCE + 4.0 * c;
+            direction + 2.0 * c + trial + gradient + 4.0 * c + 1.0
         }
         SolverId::Vbd => {
             let free = |i: usize| f64::from(u8::from(!system.nodes()[i].fixed));
@@ -701,14 +723,24 @@ pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 
     }
 }
 
+/// An iteration once the window is full ([`flops_of_iteration`] from iteration $`m`$ on).
+pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    flops_of_iteration(spec, system, usize::MAX)
+}
+
+/// A step: the overhead and each of its iterations.
+pub fn flops_per_step(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    flops_per_step_overhead(spec, system)
+        + (0..spec.iterations)
+            .map(|j| flops_of_iteration(spec, system, j))
+            .sum::<f64>()
+}
+
 /// Floating-point operations of a run of `spec` over the window at `dt`: setup + steps ×
-/// (overhead + iterations × iteration).
+/// [`flops_per_step`].
 pub fn run_flops(spec: &SolverSpec, system: &MassSpringSystem, dt: f64) -> Result<f64> {
     let steps = steps_per_sample(dt)? as f64 * sample_count() as f64;
-    Ok(flops_setup(spec, system)
-        + steps
-            * (flops_per_step_overhead(spec, system)
-                + spec.iterations as f64 * flops_per_iteration(spec, system)))
+    Ok(flops_setup(spec, system) + steps * flops_per_step(spec, system))
 }
 
 /// Repeats of a wall-clock measurement (issue 14: the minimum of at least 5).

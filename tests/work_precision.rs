@@ -131,17 +131,22 @@ fn the_flop_model_matches_a_hand_count() {
     assert_eq!(flops(SolverId::BackwardEuler, 5), (0.0, 0.0, 719.0));
     // VBD: the one free node sees both springs, 2·(18 + 22 + 9) = 98, and solves once, 35.
     assert_eq!(flops(SolverId::Vbd, 1), (0.0, 54.0, 133.0));
-    // L-BFGS, window 5: the gradient 2·21 + 4·9 = 78, the two loops 8·5·9 = 360, the solve 42,
-    // a line-search trial 2·9 + 2·44 + 3·29 = 193, the new pair 18.
-    assert_eq!(flops(SolverId::Lbfgs, 1), (12.0, 63.0, 691.0));
-    // Anderson on Liu, window 5: Liu's 95, the residual and differences 27, the Gram column and
-    // the combination 2·90, the 5 × 5 solve 125/3 + 50, the merit 2·12 + 3·16 = 72.
-    let (setup, overhead, iteration) = flops(SolverId::AndersonLiu, 1);
-    assert_eq!((setup, overhead), (12.0, 63.0));
-    let hand = 95.0 + 27.0 + 180.0 + 125.0 / 3.0 + 50.0 + 72.0;
-    assert!(
-        (iteration - hand).abs() < 1e-9,
-        "{iteration} against {hand}"
+    // L-BFGS, window 5, its first iteration (no pairs): the solve 42 + 9, the slope 18, a
+    // line-search trial 2·9 + 2·44 + 3·29 = 193, the gradient 2·21 + 4·9 = 78, the pair 37;
+    // the second with one pair, 8·9 + 3 = 75 more; the step's overhead 63 and a gradient 78.
+    let lbfgs = SolverSpec::new(SolverId::Lbfgs, 2);
+    assert_eq!(flops_of_iteration(&lbfgs, &system, 0), 377.0);
+    assert_eq!(flops_of_iteration(&lbfgs, &system, 1), 452.0);
+    assert_eq!(flops_per_step_overhead(&lbfgs, &system), 141.0);
+    assert_eq!(flops_per_step(&lbfgs, &system), 141.0 + 377.0 + 452.0);
+    // Anderson on Liu, window 5: Liu's 95, the residual 9, the merit 2·12 + 3·16 = 72; from the
+    // second iteration, with one column, the new column 6·9 + 1 + 18, the right-hand side 18,
+    // the SVD 21 and its solve 2, the combination 18 + 1.
+    let anderson = SolverSpec::new(SolverId::AndersonLiu, 2);
+    assert_eq!(flops_of_iteration(&anderson, &system, 0), 95.0 + 9.0 + 72.0);
+    assert_eq!(
+        flops_of_iteration(&anderson, &system, 1),
+        95.0 + 9.0 + 73.0 + 18.0 + 21.0 + 2.0 + 19.0 + 72.0
     );
     // A run of Liu with 2 iterations at dt = 0.1 s: 50 steps of 63 + 2·95, after the setup.
     let spec = SolverSpec::new(SolverId::FastMassSpring, 2);
