@@ -653,7 +653,10 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
 /// | Dormand-Prince 5(4), a step tried | 6 force evaluations (the seventh is the next step's first) + 42 per coordinate for the stages' sums and 14 for the error estimate |
 ///
 /// L-BFGS's line search counts the accepted first trial only: every backtracking step adds an
-/// energy evaluation this model leaves out; so are Anderson's rejected extrapolations.
+/// energy evaluation this model leaves out; so are Anderson's rejected extrapolations. The other
+/// way, L-BFGS ends a step once its direction is below round-off
+/// ([`crate::quasi_newton::ROUND_OFF_STEP`]), and the model counts every iteration of its
+/// budget: an upper bound for a converged step.
 pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize) -> f64 {
     let n = system.len() as f64;
     let s = system.springs().len() as f64;

@@ -297,7 +297,11 @@ impl WorkPrecisionChapter {
                13, an XPBD constraint projection 36, a spring force 21 and its Jacobian 58 with \
                its assembly. A run costs setup + steps × (overhead + each iteration's count); \
                Anderson's columns and L-BFGS's pairs restart every step, so their first \
-               iterations cost less than the full-window iteration shown here. On each scene:\n\n";
+               iterations cost less than the full-window iteration shown here. Every iteration of \
+               a step's budget is counted, also for L-BFGS, which ends a step early once its \
+               direction is below round-off (its count is an upper bound there); a backtracking \
+               line search's extra trials and Anderson's rejected extrapolations are not \
+               counted. On each scene:\n\n";
         let mut t = MarkdownTable::new(&[
             "solver",
             "rope setup",
