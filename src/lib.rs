@@ -40,6 +40,7 @@ pub mod solver;
 pub mod spring;
 pub mod system;
 pub mod vbd;
+pub mod work_precision;
 pub mod xpbd;
 pub mod xpbd_substeps;
 

@@ -18,6 +18,7 @@ use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
 use mass_spring_solvers::report::sheet::SheetChapter;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
+use mass_spring_solvers::report::work_precision::WorkPrecisionChapter;
 use mass_spring_solvers::report::{crate_root, render, repository_containing, ReportData, Sources};
 use mass_spring_solvers::{Error, Result};
 use std::io::{IsTerminal, Write};
@@ -30,6 +31,9 @@ const BEYOND_BUDGET: Duration = Duration::from_secs(20);
 
 /// The budget of the sheet chapter (issue 13: at most 60 s on 2 cores).
 const SHEET_BUDGET: Duration = Duration::from_secs(60);
+
+/// The budget of the work-precision chapter (issue 14: at most 60 s on 2 cores).
+const WORK_PRECISION_BUDGET: Duration = Duration::from_secs(60);
 
 /// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
 const FIXTURE_FILES: usize = 400;
@@ -139,6 +143,11 @@ fn run(args: Args) -> Result<String> {
         Some(SHEET_BUDGET),
         || SheetChapter::compute(&progress("the sheet")),
     )?;
+    let work_precision = phases.run(
+        "work and precision (parallel)",
+        Some(WORK_PRECISION_BUDGET),
+        || WorkPrecisionChapter::compute(&progress("work and precision")),
+    )?;
     let data = ReportData {
         results,
         forensics: Some(forensics),
@@ -147,6 +156,7 @@ fn run(args: Args) -> Result<String> {
         tutorial,
         beyond,
         sheet,
+        work_precision,
         sources,
     };
     let mut files = phases.run("rendering (Markdown, SVG, CSV)", None, || render(&data))?;

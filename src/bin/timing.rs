@@ -15,13 +15,18 @@
 //! least, against the read bandwidth measured here on a buffer of the factor's size; the local
 //! step does a square root and a division per spring, against their measured throughput.
 //!
+//! Then the configurations of the report's work-precision chapter (issue 14,
+//! [`mass_spring_solvers::work_precision`]), each timed over its window on this thread, the
+//! minimum of [`WALL_REPEATS`] runs per simulated second, against its counted flops.
+//!
 //! Writes `report/timing/` (or `--out DIR`): `TIMING.md`, `scaling.csv`, `bandwidth.csv`,
-//! `scaling.svg`, with the machine, the toolchain and the commit. Outside the byte-identical
+//! `scaling.svg`, `work_precision_wall.csv`, with the machine, the toolchain and the commit. Outside the byte-identical
 //! report: times differ from run to run.
 
 use clap::Parser;
 use mass_spring_solvers::admm::AdmmPd;
 use mass_spring_solvers::backward_euler::BackwardEuler;
+use mass_spring_solvers::beyond::kendall_tau;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
@@ -30,6 +35,10 @@ use mass_spring_solvers::report::plot::{
     self, Axis, Chart, LegendPlace, Marker, Panel, Rgb, Series,
 };
 use mass_spring_solvers::scene::SheetParams;
+use mass_spring_solvers::work_precision::{
+    run_flops, sweep_points, sweep_solvers, wall_csv, wall_time, Case, Point as Configuration,
+    WallTime, WALL_REPEATS, WALL_SPREAD_FLAG, WINDOW_S,
+};
 use mass_spring_solvers::{MassSpringSystem, State, TimeStepper};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -645,6 +654,7 @@ fn run(args: Args) -> Result<String> {
         bandwidth.push((p.n, bytes, read_bandwidth(bytes)));
     }
     eprintln!("timing: bandwidth and arithmetic measured");
+    let wall = work_precision_wall()?;
     let load_after = load_average();
     let (model, cores) = machine();
     let commit = git(&["rev-parse", "HEAD"], &root);
@@ -685,9 +695,11 @@ fn run(args: Args) -> Result<String> {
             seconds: started.elapsed().as_secs_f64(),
         },
     );
+    let md = md + &work_precision_md(&wall)?;
     let svg = figure(&points)?;
     for (name, text) in [
         ("TIMING.md", md),
+        ("work_precision_wall.csv", wall_csv(&wall)),
         ("scaling.csv", csv),
         ("bandwidth.csv", bw_csv),
         ("scaling.svg", svg),
@@ -697,10 +709,118 @@ fn run(args: Args) -> Result<String> {
             .map_err(|e| Error::Input(format!("cannot write {}: {e}", path.display())))?;
     }
     Ok(format!(
-        "wrote TIMING.md, scaling.csv, bandwidth.csv and scaling.svg to {} in {:.0} s",
+        "wrote TIMING.md, scaling.csv, bandwidth.csv, scaling.svg and work_precision_wall.csv to {} in {:.0} s",
         out.display(),
         started.elapsed().as_secs_f64()
     ))
+}
+
+/// Every configuration of the work-precision sweep timed on this thread, with progress.
+fn work_precision_wall() -> Result<Vec<(Configuration, WallTime)>> {
+    let points: Vec<Configuration> = Case::ALL.into_iter().flat_map(sweep_points).collect();
+    let started = Instant::now();
+    let mut rows = Vec::with_capacity(points.len());
+    for (i, p) in points.iter().enumerate() {
+        match wall_time(p, WALL_REPEATS) {
+            Ok(t) => rows.push((*p, t)),
+            // A diverging configuration has no time; the report's chapter lists it.
+            Err(e) => eprintln!("timing: work-precision {} skipped: {e}", p.spec.id),
+        }
+        if (i + 1) % 25 == 0 || i + 1 == points.len() {
+            eprintln!(
+                "timing: work-precision {}/{} configurations  [{:.0} s]",
+                i + 1,
+                points.len(),
+                started.elapsed().as_secs_f64()
+            );
+        }
+    }
+    Ok(rows)
+}
+
+/// TIMING.md's work-precision section: per case, each solver's configurations summed in
+/// counted flops and in wall time, the two rankings and where they disagree.
+fn work_precision_md(rows: &[(Configuration, WallTime)]) -> Result<String> {
+    let mut md = String::new();
+    let w = &mut md;
+    let flagged: Vec<&(Configuration, WallTime)> =
+        rows.iter().filter(|(_, t)| t.flagged()).collect();
+    let _ = writeln!(
+        w,
+        "\n## Work-precision in wall-clock time (issue 14)\n\n\
+         The {} configurations of the report's work-precision chapter (every solver, time step \
+         and iteration count on each case), each run over its window {WALL_REPEATS} times on \
+         this thread: the minimum wall time per simulated second \
+         (`work_precision_wall.csv`), against the floating-point operations the report counts. \
+         {} configurations spread by more than {:.0} % between repeats (flagged).\n",
+        rows.len(),
+        flagged.len(),
+        WALL_SPREAD_FLAG * 100.0
+    );
+    for case in Case::ALL {
+        let system = case.scene.system(case.stiffness)?;
+        let mut totals: Vec<(SolverId, f64, f64)> = Vec::new();
+        for id in sweep_solvers() {
+            let (mut flops, mut wall) = (0.0, 0.0);
+            for (p, t) in rows
+                .iter()
+                .filter(|(p, _)| p.case == case && p.spec.id == id)
+            {
+                flops += run_flops(&p.spec, &system, p.dt_s)?;
+                wall += t.min;
+            }
+            totals.push((id, flops, wall));
+        }
+        let rank = |key: fn(&(SolverId, f64, f64)) -> f64| {
+            let mut sorted = totals.clone();
+            sorted.sort_by(|a, b| key(a).total_cmp(&key(b)));
+            sorted.into_iter().map(|t| t.0).collect::<Vec<_>>()
+        };
+        let by_flops = rank(|t| t.1);
+        let by_wall = rank(|t| t.2);
+        let _ = writeln!(
+            w,
+            "**{}**: every configuration of each solver summed, ranked cheapest first (Kendall τ \
+             between the two rankings: {}).\n",
+            case.label(),
+            kendall_tau(&by_flops, &by_wall).map_or("–".into(), |t| format!("{t:.2}"))
+        );
+        let _ = writeln!(
+            w,
+            "| solver | flops | rank by flops | wall s per simulated s | rank by wall | ns per flop |"
+        );
+        let _ = writeln!(w, "|---|---:|---:|---:|---:|---:|");
+        for (id, flops, wall) in &totals {
+            let position = |list: &[SolverId]| list.iter().position(|x| x == id).unwrap_or(0) + 1;
+            let _ = writeln!(
+                w,
+                "| `{id}` | {flops:.3e} | {} | {wall:.3e} | {} | {:.2} |",
+                position(&by_flops),
+                position(&by_wall),
+                wall * WINDOW_S / flops * 1e9
+            );
+        }
+        let _ = writeln!(w);
+    }
+    if !flagged.is_empty() {
+        let _ = writeln!(
+            w,
+            "Flagged (spread above {:.0} %):\n",
+            WALL_SPREAD_FLAG * 100.0
+        );
+        for (p, t) in flagged {
+            let _ = writeln!(
+                w,
+                "- `{}` {} it., dt = {} s, {}: spread {:.0} %",
+                p.spec.id,
+                p.spec.iterations,
+                p.dt_s,
+                p.case.label(),
+                t.spread() * 100.0
+            );
+        }
+    }
+    Ok(md)
 }
 
 struct Context {

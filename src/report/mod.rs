@@ -26,6 +26,7 @@ pub mod tables;
 pub mod traceability;
 pub mod tutorial;
 pub mod versions;
+pub mod work_precision;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use crate::error::Result;
@@ -43,6 +44,7 @@ use crate::report::sheet::SheetChapter;
 use crate::report::traceability::{PaperTag, Quote, Tag};
 use crate::report::tutorial::TutorialChapter;
 use crate::report::versions::Versions;
+use crate::report::work_precision::WorkPrecisionChapter;
 use crate::scene::{
     THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT, THESIS_GRAVITY, THESIS_NODES, THESIS_NODE_MASS,
     THESIS_REST_LENGTH,
@@ -120,6 +122,8 @@ pub struct ReportData {
     pub beyond: BeyondChapter,
     /// The sheet: the thesis's experiment one dimension up.
     pub sheet: SheetChapter,
+    /// The timing study: accuracy against counted work.
+    pub work_precision: WorkPrecisionChapter,
     pub sources: Sources,
 }
 
@@ -154,6 +158,14 @@ pub fn chapter_figure_files(figures: &[ChapterFigure]) -> Vec<OutputFile> {
         .collect()
 }
 
+/// The figures of the chapters after the thesis's, for `REPORT.md`.
+pub struct ChapterFigures<'a> {
+    pub tutorial: &'a [ChapterFigure],
+    pub beyond: &'a [ChapterFigure],
+    pub sheet: &'a [ChapterFigure],
+    pub work_precision: &'a [ChapterFigure],
+}
+
 /// A figure's two files: `figures/<stem>.svg` and the points it draws, `data/<stem>.csv`.
 pub fn figure_files(stem: &str, svg: &str, csv: &str) -> [OutputFile; 2] {
     [
@@ -168,17 +180,19 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let tutorial_figures = data.tutorial.figures()?;
     let beyond_figures = data.beyond.figures()?;
     let sheet_figures = data.sheet.figures()?;
+    let work_precision_figures = data.work_precision.figures()?;
+    let chapters = ChapterFigures {
+        tutorial: &tutorial_figures,
+        beyond: &beyond_figures,
+        sheet: &sheet_figures,
+        work_precision: &work_precision_figures,
+    };
     let mut files = vec![OutputFile::text(
         "REPORT.md",
-        markdown(
-            data,
-            &figures,
-            &tutorial_figures,
-            &beyond_figures,
-            &sheet_figures,
-        ),
+        markdown(data, &figures, &chapters),
     )];
     files.extend(data.sheet.files(&sheet_figures));
+    files.extend(data.work_precision.files(&work_precision_figures));
     files.extend(data.tutorial.files(&tutorial_figures));
     files.extend(data.beyond.files(&beyond_figures));
     for f in &figures {
@@ -305,13 +319,7 @@ fn scene_table() -> MarkdownTable {
     t
 }
 
-fn markdown(
-    data: &ReportData,
-    figures: &[figures::Figure],
-    tutorial_figures: &[ChapterFigure],
-    beyond_figures: &[ChapterFigure],
-    sheet_figures: &[ChapterFigure],
-) -> String {
+fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFigures) -> String {
     let r = &data.results;
     let mut md = String::new();
     md += "# Solvers de Elasticidad y Restricciones en Simulación — chapter 4 regenerated\n\n";
@@ -344,8 +352,8 @@ fn markdown(
     md += "Contents: 1 Mass-spring systems · 2 The test scene · 3 Measurements · 4 Results (Tables 1-7) · \
            5 Reproduction summary · 6 Forensic reproduction: evidence classes · 7 Conclusions revisited \
            (Tables 8-12, Figures 5-15) · 8 Analytic catenary · 9 The particle-system tutorial, verified · \
-           10 Beyond the thesis: newer solvers · 11 The sheet, one dimension up · 12 Errata · \
-           13 Equation traceability · 14 Data files · 15 Versions\n\n";
+           10 Beyond the thesis: newer solvers · 11 The sheet, one dimension up · 12 Work and \
+           precision · 13 Errata · 14 Equation traceability · 15 Data files · 16 Versions\n\n";
 
     md += "## 1. Mass-spring systems (§2.1)\n\n";
     md += &figure_md(figures, 1);
@@ -436,17 +444,18 @@ fn markdown(
     md += &rest_state::comparison(r, &data.catenary);
     md += "\n";
 
-    md += &data.tutorial.section(9, tutorial_figures);
-    md += &data.beyond.section(10, beyond_figures);
-    md += &data.sheet.section(11, sheet_figures, &data.beyond.grid);
+    md += &data.tutorial.section(9, chapters.tutorial);
+    md += &data.beyond.section(10, chapters.beyond);
+    md += &data.sheet.section(11, chapters.sheet, &data.beyond.grid);
+    md += &data.work_precision.section(12, chapters.work_precision);
 
-    md += "## 12. Errata\n\n";
+    md += "## 13. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 13. Equation traceability\n\n";
+    md += "## 14. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -459,7 +468,7 @@ fn markdown(
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 13.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 14.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -472,13 +481,13 @@ fn markdown(
         );
     }
 
-    md += "### 13.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
+    md += "### 14.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
            implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
            cannot mistake for a thesis equation. Built at report time from those tags.\n\n";
     md += &traceability::paper_table(&data.sources.paper_tags).render();
     md += "\n";
 
-    md += "## 14. Data files\n\n";
+    md += "## 15. Data files\n\n";
     md += &format!(
         "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
          `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
@@ -505,6 +514,8 @@ fn markdown(
          `beyond_results.csv`.\n\
          - [`data/sheet_equilibrium.csv`](data/sheet_equilibrium.csv): `stiffness,n,i,j,x,y,z`, the sheet's exact \
          equilibrium at n = 10 and 20, full precision.\n\
+         - [`data/work_precision.csv`](data/work_precision.csv): every configuration of the work-precision \
+         sweep (section 12), each error kind, with its counted flops.\n\
          - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
          peak count, T/2 and rest-state error (Figure 16).\n\n",
         data::RESULTS_HEADER,
@@ -514,7 +525,7 @@ fn markdown(
         beyond::BEYOND_HEADER
     );
 
-    md += "## 15. Crate and dependency versions\n\n";
+    md += "## 16. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

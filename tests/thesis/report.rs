@@ -19,9 +19,11 @@ use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
 use mass_spring_solvers::report::sheet::SheetChapter;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
+use mass_spring_solvers::report::work_precision::WorkPrecisionChapter;
 use mass_spring_solvers::report::{
     crate_root, figures, render, solvers_in, tables, ReportData, Sources,
 };
+use mass_spring_solvers::work_precision::{sweep_points, Case};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -47,6 +49,15 @@ fn data() -> &'static ReportData {
             .expect("the chapter beyond the thesis runs");
         let sheet = SheetChapter::compute_rows(&coarse(GridScene::Sheet), &|_, _| {})
             .expect("the sheet chapter runs");
+        // The work-precision sweep on the rope at k = 1e3 and its two coarsest steps only.
+        let work_points: Vec<_> = Case::ALL
+            .into_iter()
+            .filter(|c| c.scene == GridScene::Rope && c.stiffness == 1e3)
+            .flat_map(sweep_points)
+            .filter(|p| p.dt_s >= 0.05)
+            .collect();
+        let work_precision = WorkPrecisionChapter::compute_points(&work_points, &|_, _| {})
+            .expect("the work-precision chapter runs");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),
@@ -55,6 +66,7 @@ fn data() -> &'static ReportData {
             tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
             beyond,
             sheet,
+            work_precision,
             sources,
         }
     })
@@ -270,6 +282,7 @@ fn every_figure() -> Vec<(String, Layout, String)> {
     assert_eq!(tutorial.len(), 7);
     let beyond = data().beyond.figures().unwrap();
     let sheet = data().sheet.figures().unwrap();
+    let work_precision = data().work_precision.figures().unwrap();
     assert_eq!(beyond.len() + sheet.len(), 2);
     thesis
         .into_iter()
@@ -279,6 +292,7 @@ fn every_figure() -> Vec<(String, Layout, String)> {
                 .into_iter()
                 .chain(beyond)
                 .chain(sheet)
+                .chain(work_precision)
                 .map(|f| (f.stem.to_string(), f.layout, f.svg)),
         )
         .collect()

@@ -1,0 +1,824 @@
+//! The timing study the thesis left for later (§5, its first line of future work): accuracy
+//! against work, as the work-precision diagrams of the SciML benchmarks draw it.
+//!
+//! **The exact motion.** The undamped motion of a scene from rest over [`WINDOW_S`], by the
+//! tutorial's RK4 ([`SolverId::Rk4`] through the registry) at a step a hundredth of its
+//! stability limit $`\omega h < 2\sqrt2`$ (with $`\omega`$ the highest natural frequency of the
+//! start state, [`rk4_stability_limit`]), kept at the sample times only
+//! ($`t_j = j \cdot`$ [`SAMPLE_INTERVAL_S`]). Its convergence is shown by halving the step
+//! (`tests/work_precision.rs`).
+//!
+//! **The three errors** of a run at step $`dt`$, each the per-node distance summed (thesis
+//! convention 7) with its largest node distance beside it:
+//!
+//! - physical, $`e_{phys} = \max_j \sum_i |x_i(t_j) - x^{exact}_i(t_j)|`$, the worst sample of
+//!   the window;
+//! - rest, $`e_{rest} = \sum_i |x_i(T) - x^{eq}_i|`$ at the window's end $`T`$ = [`WINDOW_S`],
+//!   against the exact static equilibrium ([`GridScene::equilibrium`]);
+//! - solver, $`e_{solv} = \max_j \sum_i |x_i(t_j) - x^{BE}_i(t_j)|`$, against the trajectory of
+//!   repeated converged Backward Euler steps ([`converged_step`]) at the same $`dt`$.
+//!
+//! **The cost** in floating-point operations, by a model per operation ([`flops_setup`],
+//! [`flops_per_step_overhead`], [`flops_of_iteration`]): a run of $`s`$ steps costs setup
+//! $`+ s\,(`$overhead $`+ \sum_j`$ iteration $`j)`$.
+
+use crate::backward_euler::{converged_step, ConvergedStepOptions};
+use crate::beyond::{grid_settings, GridScene};
+use crate::error::{require_positive, Error, Result};
+use crate::experiments::run_parallel;
+use crate::linear::SymmetricMatrix;
+use crate::metrics::{rest_error_max, rest_error_sum};
+use crate::registry::{SolverId, SolverSpec};
+use crate::solver::TimeStepper;
+use crate::system::{MassSpringSystem, State, Vec3};
+
+/// The window of the physical error, s (issue 14: "over the first 5 s").
+pub const WINDOW_S: f64 = 5.0;
+
+/// The interval between the samples of the window, s: a multiple of every swept time step.
+pub const SAMPLE_INTERVAL_S: f64 = 0.1;
+
+/// The time steps swept, s.
+pub const SWEEP_DTS: [f64; 7] = [0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001];
+
+/// The exact motion's step as a fraction of RK4's stability limit.
+pub const REFERENCE_STABILITY_FRACTION: f64 = 0.01;
+
+/// A node this far from where it started, m, counts as divergence (the scenes span 9 m).
+pub const DIVERGENCE_DISTANCE_M: f64 = 1e3;
+
+/// The physical-error levels of the cheapest-configuration table, m.
+pub const ERROR_LEVELS_M: [f64; 3] = [1e-1, 1e-2, 1e-3];
+
+/// A scene at a stiffness: what one work-precision diagram is drawn for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Case {
+    pub scene: GridScene,
+    pub stiffness: f64,
+}
+
+impl Case {
+    /// The diagrams: the rope at both stiffnesses of the thesis, the 10 × 10 sheet at the
+    /// softer (the stiff sheet's exact motion needs some 491 000 RK4 steps, 32 times the soft
+    /// sheet's, and as many again to show it converged: past the budget).
+    pub const ALL: [Case; 3] = [
+        Case {
+            scene: GridScene::Rope,
+            stiffness: 1e3,
+        },
+        Case {
+            scene: GridScene::Rope,
+            stiffness: 1e6,
+        },
+        Case {
+            scene: GridScene::Sheet,
+            stiffness: 1e3,
+        },
+    ];
+
+    /// The time steps swept on this case: the sheet's stop at 0.005 s, where a run of every
+    /// solver still fits the chapter's budget.
+    pub fn dts(self) -> &'static [f64] {
+        match self.scene {
+            GridScene::Rope => &SWEEP_DTS,
+            GridScene::Sheet => &SWEEP_DTS[..5],
+        }
+    }
+
+    /// `rope, k = 1e3 N/m`.
+    pub fn label(self) -> String {
+        format!("{}, k = {:e} N/m", self.scene.id(), self.stiffness)
+    }
+}
+
+/// The number of samples in the window.
+pub fn sample_count() -> usize {
+    (WINDOW_S / SAMPLE_INTERVAL_S).round() as usize
+}
+
+/// Steps of `dt` between two samples; an error unless `dt` divides [`SAMPLE_INTERVAL_S`].
+pub fn steps_per_sample(dt: f64) -> Result<u64> {
+    let dt = require_positive("dt", dt)?;
+    let ratio = SAMPLE_INTERVAL_S / dt;
+    if ratio.round() >= 1.0 && (ratio - ratio.round()).abs() < 1e-9 * ratio {
+        Ok(ratio.round() as u64)
+    } else {
+        Err(Error::invalid(
+            "dt",
+            dt,
+            &format!("{SAMPLE_INTERVAL_S} s divided by a whole number"),
+        ))
+    }
+}
+
+/// The highest natural frequency $`\omega_{max}`$ of `system` linearised at its start, rad/s:
+/// the square root of the largest eigenvalue of $`M^{-1/2} K M^{-1/2}`$ over the free nodes,
+/// $`K = -\partial f/\partial x`$.
+pub fn highest_frequency(system: &MassSpringSystem) -> f64 {
+    let x = system.initial_state().x;
+    let jacobian = system.force_jacobian_dense(&x);
+    let free: Vec<usize> = (0..system.len())
+        .filter(|&i| !system.nodes()[i].fixed)
+        .flat_map(|i| (0..3).map(move |c| 3 * i + c))
+        .collect();
+    let scale: Vec<f64> = free
+        .iter()
+        .map(|&r| 1.0 / system.nodes()[r / 3].mass.sqrt())
+        .collect();
+    let k = nalgebra::DMatrix::from_fn(free.len(), free.len(), |r, c| {
+        -jacobian[(free[r], free[c])] * scale[r] * scale[c]
+    });
+    let largest = k
+        .symmetric_eigenvalues()
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    largest.sqrt()
+}
+
+/// RK4's stability limit on `system`, s: $`h < 2\sqrt2/\omega_{max}`$.
+pub fn rk4_stability_limit(system: &MassSpringSystem) -> f64 {
+    2.0 * std::f64::consts::SQRT_2 / highest_frequency(system)
+}
+
+/// Runs `solver` from `state` over the window and keeps the positions at every sample time;
+/// a non-finite state or a node [`DIVERGENCE_DISTANCE_M`] from its start stops it with
+/// [`Error::Diverged`], saying when.
+pub fn sample_trajectory(solver: &mut dyn TimeStepper, mut state: State) -> Result<Vec<Vec<Vec3>>> {
+    let dt = solver.dt();
+    let per_sample = steps_per_sample(dt)?;
+    let start = state.x.clone();
+    let mut samples = Vec::with_capacity(sample_count());
+    let mut step = 0u64;
+    for _ in 0..sample_count() {
+        for _ in 0..per_sample {
+            solver.step(&mut state)?;
+            step += 1;
+        }
+        let far = state
+            .x
+            .iter()
+            .zip(&start)
+            .any(|(x, x0)| (x - x0).norm() > DIVERGENCE_DISTANCE_M);
+        if !state.is_finite() || far {
+            return Err(Error::Diverged {
+                solver: solver.name(),
+                step,
+                time: step as f64 * dt,
+                reason: format!(
+                    "a node non-finite or more than {DIVERGENCE_DISTANCE_M} m from its start"
+                ),
+            });
+        }
+        samples.push(state.x.clone());
+    }
+    Ok(samples)
+}
+
+/// The exact undamped motion of a case, at the sample times.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExactMotion {
+    pub case: Case,
+    /// RK4's step, s.
+    pub h: f64,
+    /// RK4's stability limit on the case, s.
+    pub stability_limit: f64,
+    /// The positions at $`t_j = j \cdot`$ [`SAMPLE_INTERVAL_S`], $`j = 1 \dots`$.
+    pub samples: Vec<Vec<Vec3>>,
+    /// The exact static equilibrium.
+    pub equilibrium: Vec<Vec3>,
+}
+
+impl ExactMotion {
+    /// RK4 at `fraction` of its stability limit, the step rounded down to divide
+    /// [`SAMPLE_INTERVAL_S`].
+    pub fn compute(case: Case, fraction: f64) -> Result<Self> {
+        let fraction = require_positive("fraction", fraction)?;
+        if fraction > 1.0 {
+            return Err(Error::invalid("fraction", fraction, "(0, 1]"));
+        }
+        let system = case.scene.system(case.stiffness)?;
+        let stability_limit = rk4_stability_limit(&system);
+        let per_sample = (SAMPLE_INTERVAL_S / (fraction * stability_limit)).ceil();
+        let h = SAMPLE_INTERVAL_S / per_sample;
+        let mut rk4 = SolverSpec::new(SolverId::Rk4, 1).build(&system, h)?;
+        Ok(Self {
+            case,
+            h,
+            stability_limit,
+            samples: sample_trajectory(rk4.as_mut(), system.initial_state())?,
+            equilibrium: case.scene.equilibrium(case.stiffness)?,
+        })
+    }
+
+    /// RK4 steps over the window.
+    pub fn steps(&self) -> u64 {
+        (WINDOW_S / self.h).round() as u64
+    }
+}
+
+/// The converged Backward Euler trajectory of `system` at `dt` (repeated [`converged_step`]),
+/// at the sample times.
+pub fn backward_euler_trajectory(system: &MassSpringSystem, dt: f64) -> Result<Vec<Vec<Vec3>>> {
+    let per_sample = steps_per_sample(dt)?;
+    let mut state = system.initial_state();
+    let mut samples = Vec::with_capacity(sample_count());
+    for _ in 0..sample_count() {
+        for _ in 0..per_sample {
+            state = converged_step(system, &state, dt, ConvergedStepOptions::default())?;
+        }
+        samples.push(state.x.clone());
+    }
+    Ok(samples)
+}
+
+/// An error over the window: the summed node distance (convention 7) and the largest node
+/// distance, each at its worst sample, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindowError {
+    pub sum: f64,
+    pub max: f64,
+}
+
+impl WindowError {
+    /// $`\max_j \sum_i |x_i(t_j) - y_i(t_j)|`$ and $`\max_j \max_i |x_i(t_j) - y_i(t_j)|`$.
+    pub fn between(x: &[Vec<Vec3>], y: &[Vec<Vec3>]) -> Self {
+        x.iter()
+            .zip(y)
+            .fold(WindowError { sum: 0.0, max: 0.0 }, |e, (x, y)| {
+                WindowError {
+                    sum: e.sum.max(rest_error_sum(x, y)),
+                    max: e.max.max(rest_error_max(x, y)),
+                }
+            })
+    }
+
+    /// The error of one state (the rest error at the window's end).
+    pub fn at(x: &[Vec3], y: &[Vec3]) -> Self {
+        WindowError {
+            sum: rest_error_sum(x, y),
+            max: rest_error_max(x, y),
+        }
+    }
+}
+
+/// The kind of an error, as `work_precision.csv` names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ErrorKind {
+    Physical,
+    Rest,
+    Solver,
+}
+
+impl ErrorKind {
+    pub const ALL: [ErrorKind; 3] = [ErrorKind::Physical, ErrorKind::Rest, ErrorKind::Solver];
+
+    pub fn id(self) -> &'static str {
+        match self {
+            ErrorKind::Physical => "physical",
+            ErrorKind::Rest => "rest",
+            ErrorKind::Solver => "solver",
+        }
+    }
+}
+
+/// One configuration of the sweep: a solver with its iteration count at a time step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Point {
+    pub case: Case,
+    pub spec: SolverSpec,
+    pub dt_s: f64,
+}
+
+/// A configuration's outcome.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointResult {
+    pub point: Point,
+    /// Floating-point operations of the whole window ([`run_flops`]).
+    pub flops: f64,
+    /// The three errors, or why the run stopped.
+    pub errors: std::result::Result<[WindowError; 3], String>,
+}
+
+impl PointResult {
+    /// The error of `kind` (summed node distance), if the run finished.
+    pub fn error(&self, kind: ErrorKind) -> Option<f64> {
+        self.errors.as_ref().ok().map(|e| e[kind as usize].sum)
+    }
+}
+
+/// The solvers of the sweep: every solver of the grid of section 10 but the damped pair
+/// (at zero damping they are Backward Euler and ADMM-PD; the exact motion is undamped).
+pub fn sweep_solvers() -> Vec<SolverId> {
+    crate::beyond::grid_solvers()
+        .into_iter()
+        .filter(|id| !matches!(id, SolverId::DampedBackwardEuler | SolverId::DampedAdmm))
+        .collect()
+}
+
+/// Every configuration of a case: each sweep solver at the iteration counts of its grid
+/// settings (the thesis's counts for its four) and every time step of the case.
+pub fn sweep_points(case: Case) -> Vec<Point> {
+    let mut points = Vec::new();
+    for id in sweep_solvers() {
+        for spec in grid_settings(id).expect("a grid solver has settings") {
+            for &dt_s in case.dts() {
+                points.push(Point { case, spec, dt_s });
+            }
+        }
+    }
+    points
+}
+
+/// The references of one case: the exact motion and the converged Backward Euler trajectory
+/// at each swept step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseReference {
+    pub exact: ExactMotion,
+    /// The exact motion's change when its step is halved: its error bound.
+    pub halving_gap: WindowError,
+    /// (dt, trajectory) for every dt of [`Case::dts`].
+    pub backward_euler: Vec<(f64, Vec<Vec<Vec3>>)>,
+}
+
+impl CaseReference {
+    pub fn compute(case: Case) -> Result<Self> {
+        let system = case.scene.system(case.stiffness)?;
+        let exact = ExactMotion::compute(case, REFERENCE_STABILITY_FRACTION)?;
+        let halved = ExactMotion::compute(case, REFERENCE_STABILITY_FRACTION / 2.0)?;
+        Ok(Self {
+            halving_gap: WindowError::between(&exact.samples, &halved.samples),
+            exact,
+            backward_euler: case
+                .dts()
+                .iter()
+                .map(|&dt| Ok((dt, backward_euler_trajectory(&system, dt)?)))
+                .collect::<Result<_>>()?,
+        })
+    }
+}
+
+/// Runs one configuration and measures its three errors against `reference`.
+pub fn run_point(point: &Point, reference: &CaseReference) -> Result<PointResult> {
+    let system = point.case.scene.system(point.case.stiffness)?;
+    let flops = run_flops(&point.spec, &system, point.dt_s)?;
+    let mut solver = point.spec.build_send(&system, point.dt_s)?;
+    let errors = match sample_trajectory(solver.as_mut(), system.initial_state()) {
+        Ok(samples) => {
+            let be = &reference
+                .backward_euler
+                .iter()
+                .find(|(dt, _)| *dt == point.dt_s)
+                .expect("a Backward Euler trajectory at each dt of the case")
+                .1;
+            let last = samples.last().expect("the window has samples");
+            Ok([
+                WindowError::between(&samples, &reference.exact.samples),
+                WindowError::at(last, &reference.exact.equilibrium),
+                WindowError::between(&samples, be),
+            ])
+        }
+        Err(e) => Err(e.to_string()),
+    };
+    Ok(PointResult {
+        point: *point,
+        flops,
+        errors,
+    })
+}
+
+/// The sweep of every case: the references first (one job per case), then every
+/// configuration (the dearest first, by [`run_flops`]).
+pub fn sweep(
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(Vec<CaseReference>, Vec<PointResult>)> {
+    let points: Vec<Point> = Case::ALL.into_iter().flat_map(sweep_points).collect();
+    sweep_of(&points, progress)
+}
+
+/// [`sweep`] of `points` only, with the references of their cases (the tests run a part).
+pub fn sweep_of(
+    points: &[Point],
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(Vec<CaseReference>, Vec<PointResult>)> {
+    let cases: Vec<Case> = Case::ALL
+        .into_iter()
+        .filter(|c| points.iter().any(|p| p.case == *c))
+        .collect();
+    let references = run_parallel(&cases, |_| 1.0, |&c| CaseReference::compute(c), &|_, _| {})
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?;
+    let cost = |p: &Point| {
+        p.case
+            .scene
+            .system(p.case.stiffness)
+            .and_then(|s| run_flops(&p.spec, &s, p.dt_s))
+            .unwrap_or(0.0)
+    };
+    let results = run_parallel(
+        points,
+        cost,
+        |p| {
+            let i = cases
+                .iter()
+                .position(|c| *c == p.case)
+                .expect("every point's case has a reference");
+            run_point(p, &references[i])
+        },
+        progress,
+    )
+    .into_iter()
+    .collect::<Result<Vec<_>>>()?;
+    Ok((references, results))
+}
+
+/// The cheapest finished configuration of `id` on `case` whose error of `kind` is at most
+/// `level`; None if no configuration reaches it.
+pub fn cheapest(
+    results: &[PointResult],
+    case: Case,
+    id: SolverId,
+    kind: ErrorKind,
+    level: f64,
+) -> Option<&PointResult> {
+    results
+        .iter()
+        .filter(|r| r.point.case == case && r.point.spec.id == id)
+        .filter(|r| r.error(kind).is_some_and(|e| e <= level))
+        .min_by(|a, b| a.flops.total_cmp(&b.flops))
+}
+
+/// The configurations of `id` on `case` that no other of its configurations beats in both
+/// cost and the error of `kind` (its work-precision curve), cheapest first.
+pub fn pareto_front(
+    results: &[PointResult],
+    case: Case,
+    id: SolverId,
+    kind: ErrorKind,
+) -> Vec<&PointResult> {
+    let mut finished: Vec<&PointResult> = results
+        .iter()
+        .filter(|r| r.point.case == case && r.point.spec.id == id && r.error(kind).is_some())
+        .collect();
+    finished.sort_by(|a, b| {
+        a.flops
+            .total_cmp(&b.flops)
+            .then(a.error(kind).unwrap().total_cmp(&b.error(kind).unwrap()))
+    });
+    let mut front: Vec<&PointResult> = Vec::new();
+    for r in finished {
+        if front
+            .last()
+            .is_none_or(|best| r.error(kind).unwrap() < best.error(kind).unwrap())
+        {
+            front.push(r);
+        }
+    }
+    front
+}
+
+/// The most accurate finished configuration in the error of `kind` among `solvers` on `case`
+/// that costs at most `budget` flops.
+pub fn most_accurate_within<'a>(
+    results: &'a [PointResult],
+    case: Case,
+    kind: ErrorKind,
+    budget: f64,
+    solvers: &[SolverId],
+) -> Option<&'a PointResult> {
+    results
+        .iter()
+        .filter(|r| r.point.case == case && solvers.contains(&r.point.spec.id))
+        .filter(|r| r.flops <= budget && r.error(kind).is_some())
+        .min_by(|a, b| {
+            a.error(kind)
+                .unwrap()
+                .total_cmp(&b.error(kind).unwrap())
+                .then(a.flops.total_cmp(&b.flops))
+        })
+}
+
+// The flop model. One flop is one addition, subtraction, multiplication, division or square
+// root of f64s; copies, comparisons and index arithmetic are free.
+
+/// A spring's elastic force (Eq. 3) added to its two nodes: $`d = x_b - x_a`$ 3,
+/// $`|d|`$ 5 + 1 (square root), $`k(|d| - l_0)/|d|`$ 3, times $`d`$ 3, added to both nodes 6.
+pub const FLOPS_SPRING_FORCE: f64 = 21.0;
+
+/// A spring's force Jacobian (Eq. 4), a 3 × 3 block:
+/// $`k\,(1 - l_0/|d|)\,I + k\,(l_0/|d|)\,\hat d\hat d^\top`$ with $`\hat d`$ from the force's
+/// $`d, |d|`$: $`\hat d`$ 3, the two scalars 4, the six distinct products of the outer
+/// product 6 and their scaling 6, the diagonal 3.
+pub const FLOPS_SPRING_JACOBIAN_BLOCK: f64 = 22.0;
+
+/// The block added into the four blocks of Backward Euler's matrix, 36 more.
+pub const FLOPS_SPRING_JACOBIAN: f64 = FLOPS_SPRING_JACOBIAN_BLOCK + 36.0;
+
+/// A spring seen from one node in VBD's vertex step: its force added to that node only
+/// ([`FLOPS_SPRING_FORCE`] less 3) and its block subtracted from the node's 3 × 3 Hessian,
+/// [`FLOPS_SPRING_JACOBIAN_BLOCK`] + 9.
+pub const FLOPS_SPRING_VERTEX_VISIT: f64 =
+    FLOPS_SPRING_FORCE - 3.0 + FLOPS_SPRING_JACOBIAN_BLOCK + 9.0;
+
+/// A spring's energy $`\frac k2(|d| - l_0)^2`$: 3 + 6 + 3.
+pub const FLOPS_SPRING_ENERGY: f64 = 12.0;
+
+/// One node's terms of the incremental potential (Eq. 20), $`\frac{m}{2h^2}|x - y|^2 - m\,g\cdot
+/// x`$: 3 + 5 + 2, and 6 for gravity's.
+pub const FLOPS_NODE_POTENTIAL: f64 = 16.0;
+
+/// One spring's term of L-BFGS's potential change between two points
+/// ([`crate::quasi_newton::potential_change`]): $`q`$ 3, $`\delta q`$ 9, $`q'`$ 3, the two
+/// lengths 12, $`\Delta l = \delta q\cdot(q' + q)/(l' + l)`$ 10, the energy change
+/// $`\frac k2\Delta l(\Delta l + 2(l - l_0))`$ 6 and its sum 1.
+pub const FLOPS_SPRING_POTENTIAL_CHANGE: f64 = 44.0;
+
+/// One node's term of the same change: the displacement 3, the inertia term
+/// $`\frac m2\,\delta\cdot(\delta + 2(x - y))/h^2`$ 3 + 3 + 3 + 5 + 4, gravity's 6, their
+/// difference and sum 2.
+pub const FLOPS_NODE_POTENTIAL_CHANGE: f64 = 29.0;
+
+/// Liu 2013's local step for one spring, $`d_j = l_0\,(x_b - x_a)/|x_b - x_a|`$:
+/// 3 + 6 + 1 (division) + 3.
+pub const FLOPS_SPRING_PROJECTION: f64 = 13.0;
+
+/// One spring's term $`k\,J d`$ of the global step's right-hand side: 3 products, added to
+/// two nodes, 6.
+pub const FLOPS_SPRING_RHS: f64 = 9.0;
+
+/// One spring's constraint projection in PBD and XPBD (Eqs 13-19, 48-51): $`C = |d| - l_0`$
+/// 3 + 6 + 1, $`\nabla C = d/|d|`$ 4, the multiplier $`\Delta\lambda = (-C - \tilde\alpha
+/// \lambda)/(w_1 + w_2 + \tilde\alpha)`$ 6, the two corrections $`\pm w\,\Delta\lambda\,\nabla
+/// C`$ 8 and their addition 6, $`\lambda \mathrel{+}= \Delta\lambda`$ 1. PBD has no
+/// $`\lambda`$ and a scale by its stiffness factor instead: the same 36 less 3 plus 1.
+pub const FLOPS_CONSTRAINT_PROJECTION: f64 = 36.0;
+
+/// One vertex of VBD: the inertia term's force and Hessian diagonal, $`m/h^2 (x - y)`$,
+/// 3 + 3 + 1; the 3 × 3 solve by Cholesky, 3 square roots and 10 for the factor, 12 for the
+/// two substitutions; the update 3. (The springs' forces and blocks are counted per visit,
+/// [`FLOPS_SPRING_VERTEX_VISIT`], and a Hessian that is not positive definite, factored again
+/// after its projection, is not counted.)
+pub const FLOPS_VERTEX_SOLVE: f64 = 7.0 + 13.0 + 12.0 + 3.0;
+
+/// The pattern of the matrix a solver factors: unknowns per node (`block`) over the spring
+/// graph of every node (fixed nodes included, as [`crate::boundary`] keeps them).
+fn spring_graph_matrix(system: &MassSpringSystem, block: usize) -> SymmetricMatrix {
+    let edges: Vec<(usize, usize)> = system.springs().iter().map(|s| (s.a, s.b)).collect();
+    SymmetricMatrix::from_node_graph(system.len(), block, &edges)
+}
+
+/// The non-zeros below the diagonal of the banded $`LDL^\top`$ factor of a matrix of
+/// dimension $`n`$ and half-bandwidth $`p`$: $`\sum_i \min(i, p)`$.
+pub fn factor_nnz(n: usize, p: usize) -> usize {
+    (0..n).map(|i| i.min(p)).sum()
+}
+
+/// The crate's banded $`LDL^\top`$ ([`crate::linear::BandedLdlt`]) of dimension $`n`$ and
+/// half-bandwidth $`p`$: row $`i`$ takes $`\sum_{m<p}(2m + 1) = p^2`$ for its $`p`$ entries
+/// of $`L`$, $`2p`$ for $`d_i`$ and 1 for $`1/d_i`$, on every row (the factor pads the first
+/// rows with zeros): $`n\,(p + 1)^2`$.
+pub fn flops_factorization(n: usize, p: usize) -> f64 {
+    (n * (p + 1) * (p + 1)) as f64
+}
+
+/// One solve with that factor for `rhs` right-hand sides: the two triangular solves
+/// $`2 \cdot nnz`$ each and the diagonal $`2n`$ (a product by $`1/d_i`$ and a subtraction),
+/// per right-hand side.
+pub fn flops_solve(n: usize, p: usize, rhs: usize) -> f64 {
+    (rhs * (4 * factor_nnz(n, p) + 2 * n)) as f64
+}
+
+/// The global solve of Liu 2013 and ADMM-PD: one node-graph matrix, three right-hand sides.
+fn flops_global_solve(system: &MassSpringSystem) -> f64 {
+    let a = spring_graph_matrix(system, 1);
+    flops_solve(a.dim(), a.bandwidth(), 3)
+}
+
+/// [`flops_global_solve`]'s factorisation, once per run (dt and the stiffness are fixed).
+fn flops_global_factorization(system: &MassSpringSystem) -> f64 {
+    let a = spring_graph_matrix(system, 1);
+    flops_factorization(a.dim(), a.bandwidth())
+}
+
+/// Floating-point operations before the first step: the factorisation of the global matrix
+/// for the solvers that prefactor it (Liu 2013, ADMM-PD, their accelerations, L-BFGS), 0 for
+/// the others.
+pub fn flops_setup(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    match spec.id {
+        SolverId::FastMassSpring
+        | SolverId::AdmmPd
+        | SolverId::ChebyshevLiu
+        | SolverId::ChebyshevAdmm
+        | SolverId::AndersonLiu
+        | SolverId::AndersonAdmm
+        | SolverId::DampedAdmm
+        | SolverId::Lbfgs => flops_global_factorization(system),
+        _ => 0.0,
+    }
+}
+
+/// Floating-point operations of a step outside its iterations, on $`n`$ nodes: the
+/// prediction $`y = x + h\,v + h^2 M^{-1} f_{ext}`$, 4 per coordinate, and the velocity
+/// $`v = (x - x_n)/h`$, 2 per coordinate, for every solver that iterates on positions; the
+/// right-hand side's inertia $`M y/h^2`$, 1 more per coordinate, for the global-solve
+/// solvers, and L-BFGS's first gradient ($`s`$ forces + $`4c`$); none for Backward Euler
+/// (all inside its Newton iteration); the tutorial's integrators and XPBD's substeps count all
+/// their work per iteration.
+pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    let coordinates = 3.0 * system.len() as f64;
+    match spec.id {
+        SolverId::Lbfgs => {
+            7.0 * coordinates
+                + system.springs().len() as f64 * FLOPS_SPRING_FORCE
+                + 4.0 * coordinates
+        }
+        SolverId::BackwardEuler | SolverId::DampedBackwardEuler | SolverId::XpbdSubsteps => 0.0,
+        SolverId::ExplicitEuler | SolverId::SymplecticEuler | SolverId::Rk4 | SolverId::Rk45 => 0.0,
+        SolverId::Pbd | SolverId::Xpbd | SolverId::Vbd => 6.0 * coordinates,
+        _ => 7.0 * coordinates,
+    }
+}
+
+/// Floating-point operations of iteration `j` (from 0) of a step of `spec` on `system`
+/// ($`n`$ nodes, $`s`$ springs, $`c = 3n`$ coordinates, $`G`$ the global solve of
+/// [`flops_solve`] with three right-hand sides). Anderson's columns and L-BFGS's pairs restart
+/// every step, so iteration $`j`$ has $`k = \min(j, m)`$ of them (window $`m`$); every other
+/// solver's iterations cost the same:
+///
+/// | solver | one iteration |
+/// |---|---|
+/// | Backward Euler (Newton) | $`s`$ (force + Jacobian) + $`9c`$ (the matrix $`M - h^2K`$ and right-hand side) + the factorisation and one solve of the $`c \times c`$ matrix + $`2c`$ (update) |
+/// | PBD, XPBD | $`s`$ constraint projections ([`FLOPS_CONSTRAINT_PROJECTION`]) |
+/// | XPBD substeps | one XPBD sweep + the prediction and velocity, $`6c`$ |
+/// | Liu 2013 | $`s`$ (projection + right-hand side) + $`c`$ + $`G`$ |
+/// | ADMM-PD | $`s`$ ($`Dx`$ 3, $`Dx + \bar u`$ 3, projection, $`\bar u \mathrel{+}= Dx - z`$ 6, $`W^2(z - \bar u)`$ 6, right-hand side 6) + $`c`$ + $`G`$ |
+/// | Chebyshev | its base's + $`\omega`$ 4 + the extrapolation, 6 per coordinate |
+/// | Anderson, $`k`$ columns | its base's + the residual $`c`$ + from the second iteration on the new column (the two differences $`2c`$, its norm $`2c + 1`$ and scaling $`c`$, its Gram row $`2kc`$) + the right-hand side $`2kc`$ + the $`k \times k`$ SVD, $`21k^3`$ (Golub and Van Loan's count with both bases), and its solve $`2k^2`$ + the combination $`2kc + k`$ + the safeguard's merit ($`s`$ spring energies + [`FLOPS_NODE_POTENTIAL`] per node: Liu's incremental potential; ADMM's residual counted the same) |
+/// | L-BFGS, $`k`$ pairs | the two-loop recursion $`8kc + 3k`$ and the initial-Hessian solve $`G + c`$ + the slope $`2c`$ + one line-search trial (the point $`2c`$ and the potential's change, [`FLOPS_SPRING_POTENTIAL_CHANGE`] per spring and [`FLOPS_NODE_POTENTIAL_CHANGE`] per node) + the new gradient ($`s`$ forces + $`4c`$) + the new pair $`4c + 1`$ |
+/// | VBD | each spring from each of its free nodes ([`FLOPS_SPRING_VERTEX_VISIT`]) + a vertex solve per free node ([`FLOPS_VERTEX_SOLVE`]) |
+/// | tutorial integrators | 1, 1 and 4 force evaluations ($`s`$ forces + $`c`$) + 4, 4 and 20 per coordinate |
+/// | Dormand-Prince 5(4), a step tried | 6 force evaluations (the seventh is the next step's first) + 42 per coordinate for the stages' sums and 14 for the error estimate |
+///
+/// L-BFGS's line search counts the accepted first trial only: every backtracking step adds an
+/// energy evaluation this model leaves out; so are Anderson's rejected extrapolations. The other
+/// way, L-BFGS ends a step once its direction is below round-off
+/// ([`crate::quasi_newton::ROUND_OFF_STEP`]), and the model counts every iteration of its
+/// budget: an upper bound for a converged step.
+pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize) -> f64 {
+    let n = system.len() as f64;
+    let s = system.springs().len() as f64;
+    let c = 3.0 * n;
+    let forces = s * FLOPS_SPRING_FORCE + c;
+    let energy = s * FLOPS_SPRING_ENERGY + n * FLOPS_NODE_POTENTIAL;
+    let liu = s * (FLOPS_SPRING_PROJECTION + FLOPS_SPRING_RHS) + c + flops_global_solve(system);
+    let admm = s * (3.0 + 3.0 + FLOPS_SPRING_PROJECTION + 6.0 + 6.0 + 6.0)
+        + c
+        + flops_global_solve(system);
+    let anderson = |base: f64| {
+        let k = j.min(spec.params.window) as f64;
+        let new_column = if j > 0 {
+            6.0 * c + 1.0 + 2.0 * k * c
+        } else {
+            0.0
+        };
+        base + c
+            + new_column
+            + 2.0 * k * c
+            + 21.0 * k * k * k
+            + 2.0 * k * k
+            + 2.0 * k * c
+            + k
+            + energy
+    };
+    let chebyshev = |base: f64| base + 4.0 + 6.0 * c;
+    match spec.id {
+        SolverId::BackwardEuler | SolverId::DampedBackwardEuler => {
+            let a = spring_graph_matrix(system, 3);
+            s * (FLOPS_SPRING_FORCE + FLOPS_SPRING_JACOBIAN)
+                + 9.0 * c
+                + flops_factorization(a.dim(), a.bandwidth())
+                + flops_solve(a.dim(), a.bandwidth(), 1)
+                + 2.0 * c
+        }
+        SolverId::Pbd => s * (FLOPS_CONSTRAINT_PROJECTION - 2.0),
+        SolverId::Xpbd => s * FLOPS_CONSTRAINT_PROJECTION,
+        SolverId::XpbdSubsteps => s * FLOPS_CONSTRAINT_PROJECTION + 6.0 * c,
+        SolverId::FastMassSpring => liu,
+        SolverId::AdmmPd | SolverId::DampedAdmm => admm,
+        SolverId::ChebyshevLiu => chebyshev(liu),
+        SolverId::ChebyshevAdmm => chebyshev(admm),
+        SolverId::AndersonLiu => anderson(liu),
+        SolverId::AndersonAdmm => anderson(admm),
+        SolverId::Lbfgs => {
+            let k = j.min(spec.params.history) as f64;
+            let direction = 8.0 * k * c + 3.0 * k + flops_global_solve(system) + c;
+            let trial =
+                2.0 * c + s * FLOPS_SPRING_POTENTIAL_CHANGE + n * FLOPS_NODE_POTENTIAL_CHANGE;
+            let gradient = s * FLOPS_SPRING_FORCE + 4.0 * c;
+            direction + 2.0 * c + trial + gradient + 4.0 * c + 1.0
+        }
+        SolverId::Vbd => {
+            let free = |i: usize| f64::from(u8::from(!system.nodes()[i].fixed));
+            let visits: f64 = system
+                .springs()
+                .iter()
+                .map(|sp| free(sp.a) + free(sp.b))
+                .sum();
+            let vertices: f64 = (0..system.len()).map(free).sum();
+            visits * FLOPS_SPRING_VERTEX_VISIT + vertices * FLOPS_VERTEX_SOLVE
+        }
+        SolverId::ExplicitEuler | SolverId::SymplecticEuler => forces + 4.0 * c,
+        SolverId::Rk4 => 4.0 * forces + 20.0 * c,
+        SolverId::Rk45 => 6.0 * forces + 56.0 * c,
+    }
+}
+
+/// An iteration once the window is full ([`flops_of_iteration`] from iteration $`m`$ on).
+pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    flops_of_iteration(spec, system, usize::MAX)
+}
+
+/// A step: the overhead and each of its iterations.
+pub fn flops_per_step(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    flops_per_step_overhead(spec, system)
+        + (0..spec.iterations)
+            .map(|j| flops_of_iteration(spec, system, j))
+            .sum::<f64>()
+}
+
+/// Floating-point operations of a run of `spec` over the window at `dt`: setup + steps ×
+/// [`flops_per_step`].
+pub fn run_flops(spec: &SolverSpec, system: &MassSpringSystem, dt: f64) -> Result<f64> {
+    let steps = steps_per_sample(dt)? as f64 * sample_count() as f64;
+    Ok(flops_setup(spec, system) + steps * flops_per_step(spec, system))
+}
+
+/// Repeats of a wall-clock measurement (issue 14: the minimum of at least 5).
+pub const WALL_REPEATS: usize = 5;
+
+/// A point whose repeats spread by more than this (largest over smallest, less 1) is flagged.
+pub const WALL_SPREAD_FLAG: f64 = 0.2;
+
+/// The wall-clock time of a configuration per simulated second over its repeats, s/s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WallTime {
+    pub min: f64,
+    pub max: f64,
+    pub repeats: usize,
+}
+
+impl WallTime {
+    /// Largest over smallest, less 1.
+    pub fn spread(&self) -> f64 {
+        self.max / self.min - 1.0
+    }
+
+    /// Whether the repeats spread by more than [`WALL_SPREAD_FLAG`].
+    pub fn flagged(&self) -> bool {
+        self.spread() > WALL_SPREAD_FLAG
+    }
+}
+
+/// Runs `point` over the window `repeats` times on the calling thread (solver built and run,
+/// the errors not measured) and times each run.
+pub fn wall_time(point: &Point, repeats: usize) -> Result<WallTime> {
+    if repeats == 0 {
+        return Err(Error::invalid("repeats", repeats, "an integer >= 1"));
+    }
+    let system = point.case.scene.system(point.case.stiffness)?;
+    let mut times = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        let start = std::time::Instant::now();
+        let mut solver = point.spec.build_send(&system, point.dt_s)?;
+        std::hint::black_box(sample_trajectory(solver.as_mut(), system.initial_state())?);
+        times.push(start.elapsed().as_secs_f64() / WINDOW_S);
+    }
+    Ok(WallTime {
+        min: times.iter().copied().fold(f64::INFINITY, f64::min),
+        max: times.iter().copied().fold(0.0, f64::max),
+        repeats,
+    })
+}
+
+/// The header of `work_precision_wall.csv`: the key columns of `work_precision.csv`, the
+/// minimum wall time per simulated second and the repeats' spread.
+pub const WALL_CSV_HEADER: &str =
+    "solver,scene,stiffness,dt_s,tolerance,iterations_mean,wall_s_per_sim_s,spread";
+
+/// `work_precision_wall.csv`, one row per measured configuration.
+pub fn wall_csv(rows: &[(Point, WallTime)]) -> String {
+    let mut out = format!("{WALL_CSV_HEADER}\n");
+    for (p, t) in rows {
+        out += &format!(
+            "{},{},{:?},{:?},,{},{:e},{:.4}\n",
+            p.spec.id,
+            p.case.scene.id(),
+            p.case.stiffness,
+            p.dt_s,
+            p.spec.iterations,
+            t.min,
+            t.spread()
+        );
+    }
+    out
+}
