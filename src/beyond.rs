@@ -429,6 +429,7 @@ pub fn gap_curve(
     iterations: usize,
 ) -> Result<Vec<Option<f64>>> {
     let oracle = spec.converged_step(system, state, dt)?;
+    let spec = &spec.with_estimates(system, dt)?;
     Ok((1..=iterations)
         .map(|m| {
             let mut next = state.clone();
@@ -514,6 +515,7 @@ pub fn iterations_to(
     max: usize,
 ) -> Result<Option<usize>> {
     let oracle = spec.converged_step(system, state, dt)?;
+    let spec = &spec.with_estimates(system, dt)?;
     let below = |m: usize| -> Result<bool> {
         let mut next = state.clone();
         SolverSpec {

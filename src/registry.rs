@@ -14,7 +14,7 @@
 use crate::admm::AdmmPd;
 use crate::anderson::{Anderson, AndersonParams};
 use crate::backward_euler::{damped_converged_step, BackwardEuler, ConvergedStepOptions};
-use crate::chebyshev::{Chebyshev, ChebyshevParams};
+use crate::chebyshev::{estimate_spectral_radius, Chebyshev, ChebyshevParams};
 use crate::damped_admm::DampedAdmm;
 use crate::damping::RayleighDamping;
 use crate::error::{require_positive, Error, Result};
@@ -740,6 +740,26 @@ impl SolverSpec {
             RayleighDamping::NONE
         };
         damped_converged_step(system, state, dt, damping, ConvergedStepOptions::default())
+    }
+
+    /// This solver with every parameter it would estimate at build time on `system` and `dt`
+    /// estimated once now (Chebyshev's spectral radius), so that building it many times (one
+    /// fresh solver per iteration count) does not repeat the estimate; the solver it builds is
+    /// the same.
+    pub fn with_estimates(&self, system: &MassSpringSystem, dt: f64) -> Result<SolverSpec> {
+        let mut spec = *self;
+        if matches!(self.id, SolverId::ChebyshevLiu | SolverId::ChebyshevAdmm)
+            && self.params.spectral_radius.is_none()
+        {
+            let base = accelerated_base(self.id);
+            spec.params.spectral_radius = Some(estimate_spectral_radius(
+                system,
+                dt,
+                base,
+                &system.initial_state(),
+            )?);
+        }
+        Ok(spec)
     }
 
     /// The solver on a mass-spring system with time step `dt`. The tutorial's integrators run

@@ -8,7 +8,7 @@ use mass_spring_solvers::anderson::{Anderson, AndersonParams};
 use mass_spring_solvers::backward_euler::{
     converged_step, incremental_potential, ConvergedStepOptions,
 };
-use mass_spring_solvers::beyond::Start;
+use mass_spring_solvers::beyond::{gap, Start};
 use mass_spring_solvers::chebyshev::{estimate_spectral_radius, Chebyshev, ChebyshevParams};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::local_global::Base;
@@ -24,14 +24,6 @@ fn step10(system: &MassSpringSystem) -> State {
 /// The two shared start states, named.
 fn starts(system: &MassSpringSystem) -> [(&'static str, State); 2] {
     [("rest", system.initial_state()), ("step10", step10(system))]
-}
-
-/// Largest distance between the positions of two states, m.
-fn gap(a: &State, b: &State) -> f64 {
-    a.x.iter()
-        .zip(&b.x)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
 }
 
 fn one_step(solver: &mut dyn TimeStepper, state: &State) -> State {

@@ -7,7 +7,9 @@ use mass_spring_solvers::backward_euler::{
     converged_step, incremental_potential, ConvergedStepOptions,
 };
 use mass_spring_solvers::beyond::Start;
+// The largest distance between corresponding nodes, m.
 use mass_spring_solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use mass_spring_solvers::metrics::rest_error_max as gap;
 use mass_spring_solvers::metrics::StoppingRule;
 use mass_spring_solvers::particles::integrators::{Integrator, ParticleStepper};
 use mass_spring_solvers::particles::ParticleSystem;
@@ -28,14 +30,6 @@ fn rest(rope: &MassSpringSystem) -> State {
 /// `step10`: 10 converged Backward Euler steps of dt = 1e-2 from `rest`, a moving state.
 fn step10(rope: &MassSpringSystem) -> State {
     Start::Step10.state(rope).unwrap()
-}
-
-/// Largest distance between corresponding nodes, m.
-fn gap(a: &[Vec3], b: &[Vec3]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(a, b)| (a - b).norm())
-        .fold(0.0, f64::max)
 }
 
 /// One step of the solver `build(iterations)` from `state`.

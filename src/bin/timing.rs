@@ -31,9 +31,8 @@ use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
 use mass_spring_solvers::registry::{Builder, SolverId, SolverSpec};
-use mass_spring_solvers::report::plot::{
-    self, Axis, Chart, LegendPlace, Marker, Panel, Rgb, Series,
-};
+use mass_spring_solvers::report::figures::{colour, solver_line};
+use mass_spring_solvers::report::plot::{self, Axis, Chart, LegendPlace, Marker, Panel, Series};
 use mass_spring_solvers::scene::SheetParams;
 use mass_spring_solvers::work_precision::{
     run_flops, sweep_points, sweep_solvers, wall_csv, wall_time, Case, Point as Configuration,
@@ -65,8 +64,7 @@ const LONG_SECONDS: f64 = 0.5;
 /// One solver of the study: how to build it, and whether its iterations split into a local and
 /// a global step.
 struct Solver {
-    id: &'static str,
-    name: &'static str,
+    id: SolverId,
     kind: Kind,
 }
 
@@ -117,8 +115,7 @@ fn solvers() -> Vec<Solver> {
                 && id != SolverId::DampedBackwardEuler
         })
         .map(|id| Solver {
-            id: id.id(),
-            name: id.info().abbreviation,
+            id,
             kind: match id {
                 SolverId::FastMassSpring => {
                     Kind::Projective(|s| Ok(Box::new(FastMassSpring::new(s, DT, ITERATIONS)?)))
@@ -264,7 +261,7 @@ struct Point {
 fn measure(solver: &Solver, n: usize) -> Result<Point> {
     let system = SheetParams::spec(n, STIFFNESS).build()?;
     let mut point = Point {
-        solver: solver.id.into(),
+        solver: solver.id.id().into(),
         n,
         nodes: system.len(),
         springs: system.springs().len(),
@@ -513,14 +510,6 @@ fn slope(points: &[(f64, f64)]) -> Option<f64> {
     Some(sxy / sxx)
 }
 
-const COLOURS: [Rgb; 5] = [
-    Rgb(0, 114, 178),
-    Rgb(213, 94, 0),
-    Rgb(0, 158, 115),
-    Rgb(204, 121, 167),
-    Rgb(86, 86, 86),
-];
-
 /// Points from n = 40 up fit the slopes: the smallest sheets are dominated by fixed costs.
 const FIT_FROM_SIDE: usize = 40;
 
@@ -537,7 +526,10 @@ fn figure(points: &[Point]) -> Result<String> {
         Marker::Circle,
     ];
     for (k, solver) in solvers().iter().enumerate() {
-        let mine: Vec<&Point> = points.iter().filter(|p| p.solver == solver.id).collect();
+        let mine: Vec<&Point> = points
+            .iter()
+            .filter(|p| p.solver == solver.id.id())
+            .collect();
         if mine.is_empty() {
             continue;
         }
@@ -555,11 +547,12 @@ fn figure(points: &[Point]) -> Result<String> {
                 .map(|p| (p.nodes as f64, value(p)))
                 .collect();
             let label = match slope(&fit) {
-                Some(s) => format!("{} (slope {s:.2})", solver.name),
-                None => solver.name.to_string(),
+                Some(s) => format!("{} (slope {s:.2})", solver.id.abbreviation()),
+                None => solver.id.abbreviation().to_string(),
             };
             panel.series.push(
-                Series::line(label, xy, COLOURS[k % COLOURS.len()])
+                Series::line(label, xy, colour(solver.id, 0))
+                    .with_line(solver_line(solver.id))
                     .with_marker(markers[k % markers.len()], true),
             );
         }
@@ -584,21 +577,21 @@ fn seconds(t: f64) -> String {
 
 fn run_child(exe: &Path, solver: &Solver, n: usize) -> Result<Point> {
     let out = Command::new(exe)
-        .args(["--point", solver.id, &n.to_string()])
+        .args(["--point", solver.id.id(), &n.to_string()])
         .output()
         .map_err(|e| Error::Input(format!("cannot run {}: {e}", exe.display())))?;
     let stdout = String::from_utf8_lossy(&out.stdout);
     if !out.status.success() {
         return Err(Error::Input(format!(
             "{} at n = {n} failed: {}",
-            solver.name,
+            solver.id.abbreviation(),
             String::from_utf8_lossy(&out.stderr).trim()
         )));
     }
     stdout.lines().find_map(parse_row).ok_or_else(|| {
         Error::Input(format!(
             "{} at n = {n}: no result in {stdout:?}",
-            solver.name
+            solver.id.abbreviation()
         ))
     })
 }
@@ -606,8 +599,8 @@ fn run_child(exe: &Path, solver: &Solver, n: usize) -> Result<Point> {
 fn run(args: Args) -> Result<String> {
     if let Some(point) = args.point {
         let all = solvers();
-        let solver = all.iter().find(|s| s.id == point[0]).ok_or_else(|| {
-            let ids: Vec<&str> = all.iter().map(|s| s.id).collect();
+        let solver = all.iter().find(|s| s.id.id() == point[0]).ok_or_else(|| {
+            let ids: Vec<&str> = all.iter().map(|s| s.id.id()).collect();
             Error::invalid("--point SOLVER", &point[0], &ids.join(", "))
         })?;
         let n: usize = point[1]
@@ -637,7 +630,7 @@ fn run(args: Args) -> Result<String> {
             let p = run_child(&exe, solver, n)?;
             eprintln!(
                 "timing: n = {n:>3} {:<15} iteration {:>10} (CPU), step {:>10}, peak {:>5} MiB  [{:.1} s]",
-                solver.name,
+                solver.id.abbreviation(),
                 seconds(p.iteration.cpu),
                 seconds(p.step.cpu),
                 p.peak_bytes >> 20,
@@ -884,8 +877,8 @@ fn timing_md(
     for p in points {
         let name = solvers()
             .into_iter()
-            .find(|s| s.id == p.solver)
-            .map_or("?", |s| s.name);
+            .find(|s| s.id.id() == p.solver)
+            .map_or("?", |s| s.id.abbreviation());
         let _ = writeln!(
             w,
             "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {} MiB |",
@@ -924,7 +917,7 @@ fn timing_md(
         let fit = |f: fn(&Point) -> f64| {
             let xy: Vec<(f64, f64)> = points
                 .iter()
-                .filter(|p| p.solver == solver.id && p.n >= FIT_FROM_SIDE)
+                .filter(|p| p.solver == solver.id.id() && p.n >= FIT_FROM_SIDE)
                 .map(|p| (p.nodes as f64, f(p)))
                 .collect();
             slope(&xy).map_or("–".into(), |s| format!("{s:.2}"))
@@ -932,7 +925,7 @@ fn timing_md(
         let _ = writeln!(
             w,
             "| {} | {} | {} | {} |",
-            solver.name,
+            solver.id.abbreviation(),
             fit(|p| p.iteration.cpu),
             fit(|p| p.setup.cpu),
             fit(|p| p.step.cpu)

@@ -5,11 +5,11 @@
 
 use crate::beyond::GridScene;
 use crate::error::Result;
-use crate::registry::{Family, SolverId, SolverSpec};
-use crate::report::figures::colour;
+use crate::registry::{SolverId, SolverSpec};
+use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, Line, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::ChapterFigure;
 use crate::work_precision::{
     cheapest, flops_per_iteration, flops_per_step_overhead, flops_setup, most_accurate_within,
@@ -127,23 +127,6 @@ fn stem(case: Case) -> &'static str {
     }
 }
 
-/// A curve's line: solid for the thesis's solvers and PBD, dashed for the accelerations of
-/// Liu 2013 and ADMM-PD, dotted for the other newer solvers (with the colours of
-/// [`colour`], no two curves alike).
-fn line(id: SolverId) -> Line {
-    match id.info() {
-        info if info.family == Family::Thesis => Line::Solid,
-        info if matches!(
-            info.accelerates,
-            Some(SolverId::FastMassSpring | SolverId::AdmmPd)
-        ) && id != SolverId::Lbfgs =>
-        {
-            Line::Dashed
-        }
-        _ => Line::Dotted,
-    }
-}
-
 impl WorkPrecisionChapter {
     /// The exact motions, the converged Backward Euler trajectories and every configuration.
     pub fn compute(progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
@@ -205,7 +188,7 @@ impl WorkPrecisionChapter {
                     panel.series.push(
                         Series::line(id.info().abbreviation, points, colour(id, 0))
                             .with_marker(markers[i % markers.len()], i % 2 == 0)
-                            .with_line(line(id)),
+                            .with_line(solver_line(id)),
                     );
                 }
                 ChapterFigure::new(
