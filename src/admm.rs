@@ -28,9 +28,10 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::projective::{
-    finish_step, project_on_sphere, reduction_matrix, to_columns, GlobalSolve, SpringIncidence,
+    finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve, SpringIncidence,
 };
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// The default weights $`\omega_i = \sqrt{k_i}`$ (§2.3.2, Eqs 37-38: $`A = WD`$, $`B = -W`$).
@@ -191,6 +192,8 @@ pub struct AdmmPd {
     /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (line 1.5).
     a: GlobalSolve,
     iterate: AdmmIterate,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl AdmmPd {
@@ -211,6 +214,7 @@ impl AdmmPd {
             iterations,
             a: GlobalSolve::new(system, dt, &omega2)?,
             iterate: AdmmIterate::new(system, dt, omega),
+            convergence: Convergence::default(),
         })
     }
 
@@ -250,6 +254,15 @@ impl TimeStepper for AdmmPd {
         &self.system
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     /// Algorithm 4, run-time part.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
@@ -259,11 +272,16 @@ impl TimeStepper for AdmmPd {
         it.x.copy_from_slice(&it.x_tilde);
         // 2.2: ū = 0 every step.
         it.u_bar.fill(Vec3::zeros());
-        // 2.3-2.10
+        self.convergence.begin(nodes_of_columns(&it.x));
+        // 2.3-2.10, stopping early only in the tolerance mode.
         for _ in 0..self.iterations {
             self.local_step();
             self.global_step();
+            if self.convergence.converged(nodes_of_columns(&self.iterate.x)) {
+                break;
+            }
         }
+        self.convergence.end_step(0);
         // 2.11
         finish_step(state, &self.iterate.x, self.dt);
         Ok(())

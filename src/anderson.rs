@@ -46,6 +46,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::{Error, Result};
 use crate::local_global::{Base, LocalGlobal, Merit};
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State};
 
 /// Largest window accepted.
@@ -240,6 +241,9 @@ pub struct Anderson {
     mixing: AndersonMixing,
     /// $`G`$ of the last accepted point.
     v_default: Vec<f64>,
+    /// When a step stops iterating, and the iterations steps took: the accepted applications
+    /// of $`G`$, with the rejected extrapolations as its extra work.
+    convergence: Convergence,
 }
 
 impl Anderson {
@@ -264,6 +268,7 @@ impl Anderson {
             accepted: Vec::new(),
             mixing: AndersonMixing::new(params.window, len),
             v_default: vec![0.0; len],
+            convergence: Convergence::default(),
         })
     }
 
@@ -301,6 +306,15 @@ impl TimeStepper for Anderson {
         self.iteration.system()
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     /// [Peng 2018, Alg. 1] Anderson acceleration with the merit safeguard.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
@@ -313,6 +327,8 @@ impl TimeStepper for Anderson {
         // G of the last accepted point: the fallback, and the step's result.
         v_default.copy_from_slice(it.variable());
         let mut merit_previous = f64::INFINITY;
+        self.convergence.begin(it.positions());
+        // Stopping early only in the tolerance mode.
         while it.solves() < budget {
             let merit = match it.apply(merit_previous) {
                 Merit::Applied(merit) => Accepted {
@@ -338,11 +354,17 @@ impl TimeStepper for Anderson {
             self.accepted.push(merit);
             merit_previous = merit.merit;
             v_default.copy_from_slice(it.variable());
+            if self.convergence.converged(it.positions()) {
+                break;
+            }
             let v = mixing.extrapolate(v_default);
             it.set_variable(v);
         }
         it.set_variable(v_default);
-        it.finish(state)
+        let finished = it.finish(state);
+        let rejected = self.accepted.iter().filter(|a| a.rejected.is_some()).count();
+        self.convergence.end_step_counted(it.solves(), rejected as u64);
+        finished
     }
     // endregion: step
 }

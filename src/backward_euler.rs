@@ -20,6 +20,7 @@ use crate::damping::{RayleighDamping, StepDissipation};
 use crate::error::{require_positive, Error, Result};
 use crate::linear::SymmetricMatrix;
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
@@ -154,6 +155,8 @@ pub struct BackwardEuler {
     v_k: Vec<Vec3>,
     rhs: Vec<f64>,
     zeros: Vec<f64>,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl BackwardEuler {
@@ -198,6 +201,7 @@ impl BackwardEuler {
             v_k: vec![Vec3::zeros(); n],
             rhs: vec![0.0; 3 * n],
             zeros: vec![0.0; 3 * n],
+            convergence: Convergence::default(),
         })
     }
 
@@ -281,14 +285,31 @@ impl TimeStepper for BackwardEuler {
         &self.system
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         // v_0 = 0, so x_0 = x_n and the first iteration is Eq (12) as printed.
         self.v_k.fill(Vec3::zeros());
         self.dissipation.start(&self.system, &state.x);
+        self.convergence.begin(state.x.iter().copied());
+        // Stopping early only in the tolerance mode, on the positions of Eq (9).
         for _ in 0..self.newton_iterations {
             self.newton_iteration(state)?;
+            let dt = self.dt;
+            let x_k = state.x.iter().zip(&self.v_k).map(|(x, v)| position_update(x, v, dt));
+            if self.convergence.converged(x_k) {
+                break;
+            }
         }
+        self.convergence.end_step(0);
         for ((x, v), v_next) in state.x.iter_mut().zip(state.v.iter_mut()).zip(&self.v_k) {
             *x = position_update(x, v_next, self.dt);
             *v = *v_next;

@@ -53,6 +53,7 @@
 use crate::error::{Error, Result};
 use crate::local_global::{Base, LocalGlobal};
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State};
 
 /// The parameters of [`Chebyshev`].
@@ -193,6 +194,8 @@ pub struct Chebyshev {
     // Per-step buffers: v^(k) and v^(k-1).
     v: Vec<f64>,
     v_previous: Vec<f64>,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl Chebyshev {
@@ -222,6 +225,7 @@ impl Chebyshev {
             rho,
             v: vec![0.0; len],
             v_previous: vec![0.0; len],
+            convergence: Convergence::default(),
         })
     }
 
@@ -261,6 +265,15 @@ impl TimeStepper for Chebyshev {
         self.iteration.system()
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let ChebyshevParams { gamma, warmup, .. } = self.params;
@@ -270,6 +283,8 @@ impl TimeStepper for Chebyshev {
         self.v.copy_from_slice(it.variable());
         self.v_previous.copy_from_slice(it.variable());
         let mut omega_k = 1.0;
+        self.convergence.begin(it.positions());
+        // Stopping early only in the tolerance mode.
         for k in 0..it.applications(self.iterations) {
             // v̂^(k+1) = G(v^(k)), the base's iteration.
             it.apply(f64::INFINITY);
@@ -277,8 +292,13 @@ impl TimeStepper for Chebyshev {
             extrapolate(omega_k, gamma, it.variable(), &self.v, &mut self.v_previous);
             std::mem::swap(&mut self.v, &mut self.v_previous);
             it.set_variable(&self.v);
+            if self.convergence.converged(it.positions()) {
+                break;
+            }
         }
-        it.finish(state)
+        let finished = it.finish(state);
+        self.convergence.end_step_counted(it.solves(), 0);
+        finished
     }
     // endregion: step
 }

@@ -40,8 +40,9 @@
 use crate::admm::{default_omega, AdmmIterate};
 use crate::damping::{RayleighDamping, StepDissipation};
 use crate::error::{require_positive, Error, Result};
-use crate::projective::{finish_step, reduction_matrix, GlobalSolve, SpringIncidence};
+use crate::projective::{finish_step, nodes_of_columns, reduction_matrix, GlobalSolve, SpringIncidence};
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 
@@ -136,6 +137,8 @@ pub struct DampedAdmm {
     dissipation: StepDissipation,
     /// Absent when $`\beta = 0`$.
     stiffness_damping: Option<StiffnessDampingBlock>,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl DampedAdmm {
@@ -195,6 +198,7 @@ impl DampedAdmm {
             iterate: AdmmIterate::new(system, tau, omega),
             dissipation: StepDissipation::new(system, params, dt),
             stiffness_damping,
+            convergence: Convergence::default(),
         })
     }
 
@@ -220,6 +224,15 @@ impl TimeStepper for DampedAdmm {
         &self.system
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     /// [Brown 2018, dissipation potential] Algorithm 4 on the objective with the damping term.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
@@ -236,7 +249,9 @@ impl TimeStepper for DampedAdmm {
             self.dissipation.start(&self.system, &state.x);
             block.start(&self.dissipation)?;
         }
-        // 2.3-2.10, with the damping block beside the springs'.
+        self.convergence.begin(nodes_of_columns(&it.x));
+        // 2.3-2.10, with the damping block beside the springs', stopping early only in the
+        // tolerance mode.
         for _ in 0..self.iterations {
             it.local_step(&self.system);
             if let Some(block) = &mut self.stiffness_damping {
@@ -247,7 +262,11 @@ impl TimeStepper for DampedAdmm {
                 block.add_to_rhs(&mut it.x);
             }
             self.a.solve(&mut it.x, &it.x_n);
+            if self.convergence.converged(nodes_of_columns(&it.x)) {
+                break;
+            }
         }
+        self.convergence.end_step(0);
         // 2.11
         finish_step(state, &it.x, self.dt);
         Ok(())

@@ -23,9 +23,10 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::projective::{
-    finish_step, incidence_matrix, project_on_spheres, to_columns, GlobalSolve, SpringIncidence,
+    finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve, SpringIncidence,
 };
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// Where each step's local/global iteration starts, a point Algorithm 3 leaves open.
@@ -60,6 +61,8 @@ pub struct FastMassSpring {
     d: Vec<Vec3>,
     /// Scratch of the local step, one entry per spring.
     scale: Vec<f64>,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl FastMassSpring {
@@ -90,6 +93,7 @@ impl FastMassSpring {
             x: vec![0.0; 3 * n],
             d: vec![Vec3::zeros(); system.springs().len()],
             scale: vec![0.0; system.springs().len()],
+            convergence: Convergence::default(),
         })
     }
 
@@ -198,15 +202,29 @@ impl TimeStepper for FastMassSpring {
         &self.system
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     /// Algorithm 3, run-time part.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         // 2.1 and the first iterate.
         self.begin_step(state);
-        // 2.2-2.8
+        self.convergence.begin(nodes_of_columns(&self.x));
+        // 2.2-2.8, stopping early only in the tolerance mode.
         for _ in 0..self.iterations {
             self.iterate();
+            if self.convergence.converged(nodes_of_columns(&self.x)) {
+                break;
+            }
         }
+        self.convergence.end_step(0);
         // Erratum: Algorithm 3 omits the velocity update.
         finish_step(state, &self.x, self.dt);
         Ok(())

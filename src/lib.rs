@@ -38,6 +38,7 @@ pub mod scene_file;
 pub mod sheet_equilibrium;
 pub mod solver;
 pub mod spring;
+pub mod stopping;
 pub mod system;
 pub mod vbd;
 pub mod work_precision;

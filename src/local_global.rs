@@ -32,7 +32,7 @@ use crate::admm::{default_omega, AdmmIterate};
 use crate::backward_euler::incremental_potential;
 use crate::error::{require_positive, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
-use crate::projective::{finish_step, node_of_columns, GlobalSolve};
+use crate::projective::{finish_step, node_of_columns, nodes_of_columns, GlobalSolve};
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// The local-global iteration being accelerated.
@@ -210,6 +210,16 @@ impl LocalGlobal {
     /// The variable $`v`$ (layout in the field's doc).
     pub fn variable(&self) -> &[f64] {
         &self.v
+    }
+
+    /// The positions of the latest iterate, as nodes: the variable itself for Liu; for ADMM,
+    /// whose variable is $`(z, \bar u)`$, the output of the latest global step ($`\tilde x`$
+    /// before the first).
+    pub fn positions(&self) -> impl Iterator<Item = Vec3> + '_ {
+        nodes_of_columns(match &self.iteration {
+            Iteration::Liu { .. } => &self.v,
+            Iteration::Admm { iterate, .. } => &iterate.x,
+        })
     }
 
     /// Replaces the variable (by an extrapolated one).

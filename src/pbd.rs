@@ -21,6 +21,7 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
 use crate::system::{MassSpringSystem, State, Vec3};
 use crate::xpbd::generalized_inverse_mass;
@@ -58,6 +59,8 @@ pub struct Pbd {
     external_acceleration: Vec<Vec3>,
     /// Predicted positions $`p`$, the iterate of lines 3-9.
     p: Vec<Vec3>,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl Pbd {
@@ -108,6 +111,7 @@ impl Pbd {
             w,
             external_acceleration,
             p: vec![Vec3::zeros(); system.len()],
+            convergence: Convergence::default(),
         })
     }
 
@@ -154,6 +158,15 @@ impl TimeStepper for Pbd {
         &self.system
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     /// Algorithm 1 with its erratum: the projection moves $`p`$.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
@@ -167,7 +180,9 @@ impl TimeStepper for Pbd {
                 *p += dt * state.v[i];
             }
         }
-        // Lines 3-9: Gauss-Seidel over the springs in index order.
+        self.convergence.begin(p.iter().copied());
+        // Lines 3-9: Gauss-Seidel over the springs in index order, stopping early only in the
+        // tolerance mode.
         for _ in 0..self.iterations {
             for (s, &stiffness_factor) in self.system.springs().iter().zip(&self.stiffness_factors)
             {
@@ -181,7 +196,11 @@ impl TimeStepper for Pbd {
                 p[s.a] += delta_x1;
                 p[s.b] += delta_x2;
             }
+            if self.convergence.converged(p.iter().copied()) {
+                break;
+            }
         }
+        self.convergence.end_step(0);
         // Lines 10-11.
         for ((x, v), p) in state.x.iter_mut().zip(state.v.iter_mut()).zip(p.iter()) {
             *v = (p - *x) / dt;

@@ -308,6 +308,12 @@ pub fn node_of_columns(columns: &[f64], n: usize, i: usize) -> Vec3 {
     Vec3::new(columns[i], columns[n + i], columns[2 * n + i])
 }
 
+/// The nodes of column-major positions, in order.
+pub fn nodes_of_columns(columns: &[f64]) -> impl Iterator<Item = Vec3> + '_ {
+    let n = columns.len() / 3;
+    (0..n).map(move |i| node_of_columns(columns, n, i))
+}
+
 /// Algorithm 4 line 2.11 (and the velocity update Algorithm 3 omits):
 /// $`v_{n+1} = (x_{n+1} - x_n)/dt`$, then $`x_n \leftarrow x_{n+1}`$, from the column-major
 /// solution `x_next`.

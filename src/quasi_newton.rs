@@ -69,6 +69,7 @@
 use crate::error::{Error, Result};
 use crate::projective::{finish_step, node_of_columns, to_columns, GlobalSolve};
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 use std::collections::VecDeque;
 
@@ -220,6 +221,9 @@ pub struct Lbfgs {
     forces: Vec<Vec3>,
     /// The step length $`\alpha`$ of each iteration of the last step.
     step_lengths: Vec<f64>,
+    /// When a step stops iterating, and the iterations steps took, with the line-search
+    /// trials after each iteration's first as their extra work.
+    convergence: Convergence,
 }
 
 impl Lbfgs {
@@ -247,6 +251,7 @@ impl Lbfgs {
             zeros: vec![0.0; 3 * n],
             forces: vec![Vec3::zeros(); n],
             step_lengths: Vec::new(),
+            convergence: Convergence::default(),
         })
     }
 
@@ -305,16 +310,18 @@ impl Lbfgs {
         d: &[f64],
         slope: f64,
         trial: &mut [Vec3],
-    ) -> Option<f64> {
+    ) -> Option<(f64, u64)> {
         let n = x.len();
         let mut alpha = 1.0;
+        let mut trials = 0;
         while alpha >= MIN_STEP_LENGTH {
+            trials += 1;
             for (i, (trial, x)) in trial.iter_mut().zip(x).enumerate() {
                 *trial = x + alpha * node_of_columns(d, n, i);
             }
             let change = potential_change(&self.system, y, x, trial, self.dt);
             if change <= self.params.gamma * alpha * slope {
-                return Some(alpha);
+                return Some((alpha, trials));
             }
             alpha *= self.params.beta;
         }
@@ -336,6 +343,15 @@ impl TimeStepper for Lbfgs {
 
     fn system(&self) -> &MassSpringSystem {
         &self.system
+    }
+
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
     }
 
     /// [Liu 2017, Alg. 1] From the inertial prediction, `iterations` L-BFGS iterations with the
@@ -367,14 +383,18 @@ impl TimeStepper for Lbfgs {
         let (mut d, mut x_new, mut gradient_new) = (vec![0.0; 3 * n], x.clone(), gradient.clone());
         let mut spare = Pair::zeros(3 * n);
         self.step_lengths.clear();
+        self.convergence.begin(x.iter().copied());
+        let mut extra_trials = 0;
+        // Stopping early in the tolerance mode, or at a direction below round-off.
         for iteration in 0..self.iterations {
             self.direction(&gradient, &mut history, &mut d);
             let slope = dot(&gradient, &d);
             let largest = d.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             if largest < ROUND_OFF_STEP {
+                self.convergence.stalled();
                 break;
             }
-            let Some(alpha) = self.line_search(&x, &y, &d, slope, &mut x_new) else {
+            let Some((alpha, trials)) = self.line_search(&x, &y, &d, slope, &mut x_new) else {
                 return Err(Error::NotConverged {
                     what: "L-BFGS line search".into(),
                     detail: format!(
@@ -385,6 +405,7 @@ impl TimeStepper for Lbfgs {
                 });
             };
             self.step_lengths.push(alpha);
+            extra_trials += trials - 1;
             self.gradient(&x_new, &y, &mut gradient_new);
             if spare.set(&x, &x_new, &gradient, &gradient_new) {
                 let oldest = if history.len() == self.params.window {
@@ -397,7 +418,11 @@ impl TimeStepper for Lbfgs {
             }
             std::mem::swap(&mut x, &mut x_new);
             std::mem::swap(&mut gradient, &mut gradient_new);
+            if self.convergence.converged(x.iter().copied()) {
+                break;
+            }
         }
+        self.convergence.end_step(extra_trials);
         if !x.iter().all(|p| p.iter().all(|c| c.is_finite())) {
             return Err(Error::NotConverged {
                 what: "L-BFGS".into(),

@@ -26,6 +26,7 @@ use crate::particles::ParticleSystem;
 use crate::pbd::Pbd;
 use crate::quasi_newton::{Lbfgs, LbfgsParams};
 use crate::solver::TimeStepper;
+use crate::stopping::Stopping;
 use crate::system::{MassSpringSystem, State};
 use crate::vbd::{Initialization, Vbd, VbdParams};
 use crate::xpbd::Xpbd;
@@ -710,7 +711,10 @@ impl Default for SolverParams {
 pub struct SolverSpec {
     pub id: SolverId,
     /// Iterations per step (see [`SolverInfo::iteration`]); 1 for a solver without iterations.
+    /// The cap of a step in the tolerance mode.
     pub iterations: usize,
+    /// When a step stops iterating: at `iterations` (the thesis's mode) or at a tolerance.
+    pub stopping: Stopping,
     pub params: SolverParams,
 }
 
@@ -720,8 +724,17 @@ impl SolverSpec {
         Self {
             id,
             iterations,
+            stopping: Stopping::Count,
             params: SolverParams::default(),
         }
+    }
+
+    /// This solver stopping each step at `tolerance` m, `iterations` becoming the cap.
+    pub fn to_tolerance(self, tolerance: f64) -> Result<Self> {
+        Ok(Self {
+            stopping: Stopping::tolerance(tolerance)?,
+            ..self
+        })
     }
 
     /// The step this solver's iteration converges to, solved to round-off: the Backward Euler
@@ -765,12 +778,14 @@ impl SolverSpec {
     /// The solver on a mass-spring system with time step `dt`. The tutorial's integrators run
     /// it as a particle system with no other force.
     pub fn build(&self, system: &MassSpringSystem, dt: f64) -> Result<Box<dyn TimeStepper>> {
-        match self.id.info().builder {
-            Builder::Springs(build) => Ok(build(system, dt, self)?),
+        let mut solver: Box<dyn TimeStepper> = match self.id.info().builder {
+            Builder::Springs(build) => build(system, dt, self)?,
             Builder::Particles(build) => {
-                build(ParticleSystem::from_system(system.clone()), dt, self)
+                build(ParticleSystem::from_system(system.clone()), dt, self)?
             }
-        }
+        };
+        solver.set_stopping(self.stopping)?;
+        Ok(solver)
     }
 
     /// The solver on a mass-spring system, for a worker thread: the solvers of springs and
@@ -781,7 +796,11 @@ impl SolverSpec {
         dt: f64,
     ) -> Result<Box<dyn TimeStepper + Send>> {
         match self.id.info().builder {
-            Builder::Springs(build) => build(system, dt, self),
+            Builder::Springs(build) => {
+                let mut solver = build(system, dt, self)?;
+                solver.set_stopping(self.stopping)?;
+                Ok(solver)
+            }
             Builder::Particles(_) => Err(Error::invalid(
                 "solver",
                 self.id,
@@ -798,7 +817,11 @@ impl SolverSpec {
         dt: f64,
     ) -> Result<Box<dyn TimeStepper>> {
         match self.id.info().builder {
-            Builder::Particles(build) => build(particles, dt, self),
+            Builder::Particles(build) => {
+                let mut solver = build(particles, dt, self)?;
+                solver.set_stopping(self.stopping)?;
+                Ok(solver)
+            }
             Builder::Springs(_) => Err(Error::invalid(
                 "solver",
                 self.id,

@@ -5,6 +5,7 @@
 //! records what the report and the command line need.
 
 use crate::error::{require_non_negative, Error, Result};
+use crate::stopping::{IterationLog, Stopping};
 use crate::metrics::{half_period_exact, half_period_thesis, Peak, PeakDetector, StoppingRule};
 use crate::system::{MassSpringSystem, State};
 
@@ -18,6 +19,24 @@ pub trait TimeStepper {
     fn system(&self) -> &MassSpringSystem;
     /// Advances `state` by one time step.
     fn step(&mut self, state: &mut State) -> Result<()>;
+
+    /// Sets when each step stops iterating ([`Stopping`]); an error naming `stop_tolerance`
+    /// for a solver whose steps have no iterations to stop.
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        match stopping {
+            Stopping::Count => Ok(()),
+            Stopping::Tolerance(t) => Err(Error::invalid(
+                "stop_tolerance",
+                t,
+                &format!("no tolerance: {} has no iterations to stop", self.name()),
+            )),
+        }
+    }
+
+    /// The iterations the steps so far took; None for a solver without iterations.
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        None
+    }
 }
 
 /// A kinetic energy this many times the run's energy scale counts as divergence.

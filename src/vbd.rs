@@ -67,6 +67,7 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
@@ -234,6 +235,8 @@ pub struct Vbd {
     adjacent: Vec<Vec<usize>>,
     /// $`v^{t-1}`$ for the adaptive guess: the velocity at the start of the previous step.
     previous_velocity: Option<Vec<Vec3>>,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl Vbd {
@@ -263,6 +266,7 @@ impl Vbd {
             colours: greedy_colouring(system),
             adjacent,
             previous_velocity: None,
+            convergence: Convergence::default(),
         })
     }
 
@@ -307,6 +311,15 @@ impl TimeStepper for Vbd {
         &self.system
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     /// [Chen 2024, Alg. 1] The inertia $`y`$, the initial guess, `iterations` sweeps over the
     /// colours with one Newton step per vertex, then $`v^{t+1} = (x - x^t)/h`$.
     // region: step
@@ -339,6 +352,8 @@ impl TimeStepper for Vbd {
                 }
             })
             .collect();
+        self.convergence.begin(x.iter().copied());
+        // Stopping early only in the tolerance mode.
         for _ in 0..self.iterations {
             for colour in &self.colours {
                 for &i in colour {
@@ -346,7 +361,11 @@ impl TimeStepper for Vbd {
                     x[i] += update.delta_x;
                 }
             }
+            if self.convergence.converged(x.iter().copied()) {
+                break;
+            }
         }
+        self.convergence.end_step(0);
         if !x.iter().all(|p| p.iter().all(|c| c.is_finite())) {
             return Err(Error::NotConverged {
                 what: "VBD".into(),

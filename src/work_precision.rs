@@ -30,6 +30,7 @@ use crate::linear::SymmetricMatrix;
 use crate::metrics::{rest_error_max, rest_error_sum};
 use crate::registry::{SolverId, SolverSpec};
 use crate::solver::TimeStepper;
+use crate::stopping::IterationLog;
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// The window of the physical error, s (issue 14: "over the first 5 s").
@@ -50,6 +51,12 @@ pub const DIVERGENCE_DISTANCE_M: f64 = 1e3;
 /// The physical-error levels of the cheapest-configuration table, m.
 pub const ERROR_LEVELS_M: [f64; 3] = [1e-1, 1e-2, 1e-3];
 
+/// The tolerances of the sweep's runs to a tolerance ([`crate::stopping`]), m.
+pub const TOLERANCES_M: [f64; 3] = [1e-2, 1e-4, 1e-6];
+
+/// The iteration cap of a step run to a tolerance.
+pub const TOLERANCE_CAP: usize = 500;
+
 /// A scene at a stiffness: what one work-precision diagram is drawn for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Case {
@@ -58,10 +65,8 @@ pub struct Case {
 }
 
 impl Case {
-    /// The diagrams: the rope at both stiffnesses of the thesis, the 10 × 10 sheet at the
-    /// softer (the stiff sheet's exact motion needs some 491 000 RK4 steps, 32 times the soft
-    /// sheet's, and as many again to show it converged: past the budget).
-    pub const ALL: [Case; 3] = [
+    /// The diagrams: the rope and the 10 × 10 sheet at both stiffnesses of the thesis.
+    pub const ALL: [Case; 4] = [
         Case {
             scene: GridScene::Rope,
             stiffness: 1e3,
@@ -73,6 +78,10 @@ impl Case {
         Case {
             scene: GridScene::Sheet,
             stiffness: 1e3,
+        },
+        Case {
+            scene: GridScene::Sheet,
+            stiffness: 1e6,
         },
     ];
 
@@ -144,13 +153,23 @@ pub fn rk4_stability_limit(system: &MassSpringSystem) -> f64 {
 /// Runs `solver` from `state` over the window and keeps the positions at every sample time;
 /// a non-finite state or a node [`DIVERGENCE_DISTANCE_M`] from its start stops it with
 /// [`Error::Diverged`], saying when.
-pub fn sample_trajectory(solver: &mut dyn TimeStepper, mut state: State) -> Result<Vec<Vec<Vec3>>> {
+pub fn sample_trajectory(solver: &mut dyn TimeStepper, state: State) -> Result<Vec<Vec<Vec3>>> {
+    sample_trajectory_to(solver, state, sample_count())
+}
+
+/// [`sample_trajectory`] over the first `samples` samples.
+fn sample_trajectory_to(
+    solver: &mut dyn TimeStepper,
+    mut state: State,
+    samples: usize,
+) -> Result<Vec<Vec<Vec3>>> {
     let dt = solver.dt();
     let per_sample = steps_per_sample(dt)?;
     let start = state.x.clone();
-    let mut samples = Vec::with_capacity(sample_count());
+    let count = samples;
+    let mut samples = Vec::with_capacity(count);
     let mut step = 0u64;
-    for _ in 0..sample_count() {
+    for _ in 0..count {
         for _ in 0..per_sample {
             solver.step(&mut state)?;
             step += 1;
@@ -193,6 +212,12 @@ impl ExactMotion {
     /// RK4 at `fraction` of its stability limit, the step rounded down to divide
     /// [`SAMPLE_INTERVAL_S`].
     pub fn compute(case: Case, fraction: f64) -> Result<Self> {
+        Self::compute_samples(case, fraction, sample_count())
+    }
+
+    /// [`ExactMotion::compute`] over the first `samples` samples of the window only (the
+    /// tests check the stiff sheet's convergence over a part of it).
+    pub fn compute_samples(case: Case, fraction: f64, samples: usize) -> Result<Self> {
         let fraction = require_positive("fraction", fraction)?;
         if fraction > 1.0 {
             return Err(Error::invalid("fraction", fraction, "(0, 1]"));
@@ -206,14 +231,14 @@ impl ExactMotion {
             case,
             h,
             stability_limit,
-            samples: sample_trajectory(rk4.as_mut(), system.initial_state())?,
+            samples: sample_trajectory_to(rk4.as_mut(), system.initial_state(), samples)?,
             equilibrium: case.scene.equilibrium(case.stiffness)?,
         })
     }
 
-    /// RK4 steps over the window.
+    /// RK4 steps over its samples.
     pub fn steps(&self) -> u64 {
-        (WINDOW_S / self.h).round() as u64
+        (self.samples.len() as f64 * SAMPLE_INTERVAL_S / self.h).round() as u64
     }
 }
 
@@ -282,7 +307,8 @@ impl ErrorKind {
     }
 }
 
-/// One configuration of the sweep: a solver with its iteration count at a time step.
+/// One configuration of the sweep: a solver with its iteration count, or its tolerance and
+/// cap ([`SolverSpec::stopping`]), at a time step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Point {
     pub case: Case,
@@ -294,8 +320,13 @@ pub struct Point {
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointResult {
     pub point: Point,
-    /// Floating-point operations of the whole window ([`run_flops`]).
+    /// Floating-point operations of the whole window: counted from the iterations its steps
+    /// took ([`logged_flops`]) for an iterative solver that finished, else the model's
+    /// [`run_flops`].
     pub flops: f64,
+    /// The iterations its steps took; None for a solver without iterations or a run that
+    /// stopped.
+    pub log: Option<IterationLog>,
     /// The three errors, or why the run stopped.
     pub errors: std::result::Result<[WindowError; 3], String>,
 }
@@ -305,6 +336,20 @@ impl PointResult {
     pub fn error(&self, kind: ErrorKind) -> Option<f64> {
         self.errors.as_ref().ok().map(|e| e[kind as usize].sum)
     }
+
+    /// Iterations per step: the mean the log recorded, else the fixed count.
+    pub fn iterations_mean(&self) -> f64 {
+        self.log
+            .as_ref()
+            .and_then(IterationLog::mean_iterations)
+            .unwrap_or(self.point.spec.iterations as f64)
+    }
+}
+
+/// Whether `id`'s steps can stop at a tolerance: every iterative solver of springs but XPBD's
+/// substeps, whose count is of substeps of the motion.
+pub fn stops_at_tolerance(id: SolverId) -> bool {
+    id.info().iteration.is_some() && id.integrator().is_none() && id != SolverId::XpbdSubsteps
 }
 
 /// The solvers of the sweep: every solver of the grid of section 10 but the damped pair
@@ -317,11 +362,20 @@ pub fn sweep_solvers() -> Vec<SolverId> {
 }
 
 /// Every configuration of a case: each sweep solver at the iteration counts of its grid
-/// settings (the thesis's counts for its four) and every time step of the case.
+/// settings (the thesis's counts for its four) and, where its steps can stop at a tolerance,
+/// at each of [`TOLERANCES_M`] with the cap [`TOLERANCE_CAP`], at every time step of the case.
 pub fn sweep_points(case: Case) -> Vec<Point> {
     let mut points = Vec::new();
     for id in sweep_solvers() {
-        for spec in grid_settings(id).expect("a grid solver has settings") {
+        let mut specs = grid_settings(id).expect("a grid solver has settings");
+        if stops_at_tolerance(id) {
+            specs.extend(TOLERANCES_M.map(|t| {
+                SolverSpec::new(id, TOLERANCE_CAP)
+                    .to_tolerance(t)
+                    .expect("the sweep's tolerances are positive")
+            }));
+        }
+        for spec in specs {
             for &dt_s in case.dts() {
                 points.push(Point { case, spec, dt_s });
             }
@@ -361,9 +415,17 @@ impl CaseReference {
 /// Runs one configuration and measures its three errors against `reference`.
 pub fn run_point(point: &Point, reference: &CaseReference) -> Result<PointResult> {
     let system = point.case.scene.system(point.case.stiffness)?;
-    let flops = run_flops(&point.spec, &system, point.dt_s)?;
     let mut solver = point.spec.build_send(&system, point.dt_s)?;
-    let errors = match sample_trajectory(solver.as_mut(), system.initial_state()) {
+    let trajectory = sample_trajectory(solver.as_mut(), system.initial_state());
+    let log = match (&trajectory, solver.iteration_log()) {
+        (Ok(_), Some(log)) => Some(log.clone()),
+        _ => None,
+    };
+    let flops = match &log {
+        Some(log) => logged_flops(&point.spec, &system, log),
+        None => run_flops(&point.spec, &system, point.dt_s)?,
+    };
+    let errors = match trajectory {
         Ok(samples) => {
             let be = &reference
                 .backward_euler
@@ -383,6 +445,7 @@ pub fn run_point(point: &Point, reference: &CaseReference) -> Result<PointResult
     Ok(PointResult {
         point: *point,
         flops,
+        log,
         errors,
     })
 }
@@ -659,11 +722,11 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
 /// | tutorial integrators | 1, 1 and 4 force evaluations ($`s`$ forces + $`c`$) + 4, 4 and 20 per coordinate |
 /// | Dormand-Prince 5(4), a step tried | 6 force evaluations (the seventh is the next step's first) + 42 per coordinate for the stages' sums and 14 for the error estimate |
 ///
-/// L-BFGS's line search counts the accepted first trial only: every backtracking step adds an
-/// energy evaluation this model leaves out; so are Anderson's rejected extrapolations. The other
-/// way, L-BFGS ends a step once its direction is below round-off
-/// ([`crate::quasi_newton::ROUND_OFF_STEP`]), and the model counts every iteration of its
-/// budget: an upper bound for a converged step.
+/// An L-BFGS iteration counts one line-search trial; the further trials of a backtracking
+/// search, and Anderson's rejected extrapolations, are the solver's logged extra work
+/// ([`flops_of_extra`], counted by [`logged_flops`] from the run). An L-BFGS step that ends
+/// at a direction below round-off ([`crate::quasi_newton::ROUND_OFF_STEP`]) is logged with
+/// that last iteration counted in full (an upper bound by its line search and gradient).
 pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize) -> f64 {
     let n = system.len() as f64;
     let s = system.springs().len() as f64;
@@ -751,6 +814,54 @@ pub fn flops_per_step(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
 pub fn run_flops(spec: &SolverSpec, system: &MassSpringSystem, dt: f64) -> Result<f64> {
     let steps = steps_per_sample(dt)? as f64 * sample_count() as f64;
     Ok(flops_setup(spec, system) + steps * flops_per_step(spec, system))
+}
+
+/// A node's share of the tolerance test ([`crate::stopping::Convergence::converged`]): the
+/// difference 3, its squared norm 5 and the square root 1.
+pub const FLOPS_TOLERANCE_TEST_PER_NODE: f64 = 9.0;
+
+/// The work [`IterationLog::extra`] counts, one unit of it: an L-BFGS line-search trial after
+/// the first (the trial point and the potential's change, as in [`flops_of_iteration`]); an
+/// Anderson extrapolation the safeguard rejected (its merit, $`s`$ spring energies and
+/// [`FLOPS_NODE_POTENTIAL`] per node, and its combination $`2mc + m`$ at a full window
+/// $`m`$; an ADMM rejection's global solve is among the logged iterations already).
+pub fn flops_of_extra(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    let n = system.len() as f64;
+    let s = system.springs().len() as f64;
+    let c = 3.0 * n;
+    match spec.id {
+        SolverId::Lbfgs => {
+            2.0 * c + s * FLOPS_SPRING_POTENTIAL_CHANGE + n * FLOPS_NODE_POTENTIAL_CHANGE
+        }
+        SolverId::AndersonLiu | SolverId::AndersonAdmm => {
+            let m = spec.params.window as f64;
+            s * FLOPS_SPRING_ENERGY + n * FLOPS_NODE_POTENTIAL + 2.0 * m * c + m
+        }
+        _ => 0.0,
+    }
+}
+
+/// Floating-point operations of a run whose steps took the iterations of `log`: setup
+/// $`+ \sum_m N_m\,(`$overhead $`+ \sum_{j<m}`$ iteration $`j)`$, with $`N_m`$ the steps of
+/// $`m`$ iterations, + the tolerance test of every iteration in the tolerance mode + the
+/// extra work ([`flops_of_extra`]). In the count mode, and without early ends or extra work,
+/// it is [`run_flops`].
+pub fn logged_flops(spec: &SolverSpec, system: &MassSpringSystem, log: &IterationLog) -> f64 {
+    let overhead = flops_per_step_overhead(spec, system);
+    let mut step_of = 0.0;
+    let mut iterations = 0.0;
+    let mut total = flops_setup(spec, system);
+    for (m, &steps) in log.steps_by_iterations.iter().enumerate() {
+        if m > 0 {
+            step_of += flops_of_iteration(spec, system, m - 1);
+        }
+        iterations += (m as u64 * steps) as f64;
+        total += steps as f64 * (overhead + step_of);
+    }
+    if spec.stopping.tolerance_m().is_some() {
+        total += iterations * FLOPS_TOLERANCE_TEST_PER_NODE * system.len() as f64;
+    }
+    total + log.extra as f64 * flops_of_extra(spec, system)
 }
 
 /// Repeats of a wall-clock measurement (issue 14: the minimum of at least 5).

@@ -59,6 +59,7 @@
 
 use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::solver::TimeStepper;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
 use crate::system::{MassSpringSystem, State, Vec3};
 
@@ -175,6 +176,8 @@ pub struct Xpbd {
     x_n: Vec<Vec3>,
     /// $`\tilde x`$ of the current step, kept for [`residuals`].
     x_tilde: Vec<Vec3>,
+    /// When a step stops iterating, and the iterations steps took.
+    convergence: Convergence,
 }
 
 impl Xpbd {
@@ -237,6 +240,7 @@ impl Xpbd {
             lambda: vec![0.0; system.springs().len()],
             x_n: vec![Vec3::zeros(); n],
             x_tilde: vec![Vec3::zeros(); n],
+            convergence: Convergence::default(),
         })
     }
 
@@ -282,6 +286,15 @@ impl TimeStepper for Xpbd {
         &self.system
     }
 
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        self.convergence = Convergence::new(stopping);
+        Ok(())
+    }
+
+    fn iteration_log(&self) -> Option<&IterationLog> {
+        Some(self.convergence.log())
+    }
+
     /// Algorithm 2. The iterate $`x_i`$ lives in `state.x`.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
@@ -298,7 +311,9 @@ impl TimeStepper for Xpbd {
         self.x_tilde.copy_from_slice(x);
         // Line 3.
         self.lambda.fill(0.0);
-        // Lines 4-12: Gauss-Seidel over the springs in index order.
+        self.convergence.begin(x.iter().copied());
+        // Lines 4-12: Gauss-Seidel over the springs in index order, stopping early only in the
+        // tolerance mode.
         for _ in 0..self.iterations {
             for (j, s) in self.system.springs().iter().enumerate() {
                 let (w1, w2) = (self.w[s.a], self.w[s.b]);
@@ -319,7 +334,11 @@ impl TimeStepper for Xpbd {
                 x[s.a] += delta_x1;
                 x[s.b] += delta_x2;
             }
+            if self.convergence.converged(x.iter().copied()) {
+                break;
+            }
         }
+        self.convergence.end_step(0);
         // Line 13 (x^{n+1} = x_i is already in place) and line 14.
         for ((v, x), x_n) in state.v.iter_mut().zip(x.iter()).zip(&self.x_n) {
             *v = (x - x_n) / dt;

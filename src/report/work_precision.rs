@@ -13,8 +13,9 @@ use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::ChapterFigure;
 use crate::work_precision::{
     cheapest, flops_per_iteration, flops_per_step_overhead, flops_setup, most_accurate_within,
-    pareto_front, sweep, sweep_of, sweep_solvers, Case, CaseReference, ErrorKind, Point,
-    PointResult, ERROR_LEVELS_M, REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S, WINDOW_S,
+    pareto_front, stops_at_tolerance, sweep, sweep_of, sweep_solvers, Case, CaseReference, ErrorKind, Point,
+    PointResult, ERROR_LEVELS_M, REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S, TOLERANCES_M,
+    TOLERANCE_CAP, WINDOW_S,
 };
 
 /// The header of `data/work_precision.csv` (issue 14, step 5).
@@ -101,12 +102,13 @@ pub fn csv(results: &[PointResult]) -> String {
         for kind in ErrorKind::ALL {
             if let Some(error) = r.error(kind) {
                 out += &format!(
-                    "{},{},{},{},,{},{},{},{}\n",
+                    "{},{},{},{},{},{},{},{},{}\n",
                     r.point.spec.id,
                     r.point.case.scene.id(),
                     full(r.point.case.stiffness),
                     full(r.point.dt_s),
-                    r.point.spec.iterations,
+                    r.point.spec.stopping.tolerance_m().map_or(String::new(), full),
+                    full(r.iterations_mean()),
                     kind.id(),
                     full(error),
                     full(r.flops)
@@ -115,6 +117,16 @@ pub fn csv(results: &[PointResult]) -> String {
         }
     }
     out
+}
+
+/// `dt = 0.01 s, 70 it.`, or for a run to a tolerance `dt = 0.01 s, to 1e-4 m (12.3 it.)`
+/// with the mean iterations per step.
+pub fn configuration(r: &PointResult) -> String {
+    let dt = full(r.point.dt_s);
+    match r.point.spec.stopping.tolerance_m() {
+        None => format!("dt = {dt} s, {} it.", r.point.spec.iterations),
+        Some(t) => format!("dt = {dt} s, to {t:e} m ({:.1} it.)", r.iterations_mean()),
+    }
 }
 
 /// The figure's file stem of a case.
@@ -169,13 +181,15 @@ impl WorkPrecisionChapter {
                     Axis::log("floating-point operations over 5 s"),
                     Axis::log("physical error (m)"),
                 );
-                let mut csv = String::from("solver,iterations,dt_s,flops,physical_error_m\n");
+                let mut csv =
+                    String::from("solver,tolerance_m,iterations_mean,dt_s,flops,physical_error_m\n");
                 for (i, id) in sweep_solvers().into_iter().enumerate() {
                     let front = pareto_front(&self.results, case, id, ErrorKind::Physical);
                     for r in &front {
                         csv += &format!(
-                            "{id},{},{},{},{}\n",
-                            r.point.spec.iterations,
+                            "{id},{},{},{},{},{}\n",
+                            r.point.spec.stopping.tolerance_m().map_or(String::new(), full),
+                            full(r.iterations_mean()),
                             full(r.point.dt_s),
                             full(r.flops),
                             full(r.error(ErrorKind::Physical).expect("the front has errors"))
@@ -228,9 +242,11 @@ impl WorkPrecisionChapter {
         md += &format!(
             "The thesis fixes its iteration counts by hand and never counts work. Here every \
              solver runs the rope (k = 1e3 and 1e6 N/m) and the 10 × 10 sheet (k = 1e3 N/m) from \
-             rest for {w} s, at every time step of the sweep and at the iteration counts of \
-             section 10 (a fixed count per step; iterations to a tolerance are not built yet), \
-             and each run gets three errors, each the per-node distance summed (convention 7) \
+             rest for {w} s, at every time step of the sweep, at the iteration counts of \
+             section 10 (a fixed count per step) and, for every solver whose steps iterate, to \
+             each tolerance of {tols} m (a step stops at the first iterate that moved no node by \
+             more than the tolerance, capped at {cap} iterations; `src/stopping.rs` says why \
+             this one measure serves every solver), and each run gets three errors, each the per-node distance summed (convention 7) \
              with its largest node distance in the library: **physical**, the worst over the \
              samples t = {si}, {s2}, …, {w} s of the gap to the exact undamped motion; **rest**, \
              the gap at t = {w} s to the exact static equilibrium (a run still swinging at {w} s \
@@ -239,6 +255,8 @@ impl WorkPrecisionChapter {
              same time step (zero for an exact implicit Euler). The damped pair is left out (at \
              zero damping it is Backward Euler and ADMM-PD; the exact motion is undamped).\n\n",
             w = full(WINDOW_S),
+            tols = TOLERANCES_M.map(full).join(", "),
+            cap = TOLERANCE_CAP,
             si = full(SAMPLE_INTERVAL_S),
             s2 = full(2.0 * SAMPLE_INTERVAL_S),
         );
@@ -290,13 +308,13 @@ impl WorkPrecisionChapter {
                non-zeros below the diagonal costs 4·nnz + 2n per right-hand side (two triangular \
                solves and the diagonal), the banded factorisation n(p + 1)², a spring projection \
                13, an XPBD constraint projection 36, a spring force 21 and its Jacobian 58 with \
-               its assembly. A run costs setup + steps × (overhead + each iteration's count); \
-               Anderson's columns and L-BFGS's pairs restart every step, so their first \
-               iterations cost less than the full-window iteration shown here. Every iteration of \
-               a step's budget is counted, also for L-BFGS, which ends a step early once its \
-               direction is below round-off (its count is an upper bound there); a backtracking \
-               line search's extra trials and Anderson's rejected extrapolations are not \
-               counted. On each scene:\n\n";
+               its assembly. A run costs setup + Σ over its steps of (overhead + the count of \
+               each iteration the step took), from the iterations each step logged \
+               (`work_precision::logged_flops`); Anderson's columns and L-BFGS's pairs restart \
+               every step, so their first iterations cost less than the full-window iteration \
+               shown here. A line search's trials after the first and Anderson's rejected \
+               extrapolations are logged and counted (`work_precision::flops_of_extra`); the \
+               tolerance test costs 9 per node and iteration. On each scene:\n\n";
         let mut t = MarkdownTable::new(&[
             "solver",
             "rope setup",
@@ -326,7 +344,7 @@ impl WorkPrecisionChapter {
             md += &format!(
                 "![{s}](figures/{s}.svg)\n\n*Physical error against floating-point operations, \
                  {label}: each solver's configurations that none of its own beats in both \
-                 (time steps {dts} s × its iteration counts).* Data: [`data/{s}.csv`](data/{s}.csv), \
+                 (time steps {dts} s × its iteration counts and tolerances).* Data: [`data/{s}.csv`](data/{s}.csv), \
                  every configuration in [`data/work_precision.csv`](data/work_precision.csv).\n\n",
                 s = f.stem,
                 label = case.label(),
@@ -339,10 +357,9 @@ impl WorkPrecisionChapter {
             .filter(|r| r.errors.is_err())
             .map(|r| {
                 format!(
-                    "`{}` {} it. at dt = {} s ({})",
+                    "`{}` {} ({})",
                     r.point.spec.id,
-                    r.point.spec.iterations,
-                    full(r.point.dt_s),
+                    configuration(r),
                     r.point.case.label()
                 )
             })
@@ -370,14 +387,7 @@ impl WorkPrecisionChapter {
                     row.push(
                         cheapest(&self.results, case, id, ErrorKind::Physical, level).map_or(
                             "not reached".into(),
-                            |r| {
-                                format!(
-                                    "{} flops (dt = {} s, {} it.)",
-                                    sig4(r.flops),
-                                    full(r.point.dt_s),
-                                    r.point.spec.iterations
-                                )
-                            },
+                            |r| format!("{} flops ({})", sig4(r.flops), configuration(r)),
                         ),
                     );
                 }
@@ -416,12 +426,7 @@ impl WorkPrecisionChapter {
                         SOLVER_ERROR_LEVEL_M,
                     )
                     .map_or("not reached".into(), |r| {
-                        format!(
-                            "{} flops (dt = {} s, {} it.)",
-                            sig4(r.flops),
-                            full(r.point.dt_s),
-                            r.point.spec.iterations
-                        )
+                        format!("{} flops ({})", sig4(r.flops), configuration(r))
                     }),
                 );
             }
@@ -444,11 +449,10 @@ impl WorkPrecisionChapter {
         let name = |r: Option<&PointResult>, kind: ErrorKind| {
             r.map_or("none within budget".into(), |r| {
                 format!(
-                    "`{}` {} ({} it., dt = {} s)",
+                    "`{}` {} ({})",
                     r.point.spec.id,
                     sig4(r.error(kind).unwrap()),
-                    r.point.spec.iterations,
-                    full(r.point.dt_s)
+                    configuration(r)
                 )
             })
         };
@@ -501,6 +505,50 @@ impl WorkPrecisionChapter {
                 .collect::<Vec<_>>()
                 .join("; ")
         );
+
+        md += &format!("### {number}.6 Iterations to a tolerance\n\n");
+        md += &format!(
+            "What the runs to a tolerance took at dt = {dt} s: the mean iterations per step, \
+             the share of steps that reached the cap of {TOLERANCE_CAP} unconverged, and the \
+             physical error. A tolerance on the change of x stops a slowly contracting iteration \
+             (Liu 2013 and ADMM-PD on stiff springs) far from its fixed point, which the error \
+             column shows.\n\n",
+            dt = full(TOLERANCE_TABLE_DT_S)
+        );
+        for case in Case::ALL {
+            md += &format!("**{}**\n\n", case.label());
+            let mut header = vec!["solver".to_string()];
+            header.extend(TOLERANCES_M.iter().map(|t| format!("to {} m", full(*t))));
+            let mut t = MarkdownTable::new(&header);
+            for id in sweep_solvers().into_iter().filter(|&id| stops_at_tolerance(id)) {
+                let mut row = vec![format!("`{id}`")];
+                for tolerance in TOLERANCES_M {
+                    let r = self.of(case).find(|r| {
+                        r.point.spec.id == id
+                            && r.point.dt_s == TOLERANCE_TABLE_DT_S
+                            && r.point.spec.stopping.tolerance_m() == Some(tolerance)
+                    });
+                    row.push(match r {
+                        Some(r) => match (&r.log, r.error(ErrorKind::Physical)) {
+                            (Some(log), Some(e)) => format!(
+                                "{:.1} it., {} % capped, {} m",
+                                r.iterations_mean(),
+                                sig4(100.0 * log.capped as f64 / log.steps() as f64),
+                                sig4(e)
+                            ),
+                            _ => "did not finish".into(),
+                        },
+                        None => "–".into(),
+                    });
+                }
+                t.row(row);
+            }
+            md += &t.render();
+            md += "\n";
+        }
         md
     }
 }
+
+/// The time step of the section's table of runs to a tolerance, s.
+pub const TOLERANCE_TABLE_DT_S: f64 = 0.01;

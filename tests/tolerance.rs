@@ -1,0 +1,141 @@
+//! Iterations to a tolerance (issue 14, step 1; `src/stopping.rs`): every iterative solver of
+//! the registry stops a step at the first iterate that moves no node by more than the
+//! tolerance, and its log counts what the steps took.
+//!
+//! The oracles: the solver's own count mode (a step that stopped after `m` iterations is the
+//! count mode's step of `m` iterations, bit for bit, and moved by at most the tolerance in its
+//! last iteration and by more in the one before), and the converged Backward Euler step
+//! (Eq. 20's minimiser), which a tight tolerance must reach.
+
+use mass_spring_solvers::beyond::{gap, Start};
+use mass_spring_solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::scene::thesis_rope;
+use mass_spring_solvers::stopping::Stopping;
+use mass_spring_solvers::{Error, MassSpringSystem, State};
+
+/// The solvers whose steps iterate: every registry solver of springs and gravity but XPBD's
+/// substeps, whose "iterations" are substeps of the motion, not iterations toward a step.
+fn iterative() -> Vec<SolverId> {
+    SolverId::ALL
+        .into_iter()
+        .filter(|id| id.info().iteration.is_some() && id.integrator().is_none())
+        .filter(|id| !matches!(id, SolverId::XpbdSubsteps | SolverId::Rk45))
+        .collect()
+}
+
+/// The solvers whose step returns its last iterate's positions (for the ADMM-based
+/// accelerations the step ends with one more global solve of the final $`(z, \bar u)`$).
+fn returns_last_iterate(id: SolverId) -> bool {
+    !matches!(id, SolverId::ChebyshevAdmm | SolverId::AndersonAdmm)
+}
+
+/// One step of `spec` from `state`, with its iteration count.
+fn one_step(spec: &SolverSpec, system: &MassSpringSystem, state: &State, dt: f64) -> (State, u64) {
+    let mut solver = spec.build(system, dt).unwrap();
+    let mut next = state.clone();
+    solver.step(&mut next).unwrap();
+    let log = solver.iteration_log().expect("an iterative solver logs");
+    assert_eq!(log.steps(), 1);
+    (next, log.iterations())
+}
+
+/// A step that stopped after m iterations is the count mode's m-iteration step, and m is the
+/// first count whose last iteration moved no node by more than the tolerance.
+#[test]
+fn a_step_stops_at_the_first_iterate_within_the_tolerance() {
+    let rope = thesis_rope(1e3).unwrap();
+    let state = Start::Step10.state(&rope).unwrap();
+    let dt = 1e-2;
+    let tolerance = 1e-5;
+    for id in iterative() {
+        let spec = SolverSpec::new(id, 4000).to_tolerance(tolerance).unwrap();
+        let (stopped, m) = one_step(&spec, &rope, &state, dt);
+        assert!((2..4000).contains(&m), "{id}: stopped after {m} iterations");
+        let m = m as usize;
+        let count = |j: usize| one_step(&SolverSpec::new(id, j), &rope, &state, dt).0;
+        assert_eq!(stopped, count(m), "{id}: not the count mode's step");
+        if returns_last_iterate(id) {
+            let last = gap(&count(m), &count(m - 1));
+            assert!(last <= tolerance, "{id}: last iteration moved {last:e} m");
+            if m >= 3 {
+                let before = gap(&count(m - 1), &count(m - 2));
+                assert!(before > tolerance, "{id}: stopped late ({before:e} m before)");
+            }
+        }
+    }
+}
+
+/// At a tight tolerance, the solvers that minimise Eq. (20) reach its minimiser (the
+/// converged Backward Euler step); PBD and XPBD converge elsewhere and are left out.
+#[test]
+fn a_tight_tolerance_reaches_the_converged_step() {
+    let rope = thesis_rope(1e3).unwrap();
+    let state = Start::Step10.state(&rope).unwrap();
+    let dt = 1e-2;
+    for id in iterative() {
+        if matches!(id, SolverId::Pbd | SolverId::Xpbd) {
+            continue;
+        }
+        let spec = SolverSpec::new(id, 20_000).to_tolerance(1e-11).unwrap();
+        let (stopped, m) = one_step(&spec, &rope, &state, dt);
+        let oracle = spec.converged_step(&rope, &state, dt).unwrap();
+        let error = gap(&stopped, &oracle);
+        assert!(error < 1e-8, "{id}: {error:e} m from the converged step after {m}");
+    }
+}
+
+/// The tolerance trades iterations for accuracy: a tighter one never takes fewer iterations
+/// over a run, and the count mode logs its count at every step.
+#[test]
+fn the_log_counts_the_iterations_of_a_run() {
+    let rope = thesis_rope(1e6).unwrap();
+    let dt = 1e-2;
+    for id in iterative() {
+        let run = |stopping: Stopping| {
+            let mut spec = SolverSpec::new(id, 60);
+            spec.stopping = stopping;
+            let mut solver = spec.build(&rope, dt).unwrap();
+            let mut state = rope.initial_state();
+            for _ in 0..20 {
+                solver.step(&mut state).unwrap();
+            }
+            solver.iteration_log().unwrap().clone()
+        };
+        let count = run(Stopping::Count);
+        // L-BFGS may end a step early at a direction below round-off.
+        if id != SolverId::Lbfgs {
+            assert_eq!(count.steps_by_iterations[60], 20, "{id}");
+        }
+        assert_eq!(count.capped, 0, "{id}");
+        let loose = run(Stopping::tolerance(1e-3).unwrap());
+        let tight = run(Stopping::tolerance(1e-7).unwrap());
+        assert_eq!(loose.steps(), 20);
+        assert!(
+            loose.iterations() <= tight.iterations() && tight.iterations() <= 20 * 60,
+            "{id}: {} then {}",
+            loose.iterations(),
+            tight.iterations()
+        );
+        assert!(loose.iterations() < count.iterations(), "{id}: {loose:?}");
+    }
+}
+
+/// A tolerance for a solver without iterations, or out of range, is an error naming the field.
+#[test]
+fn bad_tolerances_name_their_field() {
+    let rope = thesis_rope(1e3).unwrap();
+    let field = |e: Error| match e {
+        Error::InvalidParameter { field, .. } => field,
+        other => panic!("{other}"),
+    };
+    for bad in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+        let e = SolverSpec::new(SolverId::FastMassSpring, 10).to_tolerance(bad);
+        assert_eq!(field(e.unwrap_err()), "stop_tolerance", "{bad}");
+    }
+    for id in [SolverId::XpbdSubsteps, SolverId::Rk4, SolverId::ExplicitEuler] {
+        let mut spec = SolverSpec::new(id, 10);
+        spec.stopping = Stopping::Tolerance(1e-3);
+        let e = spec.build(&rope, 1e-3).err().expect("no tolerance for {id}");
+        assert_eq!(field(e), "stop_tolerance", "{id}");
+    }
+}
