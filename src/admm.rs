@@ -28,7 +28,8 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::projective::{
-    finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve, SpringIncidence,
+    finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve,
+    SpringIncidence,
 };
 use crate::solver::TimeStepper;
 use crate::stopping::{Convergence, IterationLog, Stopping};
@@ -277,7 +278,10 @@ impl TimeStepper for AdmmPd {
         for _ in 0..self.iterations {
             self.local_step();
             self.global_step();
-            if self.convergence.converged(nodes_of_columns(&self.iterate.x)) {
+            if self
+                .convergence
+                .converged(nodes_of_columns(&self.iterate.x))
+            {
                 break;
             }
         }

@@ -362,8 +362,13 @@ impl TimeStepper for Anderson {
         }
         it.set_variable(v_default);
         let finished = it.finish(state);
-        let rejected = self.accepted.iter().filter(|a| a.rejected.is_some()).count();
-        self.convergence.end_step_counted(it.solves(), rejected as u64);
+        let rejected = self
+            .accepted
+            .iter()
+            .filter(|a| a.rejected.is_some())
+            .count();
+        self.convergence
+            .end_step_counted(it.solves(), rejected as u64);
         finished
     }
     // endregion: step

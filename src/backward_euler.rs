@@ -20,8 +20,8 @@ use crate::damping::{RayleighDamping, StepDissipation};
 use crate::error::{require_positive, Error, Result};
 use crate::linear::SymmetricMatrix;
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 
@@ -304,7 +304,11 @@ impl TimeStepper for BackwardEuler {
         for _ in 0..self.newton_iterations {
             self.newton_iteration(state)?;
             let dt = self.dt;
-            let x_k = state.x.iter().zip(&self.v_k).map(|(x, v)| position_update(x, v, dt));
+            let x_k = state
+                .x
+                .iter()
+                .zip(&self.v_k)
+                .map(|(x, v)| position_update(x, v, dt));
             if self.convergence.converged(x_k) {
                 break;
             }

@@ -40,7 +40,9 @@
 use crate::admm::{default_omega, AdmmIterate};
 use crate::damping::{RayleighDamping, StepDissipation};
 use crate::error::{require_positive, Error, Result};
-use crate::projective::{finish_step, nodes_of_columns, reduction_matrix, GlobalSolve, SpringIncidence};
+use crate::projective::{
+    finish_step, nodes_of_columns, reduction_matrix, GlobalSolve, SpringIncidence,
+};
 use crate::solver::TimeStepper;
 use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};

@@ -23,7 +23,8 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::projective::{
-    finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve, SpringIncidence,
+    finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve,
+    SpringIncidence,
 };
 use crate::solver::TimeStepper;
 use crate::stopping::{Convergence, IterationLog, Stopping};

@@ -21,8 +21,8 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 use crate::xpbd::generalized_inverse_mass;
 

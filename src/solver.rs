@@ -5,8 +5,8 @@
 //! records what the report and the command line need.
 
 use crate::error::{require_non_negative, Error, Result};
-use crate::stopping::{IterationLog, Stopping};
 use crate::metrics::{half_period_exact, half_period_thesis, Peak, PeakDetector, StoppingRule};
+use crate::stopping::{IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State};
 
 /// A time-stepping method for a mass-spring system.

@@ -67,8 +67,8 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 

@@ -59,8 +59,8 @@
 
 use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::spring;
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// Eq. (18): $`\tilde\alpha = \alpha/dt^2`$, the time-step-scaled compliance that Eqs 17-18

@@ -498,6 +498,18 @@ fn solver_options_are_checked_and_refused_where_they_do_not_apply() {
         &["--solver", "chebyshev_admm", "--warmup", "2.5"],
         &["--warmup", "integer"],
     );
+    assert_bad_input(
+        &["--solver", "admm_pd", "--stop-tolerance", "0"],
+        &["--stop-tolerance", "> 0"],
+    );
+    assert_bad_input(
+        &["--solver", "xpbd_substeps", "--stop-tolerance", "1e-3"],
+        &["--stop-tolerance", "no iterations"],
+    );
+    assert_bad_input(
+        &["--solver", "rk4", "--stop-tolerance", "1e-3"],
+        &["--stop-tolerance", "no iterations"],
+    );
     let m = json(&[
         "--solver",
         "pbd",
@@ -533,4 +545,44 @@ fn sheet_scene_runs_at_any_size() {
     assert_eq!(m["scene"]["springs"], 42);
     assert_bad_input(&["--scene", "sheet", "--n", "2"], &["--n", ">= 3"]);
     assert_bad_input(&["--scene", "rope", "--n", "5"], &["--n", "sheet"]);
+}
+
+/// `--stop-tolerance` runs a solver to a tolerance, `--iterations` its cap: the mean taken is
+/// reported, below the cap where the iteration converges (Anderson on Liu at k = 1e6), at it
+/// where it cannot within the cap (plain Liu 2013, which needs about 1600).
+#[test]
+fn a_run_to_a_tolerance_reports_the_iterations_taken() {
+    let args = |solver| {
+        json(&[
+            "--solver",
+            solver,
+            "--stiffness",
+            "1e6",
+            "--dt",
+            "0.01",
+            "--iterations",
+            "200",
+            "--stop-tolerance",
+            "1e-6",
+            "--max-time",
+            "1",
+        ])
+    };
+    let accelerated = args("anderson_liu");
+    assert_eq!(accelerated["stop_tolerance_m"], 1e-6);
+    assert_eq!(accelerated["iterations"], 200);
+    let mean = accelerated["iterations_mean"].as_f64().unwrap();
+    assert!((1.0..50.0).contains(&mean), "{mean}");
+    let plain = args("fast_mass_spring");
+    assert!(plain["iterations_mean"].as_f64().unwrap() > 150.0);
+    let fixed = json(&[
+        "--solver",
+        "admm_pd",
+        "--iterations",
+        "7",
+        "--max-time",
+        "0.1",
+    ]);
+    assert_eq!(fixed["stop_tolerance_m"], Value::Null);
+    assert_eq!(fixed["iterations_mean"], 7.0);
 }

@@ -59,7 +59,10 @@ fn a_step_stops_at_the_first_iterate_within_the_tolerance() {
             assert!(last <= tolerance, "{id}: last iteration moved {last:e} m");
             if m >= 3 {
                 let before = gap(&count(m - 1), &count(m - 2));
-                assert!(before > tolerance, "{id}: stopped late ({before:e} m before)");
+                assert!(
+                    before > tolerance,
+                    "{id}: stopped late ({before:e} m before)"
+                );
             }
         }
     }
@@ -80,7 +83,10 @@ fn a_tight_tolerance_reaches_the_converged_step() {
         let (stopped, m) = one_step(&spec, &rope, &state, dt);
         let oracle = spec.converged_step(&rope, &state, dt).unwrap();
         let error = gap(&stopped, &oracle);
-        assert!(error < 1e-8, "{id}: {error:e} m from the converged step after {m}");
+        assert!(
+            error < 1e-8,
+            "{id}: {error:e} m from the converged step after {m}"
+        );
     }
 }
 
@@ -132,10 +138,17 @@ fn bad_tolerances_name_their_field() {
         let e = SolverSpec::new(SolverId::FastMassSpring, 10).to_tolerance(bad);
         assert_eq!(field(e.unwrap_err()), "stop_tolerance", "{bad}");
     }
-    for id in [SolverId::XpbdSubsteps, SolverId::Rk4, SolverId::ExplicitEuler] {
+    for id in [
+        SolverId::XpbdSubsteps,
+        SolverId::Rk4,
+        SolverId::ExplicitEuler,
+    ] {
         let mut spec = SolverSpec::new(id, 10);
         spec.stopping = Stopping::Tolerance(1e-3);
-        let e = spec.build(&rope, 1e-3).err().expect("no tolerance for {id}");
+        let e = spec
+            .build(&rope, 1e-3)
+            .err()
+            .expect("no tolerance for {id}");
         assert_eq!(field(e), "stop_tolerance", "{id}");
     }
 }

@@ -48,8 +48,8 @@ fn the_exact_motion_is_converged_by_halving_its_step() {
         } else {
             sample_count()
         };
-        let exact = ExactMotion::compute_samples(case, REFERENCE_STABILITY_FRACTION, samples)
-            .unwrap();
+        let exact =
+            ExactMotion::compute_samples(case, REFERENCE_STABILITY_FRACTION, samples).unwrap();
         let halved =
             ExactMotion::compute_samples(case, REFERENCE_STABILITY_FRACTION / 2.0, samples)
                 .unwrap();
@@ -235,7 +235,9 @@ fn the_csv_has_the_issues_columns() {
         .into_iter()
         .filter(|p| p.dt_s == 0.1 && (p.spec.iterations <= 5 || p.spec.id == SolverId::AdmmPd))
         .collect();
-    assert!(points.iter().any(|p| p.spec.stopping.tolerance_m().is_some()));
+    assert!(points
+        .iter()
+        .any(|p| p.spec.stopping.tolerance_m().is_some()));
     let results: Vec<PointResult> = points
         .iter()
         .map(|p| run_point(p, &reference).unwrap())
@@ -274,7 +276,9 @@ fn the_csv_has_the_issues_columns() {
             assert_eq!(cells[6], kind.id());
             assert_eq!(cells[7].parse::<f64>().unwrap(), r.error(kind).unwrap());
             assert_eq!(cells[8].parse::<f64>().unwrap(), r.flops);
-            assert!(r.flops > 0.0 && r.flops <= run_flops(&r.point.spec, &system, 0.1).unwrap() * 1.1);
+            assert!(
+                r.flops > 0.0 && r.flops <= run_flops(&r.point.spec, &system, 0.1).unwrap() * 1.1
+            );
         }
     }
 }

@@ -13,9 +13,9 @@ use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::ChapterFigure;
 use crate::work_precision::{
     cheapest, flops_per_iteration, flops_per_step_overhead, flops_setup, most_accurate_within,
-    pareto_front, stops_at_tolerance, sweep, sweep_of, sweep_solvers, Case, CaseReference, ErrorKind, Point,
-    PointResult, ERROR_LEVELS_M, REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S, TOLERANCES_M,
-    TOLERANCE_CAP, WINDOW_S,
+    pareto_front, stops_at_tolerance, sweep, sweep_of, sweep_solvers, Case, CaseReference,
+    ErrorKind, Point, PointResult, ERROR_LEVELS_M, REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
+    TOLERANCES_M, TOLERANCE_CAP, WINDOW_S,
 };
 
 /// The header of `data/work_precision.csv` (issue 14, step 5).
@@ -107,7 +107,11 @@ pub fn csv(results: &[PointResult]) -> String {
                     r.point.case.scene.id(),
                     full(r.point.case.stiffness),
                     full(r.point.dt_s),
-                    r.point.spec.stopping.tolerance_m().map_or(String::new(), full),
+                    r.point
+                        .spec
+                        .stopping
+                        .tolerance_m()
+                        .map_or(String::new(), full),
                     full(r.iterations_mean()),
                     kind.id(),
                     full(error),
@@ -181,14 +185,19 @@ impl WorkPrecisionChapter {
                     Axis::log("floating-point operations over 5 s"),
                     Axis::log("physical error (m)"),
                 );
-                let mut csv =
-                    String::from("solver,tolerance_m,iterations_mean,dt_s,flops,physical_error_m\n");
+                let mut csv = String::from(
+                    "solver,tolerance_m,iterations_mean,dt_s,flops,physical_error_m\n",
+                );
                 for (i, id) in sweep_solvers().into_iter().enumerate() {
                     let front = pareto_front(&self.results, case, id, ErrorKind::Physical);
                     for r in &front {
                         csv += &format!(
                             "{id},{},{},{},{},{}\n",
-                            r.point.spec.stopping.tolerance_m().map_or(String::new(), full),
+                            r.point
+                                .spec
+                                .stopping
+                                .tolerance_m()
+                                .map_or(String::new(), full),
                             full(r.iterations_mean()),
                             full(r.point.dt_s),
                             full(r.flops),
@@ -385,10 +394,10 @@ impl WorkPrecisionChapter {
                 let mut row = vec![format!("`{id}`")];
                 for level in ERROR_LEVELS_M {
                     row.push(
-                        cheapest(&self.results, case, id, ErrorKind::Physical, level).map_or(
-                            "not reached".into(),
-                            |r| format!("{} flops ({})", sig4(r.flops), configuration(r)),
-                        ),
+                        cheapest(&self.results, case, id, ErrorKind::Physical, level)
+                            .map_or("not reached".into(), |r| {
+                                format!("{} flops ({})", sig4(r.flops), configuration(r))
+                            }),
                     );
                 }
                 let best = pareto_front(&self.results, case, id, ErrorKind::Physical);
@@ -520,7 +529,10 @@ impl WorkPrecisionChapter {
             let mut header = vec!["solver".to_string()];
             header.extend(TOLERANCES_M.iter().map(|t| format!("to {} m", full(*t))));
             let mut t = MarkdownTable::new(&header);
-            for id in sweep_solvers().into_iter().filter(|&id| stops_at_tolerance(id)) {
+            for id in sweep_solvers()
+                .into_iter()
+                .filter(|&id| stops_at_tolerance(id))
+            {
                 let mut row = vec![format!("`{id}`")];
                 for tolerance in TOLERANCES_M {
                     let r = self.of(case).find(|r| {

@@ -103,6 +103,17 @@ pub(crate) struct Cli {
     )]
     pub(crate) iterations: Option<i64>,
 
+    /// Stop each step's iterations at the first iterate that moves no node by more than E m
+    /// (E > 0, finite); --iterations becomes the cap. Every iterative solver but xpbd_substeps
+    /// [default: off, a fixed count]
+    #[arg(
+        long,
+        value_name = "E",
+        allow_negative_numbers = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) stop_tolerance: Option<f64>,
+
     /// rk45 only: error tolerance T (> 0) of each adaptive step, relative to 1 + |component| of
     /// every position (m) and velocity (m/s); a bounce is located to within T m [default: 1e-6]
     #[arg(
@@ -432,6 +443,24 @@ fn solver_spec(cli: &Cli) -> Result<SolverSpec, Failure> {
         }
     };
     let mut spec = SolverSpec::new(cli.solver, iterations);
+    if let Some(tolerance) = cli.stop_tolerance {
+        if info.iteration.is_none() || cli.solver == SolverId::XpbdSubsteps {
+            return Err(Error::invalid(
+                "--stop-tolerance",
+                tolerance,
+                &format!("not given: {} has no iterations to stop", info.id),
+            )
+            .into());
+        }
+        spec = spec.to_tolerance(tolerance).map_err(|e| match e {
+            Error::InvalidParameter { value, allowed, .. } => Error::InvalidParameter {
+                field: "--stop-tolerance".into(),
+                value,
+                allowed,
+            },
+            other => other,
+        })?;
+    }
     for (name, value) in solver_options(cli) {
         let Some(value) = value else { continue };
         let option = format!("--{}", name.replace('_', "-"));

@@ -141,6 +141,9 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     // A failed run drops its outputs, which leaves every destination as it was.
     let (run, reference) = outcome?;
     let wall_time_s = start.elapsed().as_secs_f64();
+    let iterations_mean = stepper
+        .iteration_log()
+        .and_then(|log| log.mean_iterations());
 
     for output in csv.ke.into_iter().chain(csv.positions) {
         output.finish().map_err(|e| Failure::run(e.to_string()))?;
@@ -151,6 +154,8 @@ fn run(cli: &Cli) -> Result<(), Failure> {
         dt_s: cli.dt,
         iterations: (settings.spec.id.info().iteration.is_some())
             .then_some(settings.spec.iterations),
+        stop_tolerance_m: settings.spec.stopping.tolerance_m(),
+        iterations_mean,
         stop: StopSummary {
             threshold_j: settings.options.stop.threshold,
             max_time_s: settings.options.stop.max_time,

@@ -211,6 +211,10 @@ pub(crate) struct Report {
     pub(crate) dt_s: f64,
     /// None for the tutorial's integrators.
     pub(crate) iterations: Option<usize>,
+    /// The tolerance each step stopped at (`--stop-tolerance`), m; `iterations` is then a cap.
+    pub(crate) stop_tolerance_m: Option<f64>,
+    /// The iterations per step the run took, on average; None for a solver without them.
+    pub(crate) iterations_mean: Option<f64>,
     pub(crate) stop: StopSummary,
     pub(crate) velocity_damping_per_s: f64,
     #[serde(flatten)]
@@ -311,8 +315,13 @@ pub(crate) fn write_text(out: &mut dyn Write, r: &Report) -> std::io::Result<()>
     writeln!(out, "{:<18}{} ({})", "solver", r.solver, r.run.solver_name)?;
     writeln!(out, "{:<18}{}", "scene", r.scene.describe())?;
     writeln!(out, "{:<18}{} s", "dt", short(r.dt_s))?;
-    if let Some(n) = r.iterations {
-        writeln!(out, "{:<18}{n}", "iterations")?;
+    match (r.iterations, r.stop_tolerance_m) {
+        (Some(n), None) => writeln!(out, "{:<18}{n}", "iterations")?,
+        (Some(n), Some(t)) => writeln!(out, "{:<18}to {t:e} m, at most {n}", "iterations")?,
+        (None, _) => {}
+    }
+    if let (Some(mean), Some(_)) = (r.iterations_mean, r.stop_tolerance_m) {
+        writeln!(out, "{:<18}{mean:.2} per step", "  taken")?;
     }
     writeln!(
         out,

@@ -158,8 +158,8 @@ pub(crate) fn build_stepper(
     dt: f64,
 ) -> Result<(Box<dyn TimeStepper>, Option<AppliedForces>), Failure> {
     Ok(match spec.id.info().builder {
-        Builder::Springs(build) => (build(&model.springs_only(scene)?, dt, spec)?, None),
-        Builder::Particles(build) => {
+        Builder::Springs(_) => (spec.build(&model.springs_only(scene)?, dt)?, None),
+        Builder::Particles(_) => {
             let particles = model.into_particles()?;
             let applied = AppliedForces {
                 forces: particles.forces().iter().map(|f| f.name()).collect(),
@@ -168,7 +168,7 @@ pub(crate) fn build_stepper(
                     restitution: g.restitution(),
                 }),
             };
-            (build(particles, dt, spec)?, Some(applied))
+            (spec.build_particles(particles, dt)?, Some(applied))
         }
     })
 }
