@@ -54,8 +54,9 @@ pub const ERROR_LEVELS_M: [f64; 3] = [1e-1, 1e-2, 1e-3];
 /// The tolerances of the sweep's runs to a tolerance ([`crate::stopping`]), m.
 pub const TOLERANCES_M: [f64; 3] = [1e-2, 1e-4, 1e-6];
 
-/// The iteration cap of a step run to a tolerance.
-pub const TOLERANCE_CAP: usize = 500;
+/// The iteration cap of a step run to a tolerance: above the thesis's largest count (70), and
+/// small enough that the capped runs of the slow iterations fit the chapter's budget.
+pub const TOLERANCE_CAP: usize = 100;
 
 /// A scene at a stiffness: what one work-precision diagram is drawn for.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,6 +93,12 @@ impl Case {
             GridScene::Rope => &SWEEP_DTS,
             GridScene::Sheet => &SWEEP_DTS[..5],
         }
+    }
+
+    /// The time steps of the runs to a tolerance: every other one of [`Case::dts`], from the
+    /// coarsest (the tolerance multiplies the configurations by three).
+    pub fn tolerance_dts(self) -> impl Iterator<Item = f64> {
+        self.dts().iter().copied().step_by(2)
     }
 
     /// `rope, k = 1e3 N/m`.
@@ -362,22 +369,25 @@ pub fn sweep_solvers() -> Vec<SolverId> {
 }
 
 /// Every configuration of a case: each sweep solver at the iteration counts of its grid
-/// settings (the thesis's counts for its four) and, where its steps can stop at a tolerance,
-/// at each of [`TOLERANCES_M`] with the cap [`TOLERANCE_CAP`], at every time step of the case.
+/// settings (the thesis's counts for its four) at every time step of the case and, where its
+/// steps can stop at a tolerance, at each of [`TOLERANCES_M`] with the cap [`TOLERANCE_CAP`]
+/// at the steps of [`Case::tolerance_dts`].
 pub fn sweep_points(case: Case) -> Vec<Point> {
     let mut points = Vec::new();
     for id in sweep_solvers() {
-        let mut specs = grid_settings(id).expect("a grid solver has settings");
-        if stops_at_tolerance(id) {
-            specs.extend(TOLERANCES_M.map(|t| {
-                SolverSpec::new(id, TOLERANCE_CAP)
-                    .to_tolerance(t)
-                    .expect("the sweep's tolerances are positive")
-            }));
-        }
-        for spec in specs {
+        for spec in grid_settings(id).expect("a grid solver has settings") {
             for &dt_s in case.dts() {
                 points.push(Point { case, spec, dt_s });
+            }
+        }
+        if stops_at_tolerance(id) {
+            for tolerance in TOLERANCES_M {
+                let spec = SolverSpec::new(id, TOLERANCE_CAP)
+                    .to_tolerance(tolerance)
+                    .expect("the sweep's tolerances are positive");
+                for dt_s in case.tolerance_dts() {
+                    points.push(Point { case, spec, dt_s });
+                }
             }
         }
     }
@@ -397,19 +407,71 @@ pub struct CaseReference {
 
 impl CaseReference {
     pub fn compute(case: Case) -> Result<Self> {
-        let system = case.scene.system(case.stiffness)?;
-        let exact = ExactMotion::compute(case, REFERENCE_STABILITY_FRACTION)?;
-        let halved = ExactMotion::compute(case, REFERENCE_STABILITY_FRACTION / 2.0)?;
-        Ok(Self {
-            halving_gap: WindowError::between(&exact.samples, &halved.samples),
-            exact,
-            backward_euler: case
+        Ok(references_of(&[case])?.remove(0))
+    }
+}
+
+/// The references of `cases`, each of its parts a parallel job ([`CaseReference::compute`]
+/// in one job would leave the stiff sheet's two exact motions, 27 s of one core, in series).
+fn references_of(cases: &[Case]) -> Result<Vec<CaseReference>> {
+    #[derive(Clone, Copy)]
+    enum Part {
+        Exact(Case, f64),
+        BackwardEuler(Case, f64),
+    }
+    enum Done {
+        Exact(ExactMotion),
+        BackwardEuler(Vec<Vec<Vec3>>),
+    }
+    let mut parts = Vec::new();
+    for &case in cases {
+        parts.push(Part::Exact(case, REFERENCE_STABILITY_FRACTION));
+        parts.push(Part::Exact(case, REFERENCE_STABILITY_FRACTION / 2.0));
+        parts.extend(case.dts().iter().map(|&dt| Part::BackwardEuler(case, dt)));
+    }
+    // The exact motions first, the stiffer and the finer first; their cost grows as the
+    // stability limit shrinks, about as the square root of the stiffness.
+    let cost = |part: &Part| match *part {
+        Part::Exact(case, fraction) => 1e3 * case.stiffness.sqrt() / fraction,
+        Part::BackwardEuler(case, dt) => case.stiffness.sqrt() / dt,
+    };
+    let done = run_parallel(
+        &parts,
+        cost,
+        |part| -> Result<Done> {
+            Ok(match *part {
+                Part::Exact(case, fraction) => Done::Exact(ExactMotion::compute(case, fraction)?),
+                Part::BackwardEuler(case, dt) => {
+                    let system = case.scene.system(case.stiffness)?;
+                    Done::BackwardEuler(backward_euler_trajectory(&system, dt)?)
+                }
+            })
+        },
+        &|_, _| {},
+    );
+    let mut done = done.into_iter();
+    cases
+        .iter()
+        .map(|case| {
+            let mut next = || done.next().expect("a result per part");
+            let (Done::Exact(exact), Done::Exact(halved)) = (next()?, next()?) else {
+                unreachable!("each case's parts start with its two exact motions")
+            };
+            let backward_euler = case
                 .dts()
                 .iter()
-                .map(|&dt| Ok((dt, backward_euler_trajectory(&system, dt)?)))
-                .collect::<Result<_>>()?,
+                .map(|&dt| match next()? {
+                    Done::BackwardEuler(trajectory) => Ok((dt, trajectory)),
+                    Done::Exact(_) => unreachable!("then a trajectory per time step"),
+                })
+                .collect::<Result<_>>()?;
+            Ok(CaseReference {
+                halving_gap: WindowError::between(&exact.samples, &halved.samples),
+                exact,
+                backward_euler,
+            })
         })
-    }
+        .collect()
 }
 
 /// Runs one configuration and measures its three errors against `reference`.
@@ -468,9 +530,7 @@ pub fn sweep_of(
         .into_iter()
         .filter(|c| points.iter().any(|p| p.case == *c))
         .collect();
-    let references = run_parallel(&cases, |_| 1.0, |&c| CaseReference::compute(c), &|_, _| {})
-        .into_iter()
-        .collect::<Result<Vec<_>>>()?;
+    let references = references_of(&cases)?;
     let cost = |p: &Point| {
         p.case
             .scene

@@ -563,4 +563,4 @@ impl WorkPrecisionChapter {
 }
 
 /// The time step of the section's table of runs to a tolerance, s.
-pub const TOLERANCE_TABLE_DT_S: f64 = 0.01;
+pub const TOLERANCE_TABLE_DT_S: f64 = 0.02;
