@@ -117,8 +117,8 @@ pub fn csv(results: &[PointResult]) -> String {
     out
 }
 
-/// The figure's file stem of a case.
-fn stem(case: Case) -> &'static str {
+/// The figure's file stem of a case (also of its wall-time figure in `make timing`).
+pub fn stem(case: Case) -> &'static str {
     match (case.scene, case.stiffness == 1e3) {
         (GridScene::Rope, true) => "work_precision_rope_k1e3",
         (GridScene::Rope, false) => "work_precision_rope_k1e6",
