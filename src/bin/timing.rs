@@ -16,12 +16,17 @@
 //! step does a square root and a division per spring, against their measured throughput.
 //!
 //! Then the configurations of the report's work-precision chapter (issue 14,
-//! [`mass_spring_solvers::work_precision`]), each timed over its window on this thread, the
-//! minimum of [`WALL_REPEATS`] runs per simulated second, against its counted flops.
+//! [`mass_spring_solvers::work_precision`]): run once in parallel for their errors, then each
+//! timed over its window on this thread, the least of [`WALL_REPEATS`] batch means (each batch
+//! at least [`BATCH_SECONDS`]) per simulated second, against its counted flops; the diagrams,
+//! the cheapest configuration per error level and the most accurate within wall-time budgets
+//! ([`mass_spring_solvers::report::work_precision_wall`]).
 //!
 //! Writes `report/timing/` (or `--out DIR`): `TIMING.md`, `scaling.csv`, `bandwidth.csv`,
-//! `scaling.svg`, `work_precision_wall.csv`, with the machine, the toolchain and the commit. Outside the byte-identical
-//! report: times differ from run to run.
+//! `scaling.svg`, `work_precision_wall.csv`, `work_precision_<case>.svg` and `.csv`, with the
+//! machine, the toolchain and the commit. Outside the byte-identical report: times differ from
+//! run to run. `--quick` skips the scaling study and times the work-precision configurations
+//! of the first case at its two largest time steps only (a second; for the tests).
 
 use clap::Parser;
 use mass_spring_solvers::admm::AdmmPd;
