@@ -132,6 +132,12 @@ fn the_wall_time_selections_are_the_minimum_of_their_cost() {
         "{md}"
     );
     assert!(md.contains("they differ"), "{md}");
+    // Liu's best, 0.07 m, is the error both reach: Liu cheaper in both costs there.
+    assert_eq!(common_level(&rows, case), Some(0.07));
+    assert!(
+        md.contains("| `fast_mass_spring` | 0.002000 | 1 | 400.0 | 1 | dt = 0.01 s, 1 it. |"),
+        "{md}"
+    );
     assert!(md.contains("≤ 0.01 m: 1 of 12 solvers reach it"), "{md}");
     // Tuples: what the selections need is a cost and an error.
     let pairs = [

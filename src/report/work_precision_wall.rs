@@ -313,7 +313,69 @@ pub fn case_section(rows: &[Timed], case: Case) -> String {
         );
     }
     md += "\n";
+    if let Some(level) = common_level(rows, case) {
+        md += &common_ranking(rows, case, level);
+    }
     md += &format!("{}\n\n", answer(rows, case));
+    md
+}
+
+/// The smallest physical error every solver with a row on `case` reaches: the largest of their
+/// smallest, m.
+pub fn common_level(rows: &[Timed], case: Case) -> Option<f64> {
+    sweep_solvers()
+        .into_iter()
+        .filter_map(|id| {
+            rows_of(rows, case, id)
+                .map(|r| r.physical_error)
+                .min_by(f64::total_cmp)
+        })
+        .max_by(f64::total_cmp)
+}
+
+/// Every solver ranked by the cost of its cheapest configuration that reaches `level`, in wall
+/// time and in flops, with Kendall's τ between the two rankings.
+fn common_ranking(rows: &[Timed], case: Case, level: f64) -> String {
+    let wall = ranking(rows, case, Cost::Wall, level);
+    let flops = ranking(rows, case, Cost::Flops, level);
+    let ids = |r: &[(SolverId, f64)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
+    let tau = kendall_tau(&ids(&wall), &ids(&flops)).map_or("–".into(), |t| format!("{t:.2}"));
+    let mut md = format!(
+        "Every solver at the smallest physical error all of them reach, {} m (the largest of \
+         their smallest), ranked by the cost of its cheapest configuration that reaches it \
+         (Kendall τ between the two rankings: {tau}):\n\n",
+        sig4(level)
+    );
+    let mut t = MarkdownTable::new(&[
+        "solver",
+        "wall (s/s)",
+        "rank by wall",
+        "flops",
+        "rank by flops",
+        "configuration (wall; flops where another)",
+    ]);
+    for (k, &(id, cost)) in wall.iter().enumerate() {
+        let f = flops.iter().position(|x| x.0 == id);
+        let by_wall = cheapest(rows, case, id, Cost::Wall, level);
+        let by_flops = cheapest(rows, case, id, Cost::Flops, level);
+        let configuration = match (by_wall, by_flops) {
+            (Some(w), Some(f)) if w.point != f.point => {
+                format!("{}; {}", w.configuration(), f.configuration())
+            }
+            (Some(w), _) => w.configuration(),
+            (None, _) => "–".into(),
+        };
+        t.row(vec![
+            format!("`{id}`"),
+            sig4(cost),
+            (k + 1).to_string(),
+            f.map_or("–".into(), |i| sig4(flops[i].1)),
+            f.map_or("–".into(), |i| (i + 1).to_string()),
+            configuration,
+        ]);
+    }
+    md += &t.render();
+    md += "\n";
     md
 }
 
