@@ -24,7 +24,7 @@ pub const WALL_BUDGETS: [f64; 5] = [1e-5, 1e-4, 1e-3, 1e-2, 1e-1];
 
 /// The header of each figure's CSV: the points it draws.
 pub const FIGURE_CSV_HEADER: &str =
-    "solver,iterations,dt_s,wall_s_per_sim_s,wall_spread,flops,physical_error_m";
+    "solver,iterations,dt_s,wall_s_per_sim_s,wall_spread,cpu_s_per_sim_s,cpu_spread,flops,physical_error_m";
 
 /// A configuration that finished its window, timed.
 #[derive(Debug, Clone, PartialEq)]
@@ -198,11 +198,13 @@ pub fn figure(rows: &[Timed], case: Case) -> Result<(String, String)> {
         let front = pareto_front_by(rows_of(rows, case, id), Timed::wall_s, Timed::error);
         for r in &front {
             csv += &format!(
-                "{id},{},{},{},{:.4},{},{}\n",
+                "{id},{},{},{},{:.4},{},{:.4},{},{}\n",
                 r.point.spec.iterations,
                 full(r.point.dt_s),
                 full(r.wall_s()),
                 r.wall.spread(),
+                full(r.cpu.min),
+                r.cpu.spread(),
                 full(r.flops),
                 full(r.physical_error)
             );
