@@ -11,6 +11,8 @@ use mass_spring_solvers::work_precision::{
 };
 use std::process::Command;
 
+mod figure_check;
+
 fn timing(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_timing"))
         .args(args)
@@ -157,7 +159,8 @@ fn the_wall_time_selections_are_the_minimum_of_their_cost() {
 }
 
 /// On a part of the real sweep, the selections by flops are the report's own
-/// ([`wp::cheapest`], [`wp::pareto_front`]), at levels between the errors reached.
+/// ([`wp::cheapest`], [`wp::pareto_front`]), at levels between the errors reached; the figure
+/// of every solver passes the report's figure check.
 #[test]
 fn the_flops_selections_are_the_reports() {
     let case = Case::ALL[0];
@@ -205,6 +208,12 @@ fn the_flops_selections_are_the_reports() {
         assert_eq!(ours, theirs, "{id}");
     }
     assert!(compared >= 10, "{compared} levels reached");
+    let f = figure(&rows, case).unwrap();
+    assert_eq!(f.stem, "work_precision_rope_k1e3");
+    assert_eq!(
+        figure_check::problems(f.stem, &f.layout, &f.svg),
+        Vec::<String>::new()
+    );
 }
 
 /// `--quick`: the work-precision part alone, on the first case at its two largest time steps;

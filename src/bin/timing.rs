@@ -38,7 +38,6 @@ use mass_spring_solvers::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
 use mass_spring_solvers::registry::{Builder, SolverId, SolverSpec};
 use mass_spring_solvers::report::figures::{colour, solver_line};
 use mass_spring_solvers::report::plot::{self, Axis, Chart, LegendPlace, Marker, Panel, Series};
-use mass_spring_solvers::report::work_precision::stem;
 use mass_spring_solvers::report::work_precision_wall::{
     self as wall_figures, case_section, rows_of, Timed,
 };
@@ -720,9 +719,9 @@ fn run(args: Args) -> Result<String> {
     files.push(("work_precision_wall.csv".into(), wall_csv(&keys)));
     for case in Case::ALL {
         if timed.iter().any(|r| r.point.case == case) {
-            let (svg, csv) = wall_figures::figure(&timed, case)?;
-            files.push((format!("{}.svg", stem(case)), svg));
-            files.push((format!("{}.csv", stem(case)), csv));
+            let f = wall_figures::figure(&timed, case)?;
+            files.push((format!("{}.svg", f.stem), f.svg));
+            files.push((format!("{}.csv", f.stem), f.csv));
         }
     }
     if let Some(study) = &scaling {

@@ -14,8 +14,9 @@ use crate::error::Result;
 use crate::registry::SolverId;
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig4, MarkdownTable};
-use crate::report::plot::{self, Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::work_precision::stem;
+use crate::report::ChapterFigure;
 use crate::work_precision::{sweep_solvers, Case, Point, WallTime, ERROR_LEVELS_M};
 
 /// The wall-time budgets at which the solvers are compared for accuracy, s per simulated s
@@ -181,8 +182,8 @@ pub fn most_accurate_within(rows: &[Timed], case: Case, cost: Cost, budget: f64)
 }
 
 /// One case's figure: the physical error against the wall time per simulated second, log-log,
-/// each solver's front in wall time; the SVG and the CSV of the points it draws.
-pub fn figure(rows: &[Timed], case: Case) -> Result<(String, String)> {
+/// each solver's front in wall time, with the CSV of the points it draws.
+pub fn figure(rows: &[Timed], case: Case) -> Result<ChapterFigure> {
     let markers = [
         Marker::Circle,
         Marker::Square,
@@ -222,8 +223,11 @@ pub fn figure(rows: &[Timed], case: Case) -> Result<(String, String)> {
                 .with_line(solver_line(id)),
         );
     }
-    let chart = Chart::new(FULL_WIDTH_MM, 90.0, vec![panel]);
-    Ok((plot::layout(&chart)?.svg(), csv))
+    ChapterFigure::new(
+        stem(case),
+        &Chart::new(FULL_WIDTH_MM, 90.0, vec![panel]),
+        csv,
+    )
 }
 
 /// TIMING.md's section for one case: the figure, the cheapest-configuration table in wall
