@@ -43,7 +43,7 @@ use mass_spring_solvers::report::work_precision_wall::{
 };
 use mass_spring_solvers::scene::SheetParams;
 use mass_spring_solvers::work_precision::{
-    run_flops, sample_trajectory, sweep_of, sweep_points, sweep_solvers, wall_csv, Case, ErrorKind,
+    sample_trajectory, sweep_of, sweep_points, sweep_solvers, wall_csv, Case, ErrorKind,
     Point as Configuration, PointResult, WallTime, WALL_REPEATS, WALL_SPREAD_FLAG, WINDOW_S,
 };
 use mass_spring_solvers::{MassSpringSystem, State, TimeStepper};
@@ -713,7 +713,7 @@ fn run(args: Args) -> Result<String> {
     };
     files.push((
         "TIMING.md".into(),
-        md + &work_precision_md(&timed, &diverged, batch_seconds)?,
+        md + &work_precision_md(&timed, &diverged, batch_seconds),
     ));
     let keys: Vec<(Configuration, WallTime)> = timed.iter().map(|r| (r.point, r.wall)).collect();
     files.push(("work_precision_wall.csv".into(), wall_csv(&keys)));
@@ -852,11 +852,7 @@ fn work_precision_wall(
 /// per case each solver's configurations summed in counted flops and in wall time with the two
 /// rankings, then per case ([`case_section`]) the work-precision figure in wall time, the
 /// cheapest configuration at each error level and the most accurate within each budget.
-fn work_precision_md(
-    rows: &[Timed],
-    diverged: &[PointResult],
-    batch_seconds: f64,
-) -> Result<String> {
+fn work_precision_md(rows: &[Timed], diverged: &[PointResult], batch_seconds: f64) -> String {
     let mut md = String::new();
     let w = &mut md;
     let flagged: Vec<&Timed> = rows.iter().filter(|r| r.wall.flagged()).collect();
@@ -887,16 +883,14 @@ fn work_precision_md(
         WALL_SPREAD_FLAG * 100.0
     );
     for &case in &cases {
-        let system = case.scene.system(case.stiffness)?;
-        let mut totals: Vec<(SolverId, f64, f64)> = Vec::new();
-        for id in sweep_solvers() {
-            let (mut flops, mut wall) = (0.0, 0.0);
-            for r in rows_of(rows, case, id) {
-                flops += run_flops(&r.point.spec, &system, r.point.dt_s)?;
-                wall += r.wall_s();
-            }
-            totals.push((id, flops, wall));
-        }
+        let totals: Vec<(SolverId, f64, f64)> = sweep_solvers()
+            .into_iter()
+            .map(|id| {
+                rows_of(rows, case, id).fold((id, 0.0, 0.0), |(id, flops, wall), r| {
+                    (id, flops + r.flops, wall + r.wall_s())
+                })
+            })
+            .collect();
         let rank = |key: fn(&(SolverId, f64, f64)) -> f64| {
             let mut sorted = totals.clone();
             sorted.sort_by(|a, b| key(a).total_cmp(&key(b)));
@@ -960,7 +954,7 @@ fn work_precision_md(
             );
         }
     }
-    Ok(md)
+    md
 }
 
 struct Context {
