@@ -707,7 +707,7 @@ fn run(args: Args) -> Result<String> {
     let md = match &scaling {
         Some(study) => timing_md(study, &context),
         None => format!(
-            "# Work-precision in wall-clock time (`make timing`, quick look)\n\n{}",
+            "# A quick look (`timing --quick`): no scaling study, one case\n\n{}",
             context_md(&context)
         ),
     };
