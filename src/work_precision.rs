@@ -977,16 +977,20 @@ pub const WALL_CSV_HEADER: &str =
     "solver,scene,stiffness,dt_s,tolerance,iterations_mean,wall_s_per_sim_s,spread";
 
 /// `work_precision_wall.csv`, one row per measured configuration.
-pub fn wall_csv(rows: &[(Point, WallTime)]) -> String {
+pub fn wall_csv(rows: &[(Point, f64, WallTime)]) -> String {
     let mut out = format!("{WALL_CSV_HEADER}\n");
-    for (p, t) in rows {
+    for (p, iterations_mean, t) in rows {
         out += &format!(
-            "{},{},{:?},{:?},,{},{:e},{:.4}\n",
+            "{},{},{:?},{:?},{},{:?},{:e},{:.4}\n",
             p.spec.id,
             p.case.scene.id(),
             p.case.stiffness,
             p.dt_s,
-            p.spec.iterations,
+            p.spec
+                .stopping
+                .tolerance_m()
+                .map_or(String::new(), |t| format!("{t:?}")),
+            iterations_mean,
             t.min,
             t.spread()
         );

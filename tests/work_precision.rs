@@ -381,9 +381,9 @@ fn the_wall_clock_csv_has_the_key_columns() {
         .filter(|p| p.dt_s == 0.1 && p.spec.iterations == 1)
         .take(2)
         .collect();
-    let rows: Vec<(Point, WallTime)> = points
+    let rows: Vec<(Point, f64, WallTime)> = points
         .iter()
-        .map(|p| (*p, wall_time(p, 2).unwrap()))
+        .map(|p| (*p, p.spec.iterations as f64, wall_time(p, 2).unwrap()))
         .collect();
     let text = wall_csv(&rows);
     let mut lines = text.lines();
@@ -391,7 +391,7 @@ fn the_wall_clock_csv_has_the_key_columns() {
         lines.next().unwrap(),
         "solver,scene,stiffness,dt_s,tolerance,iterations_mean,wall_s_per_sim_s,spread"
     );
-    for (line, (p, t)) in lines.zip(&rows) {
+    for (line, (p, _, t)) in lines.zip(&rows) {
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells.len(), 8, "{line}");
         assert_eq!(cells[0], p.spec.id.id());

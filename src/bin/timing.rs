@@ -16,12 +16,17 @@
 //! step does a square root and a division per spring, against their measured throughput.
 //!
 //! Then the configurations of the report's work-precision chapter (issue 14,
-//! [`mass_spring_solvers::work_precision`]), each timed over its window on this thread, the
-//! minimum of [`WALL_REPEATS`] runs per simulated second, against its counted flops.
+//! [`mass_spring_solvers::work_precision`]): run once in parallel for their errors, then each
+//! timed over its window on this thread, the least of [`WALL_REPEATS`] batch means (each batch
+//! at least [`BATCH_SECONDS`]) per simulated second, against its counted flops; the diagrams,
+//! the cheapest configuration per error level and the most accurate within wall-time budgets
+//! ([`mass_spring_solvers::report::work_precision_wall`]).
 //!
 //! Writes `report/timing/` (or `--out DIR`): `TIMING.md`, `scaling.csv`, `bandwidth.csv`,
-//! `scaling.svg`, `work_precision_wall.csv`, with the machine, the toolchain and the commit. Outside the byte-identical
-//! report: times differ from run to run.
+//! `scaling.svg`, `work_precision_wall.csv`, `work_precision_<case>.svg` and `.csv`, with the
+//! machine, the toolchain and the commit. Outside the byte-identical report: times differ from
+//! run to run. `--quick` skips the scaling study and times the work-precision configurations
+//! of the first case at its two largest time steps only (a second; for the tests).
 
 use clap::Parser;
 use mass_spring_solvers::admm::AdmmPd;
@@ -33,10 +38,13 @@ use mass_spring_solvers::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
 use mass_spring_solvers::registry::{Builder, SolverId, SolverSpec};
 use mass_spring_solvers::report::figures::{colour, solver_line};
 use mass_spring_solvers::report::plot::{self, Axis, Chart, LegendPlace, Marker, Panel, Series};
+use mass_spring_solvers::report::work_precision_wall::{
+    self as wall_figures, case_section, rows_of, Timed,
+};
 use mass_spring_solvers::scene::SheetParams;
 use mass_spring_solvers::work_precision::{
-    run_flops, sweep_points, sweep_solvers, wall_csv, wall_time, Case, Point as Configuration,
-    WallTime, WALL_REPEATS, WALL_SPREAD_FLAG, WINDOW_S,
+    sample_trajectory, sweep_of, sweep_points, sweep_solvers, wall_csv, Case, ErrorKind,
+    Point as Configuration, PointResult, WallTime, WALL_REPEATS, WALL_SPREAD_FLAG, WINDOW_S,
 };
 use mass_spring_solvers::{MassSpringSystem, State, TimeStepper};
 use std::fmt::Write as _;
@@ -146,6 +154,10 @@ struct Args {
     /// Largest n to run (nodes per side), for a quick look.
     #[arg(long, default_value_t = 320)]
     max_side: usize,
+    /// A quick look (and the tests): no scaling study, and the work-precision part on the
+    /// first case at its two largest time steps only, in batches of 1 ms.
+    #[arg(long)]
+    quick: bool,
     /// Internal: measure one point (solver id, n) and print it as one line.
     #[arg(long, num_args = 2, value_names = ["SOLVER", "N"])]
     point: Option<Vec<String>>,
@@ -158,7 +170,11 @@ struct Time {
     cpu: f64,
     /// Largest over smallest wall time of the repeats.
     spread: f64,
+    /// Largest over smallest CPU time of the repeats.
+    cpu_spread: f64,
     repeats: usize,
+    /// Calls per timed batch.
+    batch: usize,
 }
 
 /// The CPU time of the calling thread, s (`CLOCK_THREAD_CPUTIME_ID`).
@@ -169,18 +185,31 @@ fn thread_cpu() -> f64 {
 
 /// Times `f`: batches of enough calls to last [`BATCH_SECONDS`], [`REPEATS`] of them (one
 /// for a call longer than [`LONG_SECONDS`], three for one over a tenth of it); per call.
-fn time(mut f: impl FnMut() -> Result<()>) -> Result<Time> {
+fn time(f: impl FnMut() -> Result<()>) -> Result<Time> {
+    time_batches(f, BATCH_SECONDS, |once| {
+        if once > LONG_SECONDS {
+            1
+        } else if once > 0.1 * LONG_SECONDS {
+            3
+        } else {
+            REPEATS
+        }
+    })
+}
+
+/// Times `f` per call: one call first, then `repeats(its seconds)` batches of enough calls to
+/// last `batch_seconds` (a scheduler's interruption spreads over a batch instead of
+/// dominating one short call); the least batch mean, and the spreads of the batch means.
+fn time_batches(
+    mut f: impl FnMut() -> Result<()>,
+    batch_seconds: f64,
+    repeats: impl Fn(f64) -> usize,
+) -> Result<Time> {
     let t = Instant::now();
     f()?;
     let once = t.elapsed().as_secs_f64();
-    let batch = ((BATCH_SECONDS / once.max(1e-9)).ceil() as usize).clamp(1, 1 << 20);
-    let repeats = if once > LONG_SECONDS {
-        1
-    } else if once > 0.1 * LONG_SECONDS {
-        3
-    } else {
-        REPEATS
-    };
+    let batch = ((batch_seconds / once.max(1e-9)).ceil() as usize).clamp(1, 1 << 20);
+    let repeats = repeats(once);
     let (mut walls, mut cpus) = (Vec::new(), Vec::new());
     for _ in 0..repeats {
         let (c, t) = (thread_cpu(), Instant::now());
@@ -191,12 +220,14 @@ fn time(mut f: impl FnMut() -> Result<()>) -> Result<Time> {
         cpus.push((thread_cpu() - c) / batch as f64);
     }
     let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
-    let max = walls.iter().copied().fold(0.0, f64::max);
+    let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
     Ok(Time {
         wall: min(&walls),
         cpu: min(&cpus),
-        spread: max / min(&walls),
+        spread: max(&walls) / min(&walls),
+        cpu_spread: max(&cpus) / min(&cpus),
         repeats,
+        batch,
     })
 }
 
@@ -295,7 +326,9 @@ fn measure(solver: &Solver, n: usize) -> Result<Point> {
                 wall: l.wall + g.wall,
                 cpu: l.cpu + g.cpu,
                 spread: l.spread.max(g.spread),
+                cpu_spread: l.cpu_spread.max(g.cpu_spread),
                 repeats: l.repeats.min(g.repeats),
+                batch: l.batch.min(g.batch),
             };
             let a = pattern(1);
             point.factor_nnz = Some(match a.bandwidth() {
@@ -382,7 +415,9 @@ fn parse_row(line: &str) -> Option<Point> {
             wall: num(w)?,
             cpu: num(c)?,
             spread: s.and_then(num).unwrap_or(f64::NAN),
+            cpu_spread: f64::NAN,
             repeats: 0,
+            batch: 0,
         })
     };
     Some(Point {
@@ -620,11 +655,117 @@ fn run(args: Args) -> Result<String> {
     }
     std::fs::create_dir_all(&out)
         .map_err(|e| Error::Input(format!("cannot create {}: {e}", out.display())))?;
-    let exe = std::env::current_exe().map_err(|e| Error::Input(e.to_string()))?;
     let started = Instant::now();
     let load_before = load_average();
+    let scaling = if args.quick {
+        None
+    } else {
+        Some(scaling_study(&sides)?)
+    };
+    let (configurations, batch_seconds) = if args.quick {
+        let case = Case::ALL[0];
+        let dts = &case.dts()[..2];
+        let points = sweep_points(case)
+            .into_iter()
+            .filter(|p| dts.contains(&p.dt_s))
+            .collect::<Vec<_>>();
+        (points, 1e-3)
+    } else {
+        // Most configurations run their window in under a millisecond to a few, where one
+        // interruption by the scheduler would be the measurement: batches, as the scaling's.
+        let points = Case::ALL.into_iter().flat_map(sweep_points).collect();
+        (points, BATCH_SECONDS)
+    };
+    let (timed, diverged) = work_precision_wall(&configurations, batch_seconds)?;
+    let load_after = load_average();
+    let (model, cores) = machine();
+    let commit = git(&["rev-parse", "HEAD"], &root);
+    // Its own output aside: a run replaces report/timing/.
+    let status = [
+        "status",
+        "--porcelain",
+        "--untracked-files=no",
+        "--",
+        ".",
+        ":!report/timing",
+    ];
+    let dirty = !git(&status, &root).is_empty();
+    let context = Context {
+        model,
+        cores,
+        toolchain: rustc_version(),
+        commit: if dirty {
+            format!("{commit} (with uncommitted changes)")
+        } else {
+            commit
+        },
+        load: format!("{load_before} before, {load_after} after"),
+        seconds: started.elapsed().as_secs_f64(),
+    };
+
+    let mut files: Vec<(String, String)> = Vec::new();
+    let md = match &scaling {
+        Some(study) => timing_md(study, &context),
+        None => format!(
+            "# A quick look (`timing --quick`): no scaling study, one case\n\n{}",
+            context_md(&context)
+        ),
+    };
+    files.push((
+        "TIMING.md".into(),
+        md + &work_precision_md(&timed, &diverged, batch_seconds),
+    ));
+    let keys: Vec<(Configuration, f64, WallTime)> = timed
+        .iter()
+        .map(|r| (r.point, r.iterations_mean, r.wall))
+        .collect();
+    files.push(("work_precision_wall.csv".into(), wall_csv(&keys)));
+    for case in Case::ALL {
+        if timed.iter().any(|r| r.point.case == case) {
+            let f = wall_figures::figure(&timed, case)?;
+            files.push((format!("{}.svg", f.stem), f.svg));
+            files.push((format!("{}.csv", f.stem), f.csv));
+        }
+    }
+    if let Some(study) = &scaling {
+        let mut csv = format!("{COLUMNS}\n");
+        for p in &study.points {
+            writeln!(csv, "{}", csv_row(p)).expect("String");
+        }
+        let mut bw_csv = String::from("n,factor_bytes,read_bandwidth_bytes_per_s\n");
+        for (n, bytes, bw) in &study.bandwidth {
+            writeln!(bw_csv, "{n},{bytes},{bw:e}").expect("String");
+        }
+        files.push(("scaling.csv".into(), csv));
+        files.push(("bandwidth.csv".into(), bw_csv));
+        files.push(("scaling.svg".into(), figure(&study.points)?));
+    }
+    for (name, text) in &files {
+        let path = out.join(name);
+        std::fs::write(&path, text)
+            .map_err(|e| Error::Input(format!("cannot write {}: {e}", path.display())))?;
+    }
+    let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
+    Ok(format!(
+        "wrote {} to {} in {:.0} s",
+        names.join(", "),
+        out.display(),
+        started.elapsed().as_secs_f64()
+    ))
+}
+
+/// The sheet's scaling study: every point of `sides` × [`solvers`] in its own process, the
+/// read bandwidth at each factor's size and the local step's arithmetic.
+struct Scaling {
+    points: Vec<Point>,
+    bandwidth: Vec<(usize, usize, f64)>,
+    sqrt_div: f64,
+}
+
+fn scaling_study(sides: &[usize]) -> Result<Scaling> {
+    let exe = std::env::current_exe().map_err(|e| Error::Input(e.to_string()))?;
     let mut points = Vec::new();
-    for &n in &sides {
+    for &n in sides {
         for solver in &solvers() {
             let t = Instant::now();
             let p = run_child(&exe, solver, n)?;
@@ -639,7 +780,6 @@ fn run(args: Args) -> Result<String> {
             points.push(p);
         }
     }
-    // Bandwidth at every factor's size, and the local step's arithmetic.
     let sqrt_div = sqrt_div_seconds();
     let mut bandwidth = Vec::new();
     for p in points.iter().filter(|p| p.solver == "liu") {
@@ -647,123 +787,114 @@ fn run(args: Args) -> Result<String> {
         bandwidth.push((p.n, bytes, read_bandwidth(bytes)));
     }
     eprintln!("timing: bandwidth and arithmetic measured");
-    let wall = work_precision_wall()?;
-    let load_after = load_average();
-    let (model, cores) = machine();
-    let commit = git(&["rev-parse", "HEAD"], &root);
-    // Its own output aside: a run replaces report/timing/.
-    let status = [
-        "status",
-        "--porcelain",
-        "--untracked-files=no",
-        "--",
-        ".",
-        ":!report/timing",
-    ];
-    let dirty = !git(&status, &root).is_empty();
-    let toolchain = rustc_version();
-
-    let mut csv = format!("{COLUMNS}\n");
-    for p in &points {
-        writeln!(csv, "{}", csv_row(p)).expect("String");
-    }
-    let mut bw_csv = String::from("n,factor_bytes,read_bandwidth_bytes_per_s\n");
-    for (n, bytes, bw) in &bandwidth {
-        writeln!(bw_csv, "{n},{bytes},{bw:e}").expect("String");
-    }
-    let md = timing_md(
-        &points,
-        &bandwidth,
+    Ok(Scaling {
+        points,
+        bandwidth,
         sqrt_div,
-        &Context {
-            model,
-            cores,
-            toolchain,
-            commit: if dirty {
-                format!("{commit} (with uncommitted changes)")
-            } else {
-                commit
-            },
-            load: format!("{load_before} before, {load_after} after"),
-            seconds: started.elapsed().as_secs_f64(),
-        },
-    );
-    let md = md + &work_precision_md(&wall)?;
-    let svg = figure(&points)?;
-    for (name, text) in [
-        ("TIMING.md", md),
-        ("work_precision_wall.csv", wall_csv(&wall)),
-        ("scaling.csv", csv),
-        ("bandwidth.csv", bw_csv),
-        ("scaling.svg", svg),
-    ] {
-        let path = out.join(name);
-        std::fs::write(&path, text)
-            .map_err(|e| Error::Input(format!("cannot write {}: {e}", path.display())))?;
-    }
-    Ok(format!(
-        "wrote TIMING.md, scaling.csv, bandwidth.csv, scaling.svg and work_precision_wall.csv to {} in {:.0} s",
-        out.display(),
-        started.elapsed().as_secs_f64()
-    ))
+    })
 }
 
-/// Every configuration of the work-precision sweep timed on this thread, with progress.
-fn work_precision_wall() -> Result<Vec<(Configuration, WallTime)>> {
-    let points: Vec<Configuration> = Case::ALL.into_iter().flat_map(sweep_points).collect();
+/// The work-precision configurations `points`: run once in parallel for their errors
+/// ([`sweep_of`], as the report runs them), then each that finished its window timed on this
+/// thread, [`WALL_REPEATS`] batches of at least `batch_seconds`, with progress. Returns the
+/// timed configurations and those that did not finish.
+fn work_precision_wall(
+    points: &[Configuration],
+    batch_seconds: f64,
+) -> Result<(Vec<Timed>, Vec<PointResult>)> {
     let started = Instant::now();
-    let mut rows = Vec::with_capacity(points.len());
-    for (i, p) in points.iter().enumerate() {
-        match wall_time(p, WALL_REPEATS) {
-            Ok(t) => rows.push((*p, t)),
-            // A diverging configuration has no time; the report's chapter lists it.
-            Err(e) => eprintln!("timing: work-precision {} skipped: {e}", p.spec.id),
-        }
-        if (i + 1) % 25 == 0 || i + 1 == points.len() {
+    let (_, results) = sweep_of(points, &|done, total| {
+        if done % 100 == 0 || done == total {
             eprintln!(
-                "timing: work-precision {}/{} configurations  [{:.0} s]",
+                "timing: work-precision errors {done}/{total}  [{:.0} s]",
+                started.elapsed().as_secs_f64()
+            );
+        }
+    })?;
+    let (finished, diverged): (Vec<PointResult>, Vec<PointResult>) =
+        results.into_iter().partition(|r| r.errors.is_ok());
+    let started = Instant::now();
+    let mut rows = Vec::with_capacity(finished.len());
+    for (i, r) in finished.iter().enumerate() {
+        let p = &r.point;
+        let system = p.case.scene.system(p.case.stiffness)?;
+        let run = || -> Result<()> {
+            let mut solver = p.spec.build_send(&system, p.dt_s)?;
+            std::hint::black_box(sample_trajectory(solver.as_mut(), system.initial_state())?);
+            Ok(())
+        };
+        let t = time_batches(run, batch_seconds, |_| WALL_REPEATS)?;
+        let per_simulated_second = |least: f64, spread: f64| WallTime {
+            min: least / WINDOW_S,
+            max: least * spread / WINDOW_S,
+            repeats: t.repeats,
+        };
+        rows.push(Timed {
+            point: *p,
+            flops: r.flops,
+            physical_error: r
+                .error(ErrorKind::Physical)
+                .expect("a finished run has its errors"),
+            wall: per_simulated_second(t.wall, t.spread),
+            cpu: per_simulated_second(t.cpu, t.cpu_spread),
+            batch: t.batch,
+            iterations_mean: r.iterations_mean(),
+        });
+        if (i + 1) % 50 == 0 || i + 1 == finished.len() {
+            eprintln!(
+                "timing: work-precision timed {}/{} configurations  [{:.0} s]",
                 i + 1,
-                points.len(),
+                finished.len(),
                 started.elapsed().as_secs_f64()
             );
         }
     }
-    Ok(rows)
+    Ok((rows, diverged))
 }
 
-/// TIMING.md's work-precision section: per case, each solver's configurations summed in
-/// counted flops and in wall time, the two rankings and where they disagree.
-fn work_precision_md(rows: &[(Configuration, WallTime)]) -> Result<String> {
+/// TIMING.md's work-precision section: how the configurations were timed and how many spread,
+/// per case each solver's configurations summed in counted flops and in wall time with the two
+/// rankings, then per case ([`case_section`]) the work-precision figure in wall time, the
+/// cheapest configuration at each error level and the most accurate within each budget.
+fn work_precision_md(rows: &[Timed], diverged: &[PointResult], batch_seconds: f64) -> String {
     let mut md = String::new();
     let w = &mut md;
-    let flagged: Vec<&(Configuration, WallTime)> =
-        rows.iter().filter(|(_, t)| t.flagged()).collect();
+    let flagged: Vec<&Timed> = rows.iter().filter(|r| r.wall.flagged()).collect();
+    let cpu_flagged = rows.iter().filter(|r| r.cpu.flagged()).count();
+    let batched = rows.iter().filter(|r| r.batch > 1).count();
+    let cases: Vec<Case> = Case::ALL
+        .into_iter()
+        .filter(|c| rows.iter().any(|r| r.point.case == *c))
+        .collect();
     let _ = writeln!(
         w,
         "\n## Work-precision in wall-clock time (issue 14)\n\n\
-         The {} configurations of the report's work-precision chapter (every solver, time step \
-         and iteration count on each case), each run over its window {WALL_REPEATS} times on \
-         this thread: the minimum wall time per simulated second \
-         (`work_precision_wall.csv`), against the floating-point operations the report counts. \
-         {} configurations spread by more than {:.0} % between repeats (flagged).\n",
+         The configurations of the report's work-precision chapter (every solver, time step \
+         and iteration count on each case), run once in parallel for their errors (as the \
+         report runs them); {} did not finish the window and are not timed. Each of the {} \
+         that did is timed on this thread: one run, then {WALL_REPEATS} batches of as many \
+         runs of the window (solver built and run, the errors not measured) as last at least \
+         {:.0} ms ({batched} configurations needed more than one run per batch); the least \
+         batch mean per simulated second is its wall time (`work_precision_wall.csv`, beside \
+         the floating-point operations the report counts). {} configurations' batch means \
+         spread by more than {:.0} % in wall time (flagged, listed at the end), {cpu_flagged} \
+         in the thread's CPU time (the machine is shared: a batch that waited for the core \
+         spreads the wall time, not the CPU time).\n",
+        diverged.len(),
         rows.len(),
+        batch_seconds * 1e3,
         flagged.len(),
         WALL_SPREAD_FLAG * 100.0
     );
-    for case in Case::ALL {
-        let system = case.scene.system(case.stiffness)?;
-        let mut totals: Vec<(SolverId, f64, f64)> = Vec::new();
-        for id in sweep_solvers() {
-            let (mut flops, mut wall) = (0.0, 0.0);
-            for (p, t) in rows
-                .iter()
-                .filter(|(p, _)| p.case == case && p.spec.id == id)
-            {
-                flops += run_flops(&p.spec, &system, p.dt_s)?;
-                wall += t.min;
-            }
-            totals.push((id, flops, wall));
-        }
+    for &case in &cases {
+        let totals: Vec<(SolverId, f64, f64)> = sweep_solvers()
+            .into_iter()
+            .map(|id| {
+                rows_of(rows, case, id).fold((id, 0.0, 0.0), |(id, flops, wall), r| {
+                    (id, flops + r.flops, wall + r.wall_s())
+                })
+            })
+            .collect();
         let rank = |key: fn(&(SolverId, f64, f64)) -> f64| {
             let mut sorted = totals.clone();
             sorted.sort_by(|a, b| key(a).total_cmp(&key(b)));
@@ -773,8 +904,8 @@ fn work_precision_md(rows: &[(Configuration, WallTime)]) -> Result<String> {
         let by_wall = rank(|t| t.2);
         let _ = writeln!(
             w,
-            "**{}**: every configuration of each solver summed, ranked cheapest first (Kendall τ \
-             between the two rankings: {}).\n",
+            "**{}**: every timed configuration of each solver summed, ranked cheapest first \
+             (Kendall τ between the two rankings: {}).\n",
             case.label(),
             kendall_tau(&by_flops, &by_wall).map_or("–".into(), |t| format!("{t:.2}"))
         );
@@ -795,25 +926,39 @@ fn work_precision_md(rows: &[(Configuration, WallTime)]) -> Result<String> {
         }
         let _ = writeln!(w);
     }
+    let _ = writeln!(
+        w,
+        "## Work-precision diagrams and the cheapest configurations in wall time\n\n\
+         Costs in wall seconds per simulated second (s/s, one core; 1 is real time) and in the \
+         report's counted flops over the {} s window; errors are the report's physical error \
+         (the per-node distance summed, at the worst sample of the window).\n",
+        WINDOW_S
+    );
+    for &case in &cases {
+        md += &case_section(rows, case);
+    }
+    let w = &mut md;
     if !flagged.is_empty() {
         let _ = writeln!(
             w,
-            "Flagged (spread above {:.0} %):\n",
+            "Flagged (wall-time spread of the batch means above {:.0} %):\n",
             WALL_SPREAD_FLAG * 100.0
         );
-        for (p, t) in flagged {
+        for r in flagged {
             let _ = writeln!(
                 w,
-                "- `{}` {} it., dt = {} s, {}: spread {:.0} %",
-                p.spec.id,
-                p.spec.iterations,
-                p.dt_s,
-                p.case.label(),
-                t.spread() * 100.0
+                "- `{}` {} it., dt = {} s, {}: spread {:.0} % (CPU time {:.0} %; runs per batch: {})",
+                r.point.spec.id,
+                r.point.spec.iterations,
+                r.point.dt_s,
+                r.point.case.label(),
+                r.wall.spread() * 100.0,
+                r.cpu.spread() * 100.0,
+                r.batch
             );
         }
     }
-    Ok(md)
+    md
 }
 
 struct Context {
@@ -836,12 +981,22 @@ fn bound(p: &Point, bandwidth: &[(usize, usize, f64)], sqrt_div: f64) -> Option<
     Some((2.0 * *bytes as f64 / bw, p.springs as f64 * sqrt_div))
 }
 
-fn timing_md(
-    points: &[Point],
-    bandwidth: &[(usize, usize, f64)],
-    sqrt_div: f64,
-    c: &Context,
-) -> String {
+/// The machine, the toolchain, the commit, the load and the run time.
+fn context_md(c: &Context) -> String {
+    format!(
+        "- machine: {}, {} cores available\n- toolchain: {}\n- commit: {}\n\
+         - load average (1, 5, 15 min): {}\n- run time: {:.0} s\n\n",
+        c.model, c.cores, c.toolchain, c.commit, c.load, c.seconds
+    )
+}
+
+fn timing_md(study: &Scaling, c: &Context) -> String {
+    let Scaling {
+        points,
+        bandwidth,
+        sqrt_div,
+    } = study;
+    let (bandwidth, sqrt_div) = (bandwidth.as_slice(), *sqrt_div);
     let mut md = String::new();
     let w = &mut md;
     let _ = writeln!(w, "# Scaling on the sheet (`make timing`)\n");
@@ -853,11 +1008,7 @@ fn timing_md(
          every point in its own process.\n",
         SIDES.map(|n| n.to_string()).join(", ")
     );
-    let _ = writeln!(w, "- machine: {}, {} cores available", c.model, c.cores);
-    let _ = writeln!(w, "- toolchain: {}", c.toolchain);
-    let _ = writeln!(w, "- commit: {}", c.commit);
-    let _ = writeln!(w, "- load average (1, 5, 15 min): {}", c.load);
-    let _ = writeln!(w, "- run time: {:.0} s\n", c.seconds);
+    w.push_str(&context_md(c));
     let _ = writeln!(
         w,
         "Times are per call, the minimum over repeated batches (each at least {:.0} ms), in the \

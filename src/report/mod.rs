@@ -27,6 +27,7 @@ pub mod traceability;
 pub mod tutorial;
 pub mod versions;
 pub mod work_precision;
+pub mod work_precision_wall;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use crate::error::Result;

@@ -126,15 +126,20 @@ pub fn csv(results: &[PointResult]) -> String {
 /// `dt = 0.01 s, 70 it.`, or for a run to a tolerance `dt = 0.01 s, to 1e-4 m (12.3 it.)`
 /// with the mean iterations per step.
 pub fn configuration(r: &PointResult) -> String {
-    let dt = full(r.point.dt_s);
-    match r.point.spec.stopping.tolerance_m() {
-        None => format!("dt = {dt} s, {} it.", r.point.spec.iterations),
-        Some(t) => format!("dt = {dt} s, to {t:e} m ({:.1} it.)", r.iterations_mean()),
+    configuration_of(&r.point, r.iterations_mean())
+}
+
+/// [`configuration`] of `point`, whose steps took `iterations_mean` iterations on average.
+pub fn configuration_of(point: &Point, iterations_mean: f64) -> String {
+    let dt = full(point.dt_s);
+    match point.spec.stopping.tolerance_m() {
+        None => format!("dt = {dt} s, {} it.", point.spec.iterations),
+        Some(t) => format!("dt = {dt} s, to {t:e} m ({iterations_mean:.1} it.)"),
     }
 }
 
-/// The figure's file stem of a case.
-fn stem(case: Case) -> &'static str {
+/// The figure's file stem of a case (also of its wall-time figure in `make timing`).
+pub fn stem(case: Case) -> &'static str {
     match (case.scene, case.stiffness == 1e3) {
         (GridScene::Rope, true) => "work_precision_rope_k1e3",
         (GridScene::Rope, false) => "work_precision_rope_k1e6",
