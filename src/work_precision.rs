@@ -6,7 +6,9 @@
 //! stability limit $`\omega h < 2\sqrt2`$ (with $`\omega`$ the highest natural frequency of the
 //! start state, [`rk4_stability_limit`]), kept at the sample times only
 //! ($`t_j = j \cdot`$ [`SAMPLE_INTERVAL_S`]). Its convergence is shown by halving the step
-//! (`tests/work_precision.rs`).
+//! from twice it to it ([`CaseReference::halving_gap`], `tests/work_precision.rs`): the
+//! change bounds the error of the coarser motion, and the error of the finer one is about a
+//! fifteenth of it (order 4).
 //!
 //! **The three errors** of a run at step $`dt`$, each the per-node distance summed (thesis
 //! convention 7) with its largest node distance beside it:
@@ -18,9 +20,16 @@
 //! - solver, $`e_{solv} = \max_j \sum_i |x_i(t_j) - x^{BE}_i(t_j)|`$, against the trajectory of
 //!   repeated converged Backward Euler steps ([`converged_step`]) at the same $`dt`$.
 //!
+//! **The configurations**: each solver at its fixed iteration counts (the thesis's mode) and,
+//! for every solver whose steps iterate, run to each of [`TOLERANCES_M`] ([`crate::stopping`]:
+//! a step stops at the first iterate that moves no node by more than the tolerance, capped at
+//! [`TOLERANCE_CAP`]), over the time steps of [`Case::dts`].
+//!
 //! **The cost** in floating-point operations, by a model per operation ([`flops_setup`],
-//! [`flops_per_step_overhead`], [`flops_of_iteration`]): a run of $`s`$ steps costs setup
-//! $`+ s\,(`$overhead $`+ \sum_j`$ iteration $`j)`$.
+//! [`flops_per_step_overhead`], [`flops_of_iteration`], [`flops_of_extra`]), applied to the
+//! iterations each step took ([`logged_flops`]): a run costs setup
+//! $`+ \sum_{steps}(`$overhead $`+ \sum_{j < m}`$ iteration $`j)`$ with $`m`$ the step's
+//! iterations, plus its logged extra work.
 
 use crate::backward_euler::{converged_step, ConvergedStepOptions};
 use crate::beyond::{grid_settings, GridScene};
@@ -399,7 +408,9 @@ pub fn sweep_points(case: Case) -> Vec<Point> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CaseReference {
     pub exact: ExactMotion,
-    /// The exact motion's change when its step is halved: its error bound.
+    /// The change of the exact motion when RK4's step is halved from $`2h`$ to its $`h`$: an
+    /// estimate of the error of the $`2h`$ motion, and so, RK4 being of order 4, about 15
+    /// times the error of the exact motion itself (Richardson).
     pub halving_gap: WindowError,
     /// (dt, trajectory) for every dt of [`Case::dts`].
     pub backward_euler: Vec<(f64, Vec<Vec<Vec3>>)>,
@@ -411,8 +422,8 @@ impl CaseReference {
     }
 }
 
-/// The references of `cases`, each of its parts a parallel job ([`CaseReference::compute`]
-/// in one job would leave the stiff sheet's two exact motions, 27 s of one core, in series).
+/// The references of `cases`, each of its parts a parallel job (in one job the stiff sheet's
+/// two exact motions, 14 s of one core, would run in series).
 fn references_of(cases: &[Case]) -> Result<Vec<CaseReference>> {
     #[derive(Clone, Copy)]
     enum Part {
@@ -426,7 +437,7 @@ fn references_of(cases: &[Case]) -> Result<Vec<CaseReference>> {
     let mut parts = Vec::new();
     for &case in cases {
         parts.push(Part::Exact(case, REFERENCE_STABILITY_FRACTION));
-        parts.push(Part::Exact(case, REFERENCE_STABILITY_FRACTION / 2.0));
+        parts.push(Part::Exact(case, 2.0 * REFERENCE_STABILITY_FRACTION));
         parts.extend(case.dts().iter().map(|&dt| Part::BackwardEuler(case, dt)));
     }
     // The exact motions first, the stiffer and the finer first; their cost grows as the
@@ -454,7 +465,7 @@ fn references_of(cases: &[Case]) -> Result<Vec<CaseReference>> {
         .iter()
         .map(|case| {
             let mut next = || done.next().expect("a result per part");
-            let (Done::Exact(exact), Done::Exact(halved)) = (next()?, next()?) else {
+            let (Done::Exact(exact), Done::Exact(doubled)) = (next()?, next()?) else {
                 unreachable!("each case's parts start with its two exact motions")
             };
             let backward_euler = case
@@ -466,7 +477,7 @@ fn references_of(cases: &[Case]) -> Result<Vec<CaseReference>> {
                 })
                 .collect::<Result<_>>()?;
             Ok(CaseReference {
-                halving_gap: WindowError::between(&exact.samples, &halved.samples),
+                halving_gap: WindowError::between(&exact.samples, &doubled.samples),
                 exact,
                 backward_euler,
             })

@@ -279,8 +279,10 @@ impl WorkPrecisionChapter {
         md += &format!(
             "The tutorial's RK4 at {} of its stability limit ωh < 2√2, with ω the highest \
              natural frequency of the start state, the step rounded down to divide the sample \
-             interval; its convergence is the change of the trajectory when the step is halved \
-             (the test `tests/work_precision.rs` bounds it).\n\n",
+             interval. Its convergence: the change of the trajectory when RK4's step is halved \
+             from twice this step to it, which estimates the error of the coarser motion; RK4 \
+             being of order 4, the exact motion's own error is about a fifteenth of it (the test \
+             `tests/work_precision.rs` bounds the change and measures the order).\n\n",
             full(REFERENCE_STABILITY_FRACTION)
         );
         let mut t = MarkdownTable::new(&[
@@ -289,7 +291,7 @@ impl WorkPrecisionChapter {
             "RK4 step (s)",
             "steps",
             "flops",
-            "halving changes it by (m)",
+            "halving from 2h to h changes it by (m)",
             "smallest physical error of the sweep (m)",
         ]);
         for reference in &self.references {
