@@ -247,7 +247,10 @@ fn a_quick_run_writes_the_wall_time_figure_and_tables() {
         let c: Vec<&str> = line.split(',').collect();
         assert_eq!(c.len(), 10, "{line}");
         let (wall, error): (f64, f64) = (c[4].parse().unwrap(), c[9].parse().unwrap());
-        assert!(c[1].is_empty() || c[1].parse::<f64>().unwrap() > 0.0, "{line}");
+        assert!(
+            c[1].is_empty() || c[1].parse::<f64>().unwrap() > 0.0,
+            "{line}"
+        );
         for i in [2, 3, 5, 6, 7, 8] {
             assert!(c[i].parse::<f64>().unwrap() >= 0.0, "{line}");
         }

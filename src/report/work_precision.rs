@@ -255,7 +255,7 @@ impl WorkPrecisionChapter {
         );
         md += &format!(
             "The thesis fixes its iteration counts by hand and never counts work. Here every \
-             solver runs the rope (k = 1e3 and 1e6 N/m) and the 10 × 10 sheet (k = 1e3 N/m) from \
+             solver runs the rope and the 10 × 10 sheet, each at k = 1e3 and 1e6 N/m, from \
              rest for {w} s, at every time step of the sweep, at the iteration counts of \
              section 10 (a fixed count per step) and, for every solver whose steps iterate, to \
              each tolerance of {tols} m (a step stops at the first iterate that moved no node by \
