@@ -244,7 +244,11 @@ impl AdmmPd {
 
 impl TimeStepper for AdmmPd {
     fn name(&self) -> String {
-        format!("ADMM-PD ({} iterations)", self.iterations)
+        format!(
+            "ADMM-PD ({})",
+            self.convergence
+                .iterations_label(self.iterations, "iterations")
+        )
     }
 
     fn dt(&self) -> f64 {

@@ -291,9 +291,10 @@ impl Anderson {
 impl TimeStepper for Anderson {
     fn name(&self) -> String {
         format!(
-            "Anderson {} (Peng 2018, {} iterations, window {})",
+            "Anderson {} (Peng 2018, {}, window {})",
             self.params.base.label(),
-            self.iterations,
+            self.convergence
+                .iterations_label(self.iterations, "iterations"),
             self.params.window
         )
     }

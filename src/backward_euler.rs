@@ -266,13 +266,15 @@ impl TimeStepper for BackwardEuler {
         let RayleighDamping { alpha, beta } = damping;
         if damping.is_none() {
             format!(
-                "Backward Euler ({} Newton iterations)",
-                self.newton_iterations
+                "Backward Euler ({})",
+                self.convergence
+                    .iterations_label(self.newton_iterations, "Newton iterations")
             )
         } else {
             format!(
-                "Backward Euler ({} Newton iterations, alpha {alpha} 1/s, beta {beta} s)",
-                self.newton_iterations
+                "Backward Euler ({}, alpha {alpha} 1/s, beta {beta} s)",
+                self.convergence
+                    .iterations_label(self.newton_iterations, "Newton iterations")
             )
         }
     }

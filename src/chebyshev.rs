@@ -248,9 +248,10 @@ impl Chebyshev {
 impl TimeStepper for Chebyshev {
     fn name(&self) -> String {
         format!(
-            "Chebyshev {} (Wang 2015, {} iterations, rho = {}, gamma = {}, warmup = {})",
+            "Chebyshev {} (Wang 2015, {}, rho = {}, gamma = {}, warmup = {})",
             self.params.base.label(),
-            self.iterations,
+            self.convergence
+                .iterations_label(self.iterations, "iterations"),
             self.rho,
             self.params.gamma,
             self.params.warmup

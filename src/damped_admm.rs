@@ -213,8 +213,11 @@ impl DampedAdmm {
 impl TimeStepper for DampedAdmm {
     fn name(&self) -> String {
         format!(
-            "ADMM-PD with Rayleigh damping (alpha {} 1/s, beta {} s, {} iterations)",
-            self.damping.alpha, self.damping.beta, self.iterations
+            "ADMM-PD with Rayleigh damping (alpha {} 1/s, beta {} s, {})",
+            self.damping.alpha,
+            self.damping.beta,
+            self.convergence
+                .iterations_label(self.iterations, "iterations")
         )
     }
 

@@ -190,8 +190,9 @@ impl FastMassSpring {
 impl TimeStepper for FastMassSpring {
     fn name(&self) -> String {
         format!(
-            "Fast mass-spring (Liu 2013, {} iterations)",
-            self.iterations
+            "Fast mass-spring (Liu 2013, {})",
+            self.convergence
+                .iterations_label(self.iterations, "iterations")
         )
     }
 

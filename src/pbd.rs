@@ -139,13 +139,15 @@ impl TimeStepper for Pbd {
         let first = self.stiffness_factors.first().copied().unwrap_or(1.0);
         if self.stiffness_factors.iter().all(|&f| f == first) {
             format!(
-                "PBD ({} iterations, stiffness factor {first})",
-                self.iterations
+                "PBD ({}, stiffness factor {first})",
+                self.convergence
+                    .iterations_label(self.iterations, "iterations")
             )
         } else {
             format!(
-                "PBD ({} iterations, stiffness factor per spring)",
-                self.iterations
+                "PBD ({}, stiffness factor per spring)",
+                self.convergence
+                    .iterations_label(self.iterations, "iterations")
             )
         }
     }

@@ -332,8 +332,12 @@ impl Lbfgs {
 impl TimeStepper for Lbfgs {
     fn name(&self) -> String {
         format!(
-            "L-BFGS ({} iterations, window {}, gamma {}, beta {})",
-            self.iterations, self.params.window, self.params.gamma, self.params.beta
+            "L-BFGS ({}, window {}, gamma {}, beta {})",
+            self.convergence
+                .iterations_label(self.iterations, "iterations"),
+            self.params.window,
+            self.params.gamma,
+            self.params.beta
         )
     }
 

@@ -116,6 +116,15 @@ impl Convergence {
         self.stopping
     }
 
+    /// `70 iterations`, or in the tolerance mode `iterations to 1e-6 m, at most 70`, for a
+    /// solver's name.
+    pub fn iterations_label(&self, count: usize, noun: &str) -> String {
+        match self.stopping {
+            Stopping::Count => format!("{count} {noun}"),
+            Stopping::Tolerance(t) => format!("{noun} to {t:e} m, at most {count}"),
+        }
+    }
+
     /// The log of the steps so far.
     pub fn log(&self) -> &IterationLog {
         &self.log

@@ -297,8 +297,9 @@ impl Vbd {
 impl TimeStepper for Vbd {
     fn name(&self) -> String {
         format!(
-            "VBD ({} iterations, {} initialization)",
-            self.iterations,
+            "VBD ({}, {} initialization)",
+            self.convergence
+                .iterations_label(self.iterations, "iterations"),
             self.params.initialization.key()
         )
     }

@@ -268,11 +268,16 @@ impl Xpbd {
 impl TimeStepper for Xpbd {
     fn name(&self) -> String {
         match self.compliance {
-            Compliance::FromStiffness => format!("XPBD ({} iterations)", self.iterations),
+            Compliance::FromStiffness => format!(
+                "XPBD ({})",
+                self.convergence
+                    .iterations_label(self.iterations, "iterations")
+            ),
             Compliance::Uniform(alpha) => {
                 format!(
-                    "XPBD ({} iterations, alpha = {alpha:e} m/N)",
-                    self.iterations
+                    "XPBD ({}, alpha = {alpha:e} m/N)",
+                    self.convergence
+                        .iterations_label(self.iterations, "iterations")
                 )
             }
         }

@@ -49,6 +49,8 @@ fn a_step_stops_at_the_first_iterate_within_the_tolerance() {
     let tolerance = 1e-5;
     for id in iterative() {
         let spec = SolverSpec::new(id, 4000).to_tolerance(tolerance).unwrap();
+        let name = spec.build(&rope, dt).unwrap().name();
+        assert!(name.contains("to 1e-5 m, at most 4000"), "{name}");
         let (stopped, m) = one_step(&spec, &rope, &state, dt);
         assert!((2..4000).contains(&m), "{id}: stopped after {m} iterations");
         let m = m as usize;
