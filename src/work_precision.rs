@@ -577,11 +577,14 @@ pub fn cheapest(
     kind: ErrorKind,
     level: f64,
 ) -> Option<&PointResult> {
-    results
-        .iter()
-        .filter(|r| r.point.case == case && r.point.spec.id == id)
-        .filter(|r| r.error(kind).is_some_and(|e| e <= level))
-        .min_by(|a, b| a.flops.total_cmp(&b.flops))
+    cheapest_by(
+        results
+            .iter()
+            .filter(|r| r.point.case == case && r.point.spec.id == id),
+        |r| r.flops,
+        |r| r.error(kind),
+        level,
+    )
 }
 
 /// The configurations of `id` on `case` that no other of its configurations beats in both
@@ -592,25 +595,13 @@ pub fn pareto_front(
     id: SolverId,
     kind: ErrorKind,
 ) -> Vec<&PointResult> {
-    let mut finished: Vec<&PointResult> = results
-        .iter()
-        .filter(|r| r.point.case == case && r.point.spec.id == id && r.error(kind).is_some())
-        .collect();
-    finished.sort_by(|a, b| {
-        a.flops
-            .total_cmp(&b.flops)
-            .then(a.error(kind).unwrap().total_cmp(&b.error(kind).unwrap()))
-    });
-    let mut front: Vec<&PointResult> = Vec::new();
-    for r in finished {
-        if front
-            .last()
-            .is_none_or(|best| r.error(kind).unwrap() < best.error(kind).unwrap())
-        {
-            front.push(r);
-        }
-    }
-    front
+    pareto_front_by(
+        results
+            .iter()
+            .filter(|r| r.point.case == case && r.point.spec.id == id),
+        |r| r.flops,
+        |r| r.error(kind),
+    )
 }
 
 /// The most accurate finished configuration in the error of `kind` among `solvers` on `case`
@@ -622,16 +613,63 @@ pub fn most_accurate_within<'a>(
     budget: f64,
     solvers: &[SolverId],
 ) -> Option<&'a PointResult> {
-    results
-        .iter()
-        .filter(|r| r.point.case == case && solvers.contains(&r.point.spec.id))
-        .filter(|r| r.flops <= budget && r.error(kind).is_some())
-        .min_by(|a, b| {
-            a.error(kind)
-                .unwrap()
-                .total_cmp(&b.error(kind).unwrap())
-                .then(a.flops.total_cmp(&b.flops))
-        })
+    most_accurate_within_by(
+        results
+            .iter()
+            .filter(|r| r.point.case == case && solvers.contains(&r.point.spec.id)),
+        |r| r.flops,
+        |r| r.error(kind),
+        budget,
+    )
+}
+
+/// The cheapest of `rows` by `cost` whose `error` is at most `level` (the first of equal
+/// cost); None if none reaches it.
+pub fn cheapest_by<'a, T>(
+    rows: impl IntoIterator<Item = &'a T>,
+    cost: impl Fn(&T) -> f64,
+    error: impl Fn(&T) -> Option<f64>,
+    level: f64,
+) -> Option<&'a T> {
+    rows.into_iter()
+        .filter(|r| error(r).is_some_and(|e| e <= level))
+        .min_by(|a, b| cost(a).total_cmp(&cost(b)))
+}
+
+/// The rows that no other beats in both `cost` and `error` (a work-precision curve), cheapest
+/// first; rows without an error aside.
+pub fn pareto_front_by<'a, T>(
+    rows: impl IntoIterator<Item = &'a T>,
+    cost: impl Fn(&T) -> f64,
+    error: impl Fn(&T) -> Option<f64>,
+) -> Vec<&'a T> {
+    let mut finished: Vec<(&T, f64)> = rows
+        .into_iter()
+        .filter_map(|r| error(r).map(|e| (r, e)))
+        .collect();
+    finished.sort_by(|a, b| cost(a.0).total_cmp(&cost(b.0)).then(a.1.total_cmp(&b.1)));
+    let mut front: Vec<(&T, f64)> = Vec::new();
+    for (r, e) in finished {
+        if front.last().is_none_or(|best| e < best.1) {
+            front.push((r, e));
+        }
+    }
+    front.into_iter().map(|(r, _)| r).collect()
+}
+
+/// The most accurate of `rows` by `error` whose `cost` is at most `budget` (the cheaper of
+/// equal error).
+pub fn most_accurate_within_by<'a, T>(
+    rows: impl IntoIterator<Item = &'a T>,
+    cost: impl Fn(&T) -> f64,
+    error: impl Fn(&T) -> Option<f64>,
+    budget: f64,
+) -> Option<&'a T> {
+    rows.into_iter()
+        .filter(|r| cost(r) <= budget)
+        .filter_map(|r| error(r).map(|e| (r, e)))
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(cost(a.0).total_cmp(&cost(b.0))))
+        .map(|(r, _)| r)
 }
 
 // The flop model. One flop is one addition, subtraction, multiplication, division or square

@@ -7,7 +7,8 @@
 use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::report::work_precision_wall::*;
 use mass_spring_solvers::work_precision::{
-    self as wp, sweep_of, sweep_points, Case, ErrorKind, Point, WallTime,
+    self as wp, cheapest_by, most_accurate_within_by, pareto_front_by, sweep_of, sweep_points,
+    Case, ErrorKind, Point, WallTime,
 };
 use std::process::Command;
 

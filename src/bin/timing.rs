@@ -869,8 +869,8 @@ fn work_precision_md(rows: &[Timed], diverged: &[PointResult], batch_seconds: f6
     let _ = writeln!(
         w,
         "\n## Work-precision in wall-clock time (issue 14)\n\n\
-         The configurations of the report's work-precision chapter (every solver, time step \
-         and iteration count on each case), run once in parallel for their errors (as the \
+         The configurations of the report's work-precision chapter (every solver, time step, \
+         iteration count and tolerance on each case), run once in parallel for their errors (as the \
          report runs them); {} did not finish the window and are not timed. Each of the {} \
          that did is timed on this thread: one run, then {WALL_REPEATS} batches of as many \
          runs of the window (solver built and run, the errors not measured) as last at least \

@@ -17,7 +17,10 @@ use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::work_precision::{configuration_of, stem};
 use crate::report::ChapterFigure;
-use crate::work_precision::{sweep_solvers, Case, Point, WallTime, ERROR_LEVELS_M};
+use crate::work_precision::{
+    cheapest_by, most_accurate_within_by, pareto_front_by, sweep_solvers, Case, Point, WallTime,
+    ERROR_LEVELS_M,
+};
 
 /// The wall-time budgets at which the solvers are compared for accuracy, s per simulated s
 /// (1 is real time).
@@ -61,55 +64,6 @@ impl Timed {
     fn configuration(&self) -> String {
         configuration_of(&self.point, self.iterations_mean)
     }
-}
-
-/// The cheapest of `rows` by `cost` whose `error` is at most `level` (the first of equal
-/// cost); None if none reaches it.
-pub fn cheapest_by<'a, T>(
-    rows: impl IntoIterator<Item = &'a T>,
-    cost: impl Fn(&T) -> f64,
-    error: impl Fn(&T) -> Option<f64>,
-    level: f64,
-) -> Option<&'a T> {
-    rows.into_iter()
-        .filter(|r| error(r).is_some_and(|e| e <= level))
-        .min_by(|a, b| cost(a).total_cmp(&cost(b)))
-}
-
-/// The rows that no other beats in both `cost` and `error` (a work-precision curve), cheapest
-/// first; rows without an error aside.
-pub fn pareto_front_by<'a, T>(
-    rows: impl IntoIterator<Item = &'a T>,
-    cost: impl Fn(&T) -> f64,
-    error: impl Fn(&T) -> Option<f64>,
-) -> Vec<&'a T> {
-    let mut finished: Vec<(&T, f64)> = rows
-        .into_iter()
-        .filter_map(|r| error(r).map(|e| (r, e)))
-        .collect();
-    finished.sort_by(|a, b| cost(a.0).total_cmp(&cost(b.0)).then(a.1.total_cmp(&b.1)));
-    let mut front: Vec<(&T, f64)> = Vec::new();
-    for (r, e) in finished {
-        if front.last().is_none_or(|best| e < best.1) {
-            front.push((r, e));
-        }
-    }
-    front.into_iter().map(|(r, _)| r).collect()
-}
-
-/// The most accurate of `rows` by `error` whose `cost` is at most `budget` (the cheaper of
-/// equal error).
-pub fn most_accurate_within_by<'a, T>(
-    rows: impl IntoIterator<Item = &'a T>,
-    cost: impl Fn(&T) -> f64,
-    error: impl Fn(&T) -> Option<f64>,
-    budget: f64,
-) -> Option<&'a T> {
-    rows.into_iter()
-        .filter(|r| cost(r) <= budget)
-        .filter_map(|r| error(r).map(|e| (r, e)))
-        .min_by(|a, b| a.1.total_cmp(&b.1).then(cost(a.0).total_cmp(&cost(b.0))))
-        .map(|(r, _)| r)
 }
 
 /// The two costs of a row.
