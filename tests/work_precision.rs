@@ -385,7 +385,26 @@ fn the_verdict_counts_the_budgets_each_solver_wins() {
     assert_eq!(verdict(&results), [(1, 4), (1, 4)]);
     assert_eq!(
         most_frequent_winner(&results, case, ErrorKind::Physical),
-        Some((SolverId::AdmmPd, 2))
+        Some((vec![SolverId::AdmmPd], 2))
+    );
+    // A tie names every solver in it: one budget each for XPBD, ADMM-PD and its rival.
+    let tied = vec![
+        result(SolverId::Xpbd, 5e5, 1.0, 0.5),
+        result(SolverId::AdmmPd, 5e6, 0.5, 0.1),
+        result(SolverId::FastMassSpring, 5e7, 0.2, 1e-3),
+        result(SolverId::XpbdSubsteps, 5e8, 0.01, 1.0),
+    ];
+    assert_eq!(
+        most_frequent_winner(&tied, case, ErrorKind::Physical),
+        Some((
+            vec![
+                SolverId::Xpbd,
+                SolverId::FastMassSpring,
+                SolverId::AdmmPd,
+                SolverId::XpbdSubsteps
+            ],
+            1
+        ))
     );
     assert_eq!(
         most_frequent_winner(&results, Case::ALL[1], ErrorKind::Physical),

@@ -57,14 +57,14 @@ pub fn verdict(results: &[PointResult]) -> [(usize, usize); 2] {
     })
 }
 
-/// The solver most often the most accurate in the error of `kind` on `case` over the
-/// [`BUDGETS`] (every sweep solver competing), with that count; ties go to the earlier in the
-/// registry.
+/// The solvers most often the most accurate in the error of `kind` on `case` over the
+/// [`BUDGETS`] (every sweep solver competing), in registry order (more than one on a tie),
+/// with that count; None if no solver has a configuration within any budget.
 pub fn most_frequent_winner(
     results: &[PointResult],
     case: Case,
     kind: ErrorKind,
-) -> Option<(SolverId, usize)> {
+) -> Option<(Vec<SolverId>, usize)> {
     let winners: Vec<SolverId> = BUDGETS
         .into_iter()
         .filter_map(|budget| {
@@ -72,17 +72,17 @@ pub fn most_frequent_winner(
                 .map(|r| r.point.spec.id)
         })
         .collect();
-    sweep_solvers()
+    let counts: Vec<(SolverId, usize)> = sweep_solvers()
         .into_iter()
         .map(|id| (id, winners.iter().filter(|&&w| w == id).count()))
-        .filter(|&(_, n)| n > 0)
-        .fold(
-            None,
-            |best: Option<(SolverId, usize)>, (id, n)| match best {
-                Some((_, m)) if m >= n => best,
-                _ => Some((id, n)),
-            },
-        )
+        .collect();
+    let most = counts.iter().map(|&(_, n)| n).max().filter(|&n| n > 0)?;
+    let ids = counts
+        .into_iter()
+        .filter(|&(_, n)| n == most)
+        .map(|(id, _)| id)
+        .collect();
+    Some((ids, most))
 }
 
 /// Every result of the chapter.
@@ -107,11 +107,7 @@ pub fn csv(results: &[PointResult]) -> String {
                     r.point.case.scene.id(),
                     full(r.point.case.stiffness),
                     full(r.point.dt_s),
-                    r.point
-                        .spec
-                        .stopping
-                        .tolerance_m()
-                        .map_or(String::new(), full),
+                    tolerance_cell(&r.point),
                     full(r.iterations_mean()),
                     kind.id(),
                     full(error),
@@ -136,6 +132,29 @@ pub fn configuration_of(point: &Point, iterations_mean: f64) -> String {
         None => format!("dt = {dt} s, {} it.", point.spec.iterations),
         Some(t) => format!("dt = {dt} s, to {t:e} m ({iterations_mean:.1} it.)"),
     }
+}
+
+/// A CSV's tolerance cell: the tolerance, m, or empty for a fixed iteration count.
+pub fn tolerance_cell(point: &Point) -> String {
+    point
+        .spec
+        .stopping
+        .tolerance_m()
+        .map_or(String::new(), full)
+}
+
+/// The `i`-th solver's work-precision curve in a figure: its front's (cost, error) points, in
+/// the registry's colour and line style, with the `i`-th of four markers.
+pub fn front_series(i: usize, id: SolverId, points: Vec<(f64, f64)>) -> Series {
+    const MARKERS: [Marker; 4] = [
+        Marker::Circle,
+        Marker::Square,
+        Marker::Triangle,
+        Marker::Cross,
+    ];
+    Series::line(id.info().abbreviation, points, colour(id, 0))
+        .with_marker(MARKERS[i % MARKERS.len()], i % 2 == 0)
+        .with_line(solver_line(id))
 }
 
 /// The figure's file stem of a case (also of its wall-time figure in `make timing`).
@@ -177,12 +196,6 @@ impl WorkPrecisionChapter {
     /// One figure per case: the physical error against the flops, log-log, each solver's
     /// work-precision curve (its configurations that no other of its own beats in both).
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
-        let markers = [
-            Marker::Circle,
-            Marker::Square,
-            Marker::Triangle,
-            Marker::Cross,
-        ];
         Case::ALL
             .into_iter()
             .map(|case| {
@@ -198,11 +211,7 @@ impl WorkPrecisionChapter {
                     for r in &front {
                         csv += &format!(
                             "{id},{},{},{},{},{}\n",
-                            r.point
-                                .spec
-                                .stopping
-                                .tolerance_m()
-                                .map_or(String::new(), full),
+                            tolerance_cell(&r.point),
                             full(r.iterations_mean()),
                             full(r.point.dt_s),
                             full(r.flops),
@@ -213,11 +222,7 @@ impl WorkPrecisionChapter {
                         .iter()
                         .map(|r| (r.flops, r.error(ErrorKind::Physical).unwrap()))
                         .collect();
-                    panel.series.push(
-                        Series::line(id.info().abbreviation, points, colour(id, 0))
-                            .with_marker(markers[i % markers.len()], i % 2 == 0)
-                            .with_line(solver_line(id)),
-                    );
+                    panel.series.push(front_series(i, id, points));
                 }
                 ChapterFigure::new(
                     stem(case),
@@ -511,9 +516,20 @@ impl WorkPrecisionChapter {
             Case::ALL
                 .into_iter()
                 .map(|case| match most_frequent_winner(&self.results, case, ErrorKind::Physical) {
-                    Some((id, n)) => format!(
-                        "on the {}, `{id}` (the most accurate at {n} of {} budgets)",
+                    Some((ids, n)) if ids.len() == 1 => format!(
+                        "on the {}, `{}` (the most accurate at {n} of {} budgets)",
                         case.label(),
+                        ids[0],
+                        BUDGETS.len()
+                    ),
+                    Some((ids, n)) => format!(
+                        "on the {}, no single solver: {} are each the most accurate at {n} of \
+                         {} budgets",
+                        case.label(),
+                        ids.iter()
+                            .map(|id| format!("`{id}`"))
+                            .collect::<Vec<_>>()
+                            .join(", "),
                         BUDGETS.len()
                     ),
                     None => format!("on the {}, no solver within the budgets", case.label()),

@@ -12,10 +12,9 @@
 use crate::beyond::kendall_tau;
 use crate::error::Result;
 use crate::registry::SolverId;
-use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig4, MarkdownTable};
-use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
-use crate::report::work_precision::{configuration_of, stem};
+use crate::report::plot::{Axis, Chart, Panel, FULL_WIDTH_MM};
+use crate::report::work_precision::{configuration_of, front_series, stem, tolerance_cell};
 use crate::report::ChapterFigure;
 use crate::work_precision::{
     cheapest_by, most_accurate_within_by, pareto_front_by, sweep_solvers, Case, Point, WallTime,
@@ -136,12 +135,6 @@ pub fn most_accurate_within(rows: &[Timed], case: Case, cost: Cost, budget: f64)
 /// One case's figure: the physical error against the wall time per simulated second, log-log,
 /// each solver's front in wall time, with the CSV of the points it draws.
 pub fn figure(rows: &[Timed], case: Case) -> Result<ChapterFigure> {
-    let markers = [
-        Marker::Circle,
-        Marker::Square,
-        Marker::Triangle,
-        Marker::Cross,
-    ];
     let mut panel = Panel::new(
         Axis::log("wall seconds per simulated second (one core)"),
         Axis::log("physical error (m)"),
@@ -152,11 +145,7 @@ pub fn figure(rows: &[Timed], case: Case) -> Result<ChapterFigure> {
         for r in &front {
             csv += &format!(
                 "{id},{},{},{},{},{:.4},{},{:.4},{},{}\n",
-                r.point
-                    .spec
-                    .stopping
-                    .tolerance_m()
-                    .map_or(String::new(), full),
+                tolerance_cell(&r.point),
                 full(r.iterations_mean),
                 full(r.point.dt_s),
                 full(r.wall_s()),
@@ -174,11 +163,7 @@ pub fn figure(rows: &[Timed], case: Case) -> Result<ChapterFigure> {
             .iter()
             .map(|r| (r.wall_s(), r.physical_error))
             .collect();
-        panel.series.push(
-            Series::line(id.info().abbreviation, points, colour(id, 0))
-                .with_marker(markers[i % markers.len()], i % 2 == 0)
-                .with_line(solver_line(id)),
-        );
+        panel.series.push(front_series(i, id, points));
     }
     ChapterFigure::new(
         stem(case),
