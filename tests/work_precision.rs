@@ -443,3 +443,15 @@ fn the_wall_clock_csv_has_the_key_columns() {
     }
     assert_eq!(field(wall_time(&points[0], 0).unwrap_err()), "repeats");
 }
+
+/// The prose names one solver, or every solver of a tie.
+#[test]
+fn a_list_of_solvers_reads_as_prose() {
+    use mass_spring_solvers::report::work_precision::solver_list;
+    assert_eq!(solver_list(&[]), "");
+    assert_eq!(solver_list(&[SolverId::Pbd]), "`pbd`");
+    assert_eq!(
+        solver_list(&[SolverId::Pbd, SolverId::Xpbd, SolverId::Vbd]),
+        "`pbd`, `xpbd` and `vbd`"
+    );
+}

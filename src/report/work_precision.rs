@@ -72,6 +72,12 @@ pub fn most_frequent_winner(
                 .map(|r| r.point.spec.id)
         })
         .collect();
+    most_frequent(&winners)
+}
+
+/// The solvers that occur most often in `winners`, in registry order (more than one on a
+/// tie), with their count; None for no winner.
+pub fn most_frequent(winners: &[SolverId]) -> Option<(Vec<SolverId>, usize)> {
     let counts: Vec<(SolverId, usize)> = sweep_solvers()
         .into_iter()
         .map(|id| (id, winners.iter().filter(|&&w| w == id).count()))
@@ -83,6 +89,15 @@ pub fn most_frequent_winner(
         .map(|(id, _)| id)
         .collect();
     Some((ids, most))
+}
+
+/// `` `a` `` or `` `a`, `b` and `c` ``.
+pub fn solver_list(ids: &[SolverId]) -> String {
+    let names: Vec<String> = ids.iter().map(|id| format!("`{id}`")).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.concat(),
+    }
 }
 
 /// Every result of the chapter.
@@ -526,10 +541,7 @@ impl WorkPrecisionChapter {
                         "on the {}, no single solver: {} are each the most accurate at {n} of \
                          {} budgets",
                         case.label(),
-                        ids.iter()
-                            .map(|id| format!("`{id}`"))
-                            .collect::<Vec<_>>()
-                            .join(", "),
+                        solver_list(&ids),
                         BUDGETS.len()
                     ),
                     None => format!("on the {}, no solver within the budgets", case.label()),

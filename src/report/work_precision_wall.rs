@@ -14,7 +14,9 @@ use crate::error::Result;
 use crate::registry::SolverId;
 use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::plot::{Axis, Chart, Panel, FULL_WIDTH_MM};
-use crate::report::work_precision::{configuration_of, front_series, stem, tolerance_cell};
+use crate::report::work_precision::{
+    configuration_of, front_series, most_frequent, solver_list, stem, tolerance_cell,
+};
 use crate::report::ChapterFigure;
 use crate::work_precision::{
     cheapest_by, most_accurate_within_by, pareto_front_by, sweep_solvers, Case, Point, WallTime,
@@ -329,23 +331,15 @@ fn common_ranking(rows: &[Timed], case: Case, level: f64) -> String {
 
 /// The solver most often the most accurate within [`WALL_BUDGETS`] on `case`, with that count
 /// and the number of budgets any configuration fits; ties go to the earlier in the registry.
-pub fn most_frequent_wall_winner(rows: &[Timed], case: Case) -> Option<(SolverId, usize, usize)> {
+pub fn most_frequent_wall_winner(
+    rows: &[Timed],
+    case: Case,
+) -> Option<(Vec<SolverId>, usize, usize)> {
     let winners: Vec<SolverId> = WALL_BUDGETS
         .into_iter()
         .filter_map(|b| most_accurate_within(rows, case, Cost::Wall, b).map(|r| r.point.spec.id))
         .collect();
-    sweep_solvers()
-        .into_iter()
-        .map(|id| (id, winners.iter().filter(|&&w| w == id).count()))
-        .filter(|&(_, n)| n > 0)
-        .fold(
-            None,
-            |best: Option<(SolverId, usize)>, (id, n)| match best {
-                Some((_, m)) if m >= n => best,
-                _ => Some((id, n)),
-            },
-        )
-        .map(|(id, n)| (id, n, winners.len()))
+    most_frequent(&winners).map(|(ids, n)| (ids, n, winners.len()))
 }
 
 /// The paragraph that answers, on `case`, which solver gives the most accuracy per unit of
@@ -371,7 +365,14 @@ pub fn answer(rows: &[Timed], case: Case) -> String {
         .collect();
     let winner = most_frequent_wall_winner(rows, case).map_or(
         "no configuration fits a budget".to_string(),
-        |(id, n, of)| format!("`{id}`, the most accurate at {n} of the {of} budgets it has any configuration within"),
+        |(ids, n, of)| {
+            let each = if ids.len() == 1 { "" } else { "each " };
+            format!(
+                "{}, {each}the most accurate at {n} of the {of} budgets it has any \
+                 configuration within",
+                solver_list(&ids)
+            )
+        },
     );
     format!(
         "**The most accuracy per unit of wall time** on the {}: {}. Most often first: {winner}.",
