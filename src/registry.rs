@@ -165,7 +165,7 @@ impl SolverId {
                 iteration: Some("Newton iteration"),
                 options: &[],
                 relative_cost: 9.0,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(BackwardEuler::new(system, dt, spec.iterations)?))
                 }),
@@ -183,7 +183,7 @@ accelerates: None,
                     help: "dimensionless factor in [0, 1] scaling each correction (not k)",
                 }],
                 relative_cost: 1.4,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(Pbd::new(
                         system,
@@ -203,7 +203,7 @@ accelerates: None,
                 iteration: Some("sweep over the springs"),
                 options: &[],
                 relative_cost: 1.4,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(Xpbd::new(system, dt, spec.iterations)?))
                 }),
@@ -218,7 +218,7 @@ accelerates: None,
                 iteration: Some("local/global iteration"),
                 options: &[],
                 relative_cost: 1.0,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(FastMassSpring::new(system, dt, spec.iterations)?))
                 }),
@@ -233,7 +233,7 @@ accelerates: None,
                 iteration: Some("ADMM iteration"),
                 options: &[],
                 relative_cost: 1.2,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(AdmmPd::new(system, dt, spec.iterations)?))
                 }),
@@ -252,7 +252,7 @@ accelerates: None,
                 iteration: Some("Newton iteration"),
                 options: RAYLEIGH_OPTIONS,
                 relative_cost: 9.0,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(BackwardEuler::damped(
                         system,
@@ -272,7 +272,7 @@ accelerates: None,
                 iteration: Some("ADMM iteration"),
                 options: RAYLEIGH_OPTIONS,
                 relative_cost: 1.5,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(DampedAdmm::new(
                         system,
@@ -292,7 +292,7 @@ accelerates: None,
                 iteration: Some("substep of one XPBD sweep (iterations = substeps)"),
                 options: &[],
                 relative_cost: 2.0,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(XpbdSubsteps::new(
                         system,
@@ -315,7 +315,7 @@ accelerates: None,
                     help: "L-BFGS window m, past pairs kept, an integer >= 1 [default: 5]",
                 }],
                 relative_cost: 6.5,
-accelerates: Some(SolverId::FastMassSpring),
+                accelerates: Some(SolverId::FastMassSpring),
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(Lbfgs::new(
                         system,
@@ -338,7 +338,7 @@ accelerates: Some(SolverId::FastMassSpring),
                     help: "initial guess: previous-position, previous-velocity, inertia or adaptive [default: adaptive]",
                 }],
                 relative_cost: 8.5,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     Ok(Box::new(Vbd::new(
                         system,
@@ -379,7 +379,7 @@ accelerates: None,
                            1 + |component|",
                 }],
                 relative_cost: 1.0,
-accelerates: None,
+                accelerates: None,
                 builder: Builder::Particles(|particles, dt, spec| {
                     Ok(Box::new(AdaptiveStepper::new(
                         particles,
