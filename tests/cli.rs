@@ -486,8 +486,12 @@ fn solver_options_are_checked_and_refused_where_they_do_not_apply() {
         &["--alpha", ">= 0"],
     );
     assert_bad_input(
-        // `--beta=-1e-3`: clap reads a separate "-1e-3" as flags.
         &["--solver", "damped_backward_euler", "--beta=-1e-3"],
+        &["--beta", ">= 0"],
+    );
+    // A separate negative value in scientific notation is the option's value, not flags.
+    assert_bad_input(
+        &["--solver", "damped_backward_euler", "--beta", "-1e-3"],
         &["--beta", ">= 0"],
     );
     assert_bad_input(

@@ -87,7 +87,7 @@ pub(crate) struct Cli {
         long,
         value_name = "S",
         default_value_t = 1e-3,
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) dt: f64,
@@ -98,7 +98,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "N",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) iterations: Option<i64>,
@@ -109,7 +109,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "E",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) stop_tolerance: Option<f64>,
@@ -119,7 +119,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "T",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) tolerance: Option<f64>,
@@ -129,7 +129,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "F",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) stiffness_factor: Option<f64>,
@@ -139,7 +139,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "RHO",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) spectral_radius: Option<f64>,
@@ -148,7 +148,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "G",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) gamma: Option<f64>,
@@ -157,7 +157,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "S",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) warmup: Option<f64>,
@@ -167,7 +167,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "M",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) window: Option<f64>,
@@ -176,7 +176,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "PER_S",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) alpha: Option<f64>,
@@ -185,7 +185,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "S",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) beta: Option<f64>,
@@ -194,7 +194,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "M",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Solver"
     )]
     pub(crate) history: Option<f64>,
@@ -222,7 +222,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "N/M",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Scene"
     )]
     pub(crate) stiffness: Option<f64>,
@@ -233,7 +233,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "M/S2",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Scene"
     )]
     pub(crate) gravity: Option<f64>,
@@ -242,7 +242,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "N",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Scene"
     )]
     pub(crate) nodes: Option<i64>,
@@ -252,7 +252,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "N",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Scene"
     )]
     pub(crate) n: Option<i64>,
@@ -261,7 +261,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "M",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Scene"
     )]
     pub(crate) rest_length: Option<f64>,
@@ -270,7 +270,7 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "KG",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Scene"
     )]
     pub(crate) node_mass: Option<f64>,
@@ -280,17 +280,17 @@ pub(crate) struct Cli {
     #[arg(
         long,
         value_name = "M",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Scene"
     )]
     pub(crate) span: Option<f64>,
 
     /// Stop at the first kinetic-energy peak below this, in J (> 0); that peak is counted
-    #[arg(long, value_name = "J", default_value_t = STOP_THRESHOLD_J, allow_negative_numbers = true, help_heading = "Stopping rule")]
+    #[arg(long, value_name = "J", default_value_t = STOP_THRESHOLD_J, allow_hyphen_values = true, help_heading = "Stopping rule")]
     pub(crate) threshold: f64,
 
     /// Stop when the simulated time reaches this, in s (> 0); reported as "hit time limit"
-    #[arg(long, value_name = "S", default_value_t = MAX_SIMULATED_TIME_S, allow_negative_numbers = true, help_heading = "Stopping rule")]
+    #[arg(long, value_name = "S", default_value_t = MAX_SIMULATED_TIME_S, allow_hyphen_values = true, help_heading = "Stopping rule")]
     pub(crate) max_time: f64,
 
     /// Variant (not the thesis's rule): the first kinetic-energy peak never stops the run
@@ -303,7 +303,7 @@ pub(crate) struct Cli {
         long,
         value_name = "PER_S",
         default_value_t = 0.0,
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Variants"
     )]
     pub(crate) velocity_damping: f64,
@@ -340,7 +340,7 @@ pub(crate) struct Cli {
         long,
         value_name = "N",
         requires = "positions_csv",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         help_heading = "Output"
     )]
     pub(crate) positions_every: Option<i64>,
