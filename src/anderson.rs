@@ -46,7 +46,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::{Error, Result};
 use crate::local_global::{Base, LocalGlobal, Merit};
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State};
 
 /// Largest window accepted.
@@ -307,13 +307,8 @@ impl TimeStepper for Anderson {
         self.iteration.system()
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     /// [Peng 2018, Alg. 1] Anderson acceleration with the merit safeguard.

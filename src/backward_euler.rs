@@ -21,7 +21,7 @@ use crate::error::{require_positive, Error, Result};
 use crate::linear::SymmetricMatrix;
 use crate::solver::TimeStepper;
 use crate::spring;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 
@@ -287,13 +287,8 @@ impl TimeStepper for BackwardEuler {
         &self.system
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     // region: step

@@ -53,7 +53,7 @@
 use crate::error::{Error, Result};
 use crate::local_global::{Base, LocalGlobal};
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State};
 
 /// The parameters of [`Chebyshev`].
@@ -266,13 +266,8 @@ impl TimeStepper for Chebyshev {
         self.iteration.system()
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     // region: step

@@ -44,7 +44,7 @@ use crate::projective::{
     finish_step, nodes_of_columns, reduction_matrix, GlobalSolve, SpringIncidence,
 };
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 
@@ -229,13 +229,8 @@ impl TimeStepper for DampedAdmm {
         &self.system
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     /// [Brown 2018, dissipation potential] Algorithm 4 on the objective with the damping term.

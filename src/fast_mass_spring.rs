@@ -27,7 +27,7 @@ use crate::projective::{
     SpringIncidence,
 };
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// Where each step's local/global iteration starts, a point Algorithm 3 leaves open.
@@ -204,13 +204,8 @@ impl TimeStepper for FastMassSpring {
         &self.system
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     /// Algorithm 3, run-time part.

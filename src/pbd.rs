@@ -22,7 +22,7 @@
 use crate::error::{require_positive, Error, Result};
 use crate::solver::TimeStepper;
 use crate::spring;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 use crate::xpbd::generalized_inverse_mass;
 
@@ -160,13 +160,8 @@ impl TimeStepper for Pbd {
         &self.system
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     /// Algorithm 1 with its erratum: the projection moves $`p`$.

@@ -69,7 +69,7 @@
 use crate::error::{Error, Result};
 use crate::projective::{finish_step, node_of_columns, to_columns, GlobalSolve};
 use crate::solver::TimeStepper;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 use std::collections::VecDeque;
 
@@ -349,13 +349,8 @@ impl TimeStepper for Lbfgs {
         &self.system
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     /// [Liu 2017, Alg. 1] From the inertial prediction, `iterations` L-BFGS iterations with the

@@ -413,6 +413,13 @@ impl SolverId {
             })
     }
 
+    /// Whether its steps can stop at a tolerance ([`crate::stopping`]): every solver whose
+    /// steps iterate toward the step's solution, so not the tutorial's integrators, nor XPBD's
+    /// substeps, whose count is of substeps of the motion.
+    pub fn stops_at_tolerance(self) -> bool {
+        self.info().iteration.is_some() && self != SolverId::XpbdSubsteps
+    }
+
     /// The tutorial's integrator this solver is, if it is one.
     pub fn integrator(self) -> Option<Integrator> {
         match self {

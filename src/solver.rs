@@ -6,7 +6,7 @@
 
 use crate::error::{require_non_negative, Error, Result};
 use crate::metrics::{half_period_exact, half_period_thesis, Peak, PeakDetector, StoppingRule};
-use crate::stopping::{IterationLog, Stopping};
+use crate::stopping::{Convergence, IterationLog, Stopping};
 use crate::system::{MassSpringSystem, State};
 
 /// A time-stepping method for a mass-spring system.
@@ -20,22 +20,33 @@ pub trait TimeStepper {
     /// Advances `state` by one time step.
     fn step(&mut self, state: &mut State) -> Result<()>;
 
+    /// The test that stops the solver's steps, with the log of their iterations; None for a
+    /// solver whose steps have no iterations to stop.
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        None
+    }
+
     /// Sets when each step stops iterating ([`Stopping`]); an error naming `stop_tolerance`
     /// for a solver whose steps have no iterations to stop.
     fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        match stopping {
-            Stopping::Count => Ok(()),
-            Stopping::Tolerance(t) => Err(Error::invalid(
+        let name = self.name();
+        match (self.convergence(), stopping) {
+            (Some(convergence), _) => {
+                *convergence = Convergence::new(stopping);
+                Ok(())
+            }
+            (None, Stopping::Count) => Ok(()),
+            (None, Stopping::Tolerance(t)) => Err(Error::invalid(
                 "stop_tolerance",
                 t,
-                &format!("no tolerance: {} has no iterations to stop", self.name()),
+                &format!("no tolerance: {name} has no iterations to stop"),
             )),
         }
     }
 
     /// The iterations the steps so far took; None for a solver without iterations.
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        None
+    fn iteration_log(&mut self) -> Option<&IterationLog> {
+        self.convergence().map(|c| c.log())
     }
 }
 

@@ -179,12 +179,11 @@ pub fn sample_trajectory(solver: &mut dyn TimeStepper, state: State) -> Result<V
 fn sample_trajectory_to(
     solver: &mut dyn TimeStepper,
     mut state: State,
-    samples: usize,
+    count: usize,
 ) -> Result<Vec<Vec<Vec3>>> {
     let dt = solver.dt();
     let per_sample = steps_per_sample(dt)?;
     let start = state.x.clone();
-    let count = samples;
     let mut samples = Vec::with_capacity(count);
     let mut step = 0u64;
     for _ in 0..count {
@@ -364,12 +363,6 @@ impl PointResult {
     }
 }
 
-/// Whether `id`'s steps can stop at a tolerance: every iterative solver of springs but XPBD's
-/// substeps, whose count is of substeps of the motion.
-pub fn stops_at_tolerance(id: SolverId) -> bool {
-    id.info().iteration.is_some() && id.integrator().is_none() && id != SolverId::XpbdSubsteps
-}
-
 /// The solvers of the sweep: every solver of the grid of section 10 but the damped pair
 /// (at zero damping they are Backward Euler and ADMM-PD; the exact motion is undamped).
 pub fn sweep_solvers() -> Vec<SolverId> {
@@ -391,7 +384,7 @@ pub fn sweep_points(case: Case) -> Vec<Point> {
                 points.push(Point { case, spec, dt_s });
             }
         }
-        if stops_at_tolerance(id) {
+        if id.stops_at_tolerance() {
             for tolerance in TOLERANCES_M {
                 let spec = SolverSpec::new(id, TOLERANCE_CAP)
                     .to_tolerance(tolerance)

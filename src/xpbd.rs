@@ -60,7 +60,7 @@
 use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::solver::TimeStepper;
 use crate::spring;
-use crate::stopping::{Convergence, IterationLog, Stopping};
+use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// Eq. (18): $`\tilde\alpha = \alpha/dt^2`$, the time-step-scaled compliance that Eqs 17-18
@@ -291,13 +291,8 @@ impl TimeStepper for Xpbd {
         &self.system
     }
 
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        self.convergence = Convergence::new(stopping);
-        Ok(())
-    }
-
-    fn iteration_log(&self) -> Option<&IterationLog> {
-        Some(self.convergence.log())
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        Some(&mut self.convergence)
     }
 
     /// Algorithm 2. The iterate $`x_i`$ lives in `state.x`.

@@ -13,14 +13,28 @@ use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::stopping::Stopping;
 use mass_spring_solvers::{Error, MassSpringSystem, State};
 
-/// The solvers whose steps iterate: every registry solver of springs and gravity but XPBD's
-/// substeps, whose "iterations" are substeps of the motion, not iterations toward a step.
+/// The solvers whose steps iterate toward the step's solution.
 fn iterative() -> Vec<SolverId> {
     SolverId::ALL
         .into_iter()
-        .filter(|id| id.info().iteration.is_some() && id.integrator().is_none())
-        .filter(|id| !matches!(id, SolverId::XpbdSubsteps | SolverId::Rk45))
+        .filter(|id| id.stops_at_tolerance())
         .collect()
+}
+
+/// The registry says which solvers stop at a tolerance, and the solvers agree: exactly those
+/// have a stopping test (the rest refuse a tolerance, `bad_tolerances_name_their_field`).
+#[test]
+fn the_registry_knows_which_solvers_stop_at_a_tolerance() {
+    let rope = thesis_rope(1e3).unwrap();
+    for id in SolverId::ALL {
+        let mut solver = SolverSpec::new(id, 2).build(&rope, 1e-3).unwrap();
+        assert_eq!(
+            solver.convergence().is_some(),
+            id.stops_at_tolerance(),
+            "{id}"
+        );
+    }
+    assert_eq!(iterative().len(), 13);
 }
 
 /// The solvers whose step returns its last iterate's positions (for the ADMM-based

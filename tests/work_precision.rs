@@ -123,7 +123,7 @@ fn the_logged_cost_is_the_models_in_the_count_mode() {
         ) {
             assert_eq!(counted.flops, modelled, "{id}");
         }
-        if stops_at_tolerance(id) {
+        if id.stops_at_tolerance() {
             let to = SolverSpec::new(id, 200).to_tolerance(1e-3).unwrap();
             let r = run_point(&point(to), &reference).unwrap();
             let log = r.log.as_ref().unwrap();

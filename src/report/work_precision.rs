@@ -13,9 +13,9 @@ use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::ChapterFigure;
 use crate::work_precision::{
     cheapest, flops_per_iteration, flops_per_step_overhead, flops_setup, most_accurate_within,
-    pareto_front, stops_at_tolerance, sweep, sweep_of, sweep_solvers, Case, CaseReference,
-    ErrorKind, Point, PointResult, ERROR_LEVELS_M, REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
-    TOLERANCES_M, TOLERANCE_CAP, WINDOW_S,
+    pareto_front, sweep, sweep_of, sweep_solvers, Case, CaseReference, ErrorKind, Point,
+    PointResult, ERROR_LEVELS_M, REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S, TOLERANCES_M,
+    TOLERANCE_CAP, WINDOW_S,
 };
 
 /// The header of `data/work_precision.csv` (issue 14, step 5).
@@ -279,8 +279,9 @@ impl WorkPrecisionChapter {
              rest for {w} s, at every time step of the sweep, at the iteration counts of \
              section 10 (a fixed count per step) and, for every solver whose steps iterate, to \
              each tolerance of {tols} m (a step stops at the first iterate that moved no node by \
-             more than the tolerance, capped at {cap} iterations; `src/stopping.rs` says why \
-             this one measure serves every solver), and each run gets three errors, each the per-node distance summed (convention 7) \
+             more than the tolerance, capped at {cap} iterations: one measure for every solver, \
+             our interpretation where the papers run fixed counts, argued in `src/stopping.rs`), \
+             and each run gets three errors, each the per-node distance summed (convention 7) \
              with its largest node distance in the library: **physical**, the worst over the \
              samples t = {si}, {s2}, …, {w} s of the gap to the exact undamped motion; **rest**, \
              the gap at t = {w} s to the exact static equilibrium (a run still swinging at {w} s \
@@ -566,7 +567,7 @@ impl WorkPrecisionChapter {
             let mut t = MarkdownTable::new(&header);
             for id in sweep_solvers()
                 .into_iter()
-                .filter(|&id| stops_at_tolerance(id))
+                .filter(|id| id.stops_at_tolerance())
             {
                 let mut row = vec![format!("`{id}`")];
                 for tolerance in TOLERANCES_M {

@@ -444,7 +444,7 @@ fn solver_spec(cli: &Cli) -> Result<SolverSpec, Failure> {
     };
     let mut spec = SolverSpec::new(cli.solver, iterations);
     if let Some(tolerance) = cli.stop_tolerance {
-        if info.iteration.is_none() || cli.solver == SolverId::XpbdSubsteps {
+        if !cli.solver.stops_at_tolerance() {
             return Err(Error::invalid(
                 "--stop-tolerance",
                 tolerance,
