@@ -59,6 +59,8 @@ pub struct Peak {
     pub time_thesis: f64,
     /// Exact convention: the sample's own time, sample·dt in f64, s.
     pub time_exact: f64,
+    /// The other reading of convention 4: the peak sample's own time, accumulated in f32, s.
+    pub time_f32_at_sample: f64,
 }
 
 /// Streaming peak detector over the kinetic-energy samples of a run.
@@ -84,6 +86,7 @@ impl PeakDetector {
     /// Adds the next sample; returns the peak at the previous sample if there is one.
     pub fn push(&mut self, kinetic_energy: f64) -> Option<Peak> {
         let index = self.samples;
+        let time_f32_at_previous_sample = f64::from(self.time_f32);
         if index > 0 {
             // Convention 5: the thesis accumulated simulated time in single precision.
             self.time_f32 += self.dt as f32;
@@ -96,6 +99,7 @@ impl PeakDetector {
             energy: candidate,
             time_thesis: f64::from(self.time_f32),
             time_exact: (index - 1) as f64 * self.dt,
+            time_f32_at_sample: time_f32_at_previous_sample,
         })
     }
 
@@ -108,6 +112,22 @@ impl PeakDetector {
 /// "T/2 medio" under the thesis convention: last peak's detection stamp / number of peaks.
 pub fn half_period_thesis(peaks: &[Peak]) -> Option<f64> {
     peaks.last().map(|p| p.time_thesis / peaks.len() as f64)
+}
+
+/// The other reading of convention 4: last peak's own sample time (f32 clock) / number of
+/// peaks.
+pub fn half_period_sample_stamp(peaks: &[Peak]) -> Option<f64> {
+    peaks
+        .last()
+        .map(|p| p.time_f32_at_sample / peaks.len() as f64)
+}
+
+/// The other reading of convention 5: last peak's detection-step time in f64,
+/// (sample + 1)·dt, / number of peaks.
+pub fn half_period_f64_clock(peaks: &[Peak], dt: f64) -> Option<f64> {
+    peaks
+        .last()
+        .map(|p| (p.sample + 1) as f64 * dt / peaks.len() as f64)
 }
 
 /// T/2 under the exact convention: mean interval between consecutive peaks (needs 2 peaks).
@@ -173,6 +193,9 @@ mod tests {
         );
         assert!((peaks[0].time_thesis - 0.3).abs() < 1e-6);
         assert!((peaks[1].time_exact - 0.5).abs() < 1e-12);
+        assert!((peaks[1].time_f32_at_sample - 0.5).abs() < 1e-6);
+        assert!((half_period_sample_stamp(&peaks).unwrap() - 0.5 / 2.0).abs() < 1e-6);
+        assert!((half_period_f64_clock(&peaks, 0.1).unwrap() - 0.6 / 2.0).abs() < 1e-12);
         assert!((half_period_thesis(&peaks).unwrap() - 0.6 / 2.0).abs() < 1e-6);
         assert!((half_period_exact(&peaks).unwrap() - 0.3).abs() < 1e-12);
         assert_eq!(half_period_exact(&peaks[..1]), None);

@@ -23,7 +23,10 @@ pub use rule::{
 
 use crate::error::Result;
 use crate::forensics::SolverChoice;
-use crate::metrics::{rest_error_l1, rest_error_l2, rest_error_max, rest_error_sum, StoppingRule};
+use crate::metrics::{
+    half_period_f64_clock, half_period_sample_stamp, rest_error_l1, rest_error_l2, rest_error_max,
+    rest_error_sum, StoppingRule,
+};
 use crate::registry::SolverId;
 use crate::scene::{RopeParams, THESIS_GRAVITY};
 use crate::solver::{simulate, Run, RunOptions};
@@ -67,6 +70,10 @@ pub struct Measured {
     pub peaks: usize,
     pub half_period_thesis: Option<f64>,
     pub half_period_exact: Option<f64>,
+    /// T/2 under the other reading of convention 4 (each peak stamped at its own sample, f32
+    /// clock) and of convention 5 (detection step, f64 clock).
+    pub half_period_sample_stamp: Option<f64>,
+    pub half_period_f64_clock: Option<f64>,
     /// Relative T/2 error (thesis convention) against our reference of the same stiffness.
     pub period_rel_error: Option<f64>,
     /// Rest-state errors against our reference (sum of distances, sum of coordinate differences,
@@ -78,7 +85,8 @@ pub struct Measured {
     pub steps: u64,
     pub end_time: f64,
     pub hit_time_limit: bool,
-    /// Energy of the last peak, J (shows round-off peaks).
+    /// Energy of the first and of the last peak, J (the last shows round-off peaks).
+    pub first_peak_energy: Option<f64>,
     pub last_peak_energy: Option<f64>,
     pub final_positions: Vec<Vec3>,
 }
@@ -88,6 +96,12 @@ impl Measured {
     /// its peak count and T/2 are those of an unfinished run.
     pub fn reproduces(&self) -> bool {
         !self.hit_time_limit && reproduces(&self.published, self.peaks, self.half_period_thesis)
+    }
+
+    /// Whether this run meets the reproduction rule with `half_period` in place of its thesis
+    /// T/2 (another reading of the time conventions).
+    pub fn reproduces_with(&self, half_period: Option<f64>) -> bool {
+        !self.hit_time_limit && reproduces(&self.published, self.peaks, half_period)
     }
 
     /// Whether this row passes with a T/2 deviation above [`MARGINAL_HALF_PERIOD`].
@@ -160,6 +174,8 @@ pub fn measure(row: &PublishedRow, run: &Run, reference: Option<Reference>) -> M
         peaks: run.peak_count(),
         half_period_thesis: run.half_period_thesis(),
         half_period_exact: run.half_period_exact(),
+        half_period_sample_stamp: half_period_sample_stamp(&run.peaks),
+        half_period_f64_clock: half_period_f64_clock(&run.peaks, run.dt),
         period_rel_error,
         error_sum: reference.map(|r| rest_error_sum(x, r.final_positions)),
         error_l1: reference.map(|r| rest_error_l1(x, r.final_positions)),
@@ -168,6 +184,7 @@ pub fn measure(row: &PublishedRow, run: &Run, reference: Option<Reference>) -> M
         steps: run.steps,
         end_time: run.end_time(),
         hit_time_limit: run.hit_time_limit,
+        first_peak_energy: run.peaks.first().map(|p| p.energy),
         last_peak_energy: run.peaks.last().map(|p| p.energy),
         final_positions: x.clone(),
     }

@@ -88,16 +88,34 @@ impl LiuHypothesis {
 
     /// The identifier of `reproduction.csv`: `liu-fit-exempt-c0.05-thr1e-4`.
     pub fn id(self) -> String {
+        self.probe_id(
+            self.velocity_damping(),
+            self.threshold(LIU_THRESHOLD_STIFFNESS),
+        )
+    }
+
+    /// The identifier of this point run with another damping c (s⁻¹) and threshold at
+    /// k = 1e6 (J): `liu-fit-exempt-c0.0496-thr1e-5`.
+    pub fn probe_id(self, damping: f64, threshold: f64) -> String {
         format!(
-            "liu-fit{}-c{}-thr{}",
+            "liu-fit{}-c{damping}-thr{threshold:e}",
             if self.exempt_first_peak {
                 "-exempt"
             } else {
                 ""
             },
-            self.velocity_damping(),
-            if self.low_threshold { "1e-4" } else { "1e-3" }
         )
+    }
+
+    /// The run configuration of `row` at this point with the damping c (s⁻¹) and, at
+    /// k = 1e6, the threshold (J) replaced: the probes of the parameters' intervals.
+    pub fn probe(self, row: &PublishedRow, damping: f64, threshold: f64) -> Configuration {
+        let mut c = ConfigurationId::Liu(self).configuration(row);
+        c.velocity_damping = damping;
+        if row.stiffness >= LIU_THRESHOLD_STIFFNESS {
+            c.stop.threshold = threshold;
+        }
+        c
     }
 }
 
@@ -201,7 +219,7 @@ impl AdmmCandidate {
             AdmmCandidate::StaleRhs => {
                 "§3.2 suggests moving the b − A·u work to the precomputation"
             }
-            _ => "a plausible implementation slip, tried in issue 5",
+            _ => "a plausible implementation slip",
         }
     }
 }

@@ -6,9 +6,10 @@
 //!   grid of the Liu hypothesis, the ADMM candidates), each a labelled departure;
 //! - [`admm_variants`]: the ADMM candidates, built from the building blocks of
 //!   [`crate::admm`], [`crate::projective`] and [`crate::boundary`];
-//! - [`liu_fit`]: the Liu hypothesis fitted in sample and leaving one row out;
-//! - [`evidence`]: the evidence class of each row;
-//! - [`gravity`]: the gravity-mismatch hypothesis of the error floors, tested out of sample.
+//! - [`liu_fit`]: the Liu hypothesis's fit and its parameters' admissible intervals;
+//! - [`twins`]: rows that are one observation, not two;
+//! - [`evidence`]: the rule of evidence and the class of each row;
+//! - [`gravity`]: the gravity-mismatch hypothesis of the error floors.
 //!
 //! [`Forensics::compute`] runs everything on the rows it concerns; [`forensic_results`] caches
 //! it once per process for the tests.
@@ -18,12 +19,14 @@ pub mod configurations;
 pub mod evidence;
 pub mod gravity;
 pub mod liu_fit;
+pub mod twins;
 
 pub use admm_variants::{AdmmVariant, FixedNodes, StartPoint, VariantAdmm, Weights};
 pub use configurations::{AdmmCandidate, ConfigurationId, LiuHypothesis};
 pub use evidence::{Evidence, RowEvidence};
 pub use gravity::{GravityRow, GravityStudy, MISMATCHED_GRAVITY};
 pub use liu_fit::LiuFit;
+pub use twins::Twins;
 
 use crate::error::Result;
 use crate::experiments::{
@@ -33,10 +36,10 @@ use crate::experiments::{
 use crate::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::registry::{SolverId, SolverSpec};
 use crate::solver::{Run, TimeStepper};
-use crate::system::MassSpringSystem;
-use evidence::{classify, run_of, Candidates};
+use crate::system::{MassSpringSystem, Vec3};
+use evidence::{classify, run_of, select, Candidates, SceneReadings, Selection};
 use gravity::ErrorPair;
-use liu_fit::GridPoint;
+use liu_fit::{best_fit, GridPoint};
 use std::sync::OnceLock;
 
 /// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
@@ -102,6 +105,8 @@ pub struct Forensics {
     /// Liu started at y with one iteration, run on the ADMM one-iteration rows (measured
     /// against the ADMM published rows).
     pub liu_as_admm: Vec<Measured>,
+    /// The twin pairs of the faithful result set (each counts as one observation).
+    pub twins: Twins,
     /// One class per row of the faithful result set, in its order.
     pub evidence: Vec<RowEvidence>,
     pub gravity: GravityStudy,
@@ -144,8 +149,9 @@ fn reference_of(faithful: &ResultSet, k: f64) -> Reference<'_> {
 
 impl Forensics {
     /// Runs every named configuration on the rows of `faithful` it concerns, fits the Liu
-    /// hypothesis, classifies every row, then runs the gravity study on each solver row under
-    /// the configuration of its class.
+    /// hypothesis and locates its intervals, selects each row's configuration, runs it at
+    /// 9.8 m/s² (the gravity study and the other reading of the gravity), then classifies
+    /// every row.
     pub fn compute(faithful: &ResultSet, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
         let rows: Vec<&PublishedRow> = faithful.rows.iter().map(|m| &m.published).collect();
         let liu_rows: Vec<&PublishedRow> = rows
@@ -295,30 +301,43 @@ impl Forensics {
         }
         // Grid order (the fit's tie-break).
         points.sort_by_key(|p| grid.iter().position(|h| *h == p.hypothesis));
-        let liu = LiuFit::new(points);
-
-        let evidence: Vec<RowEvidence> = faithful
+        let twins = Twins::of(&faithful.rows);
+        let in_sample = best_fit(&points, &twins);
+        let fitted_point = points
+            .iter()
+            .find(|p| p.hypothesis == in_sample)
+            .expect("the fit picks a point of the grid");
+        let selections: Vec<Selection> = faithful
             .rows
             .iter()
             .map(|m| {
                 let row = &m.published;
-                classify(&Candidates {
+                let is_liu = row.solver == SolverId::FastMassSpring;
+                select(&Candidates {
                     faithful: m,
                     liu_start_inertial: run_of(&runs, ConfigurationId::LiuStartInertial, row),
-                    liu_fit: (row.solver == SolverId::FastMassSpring).then_some(&liu),
+                    liu_fitted: is_liu
+                        .then(|| fitted_point.row(row).map(|f| (in_sample, f)))
+                        .flatten(),
                     admm: AdmmCandidate::ALL
                         .into_iter()
                         .filter_map(|c| Some((c, run_of(&runs, ConfigurationId::Admm(c), row)?)))
                         .collect(),
+                    others: if is_liu {
+                        points.iter().filter_map(|p| p.row(row)).collect()
+                    } else {
+                        Vec::new()
+                    },
                 })
             })
             .collect();
 
-        // Batch 3: the gravity study, each solver row under its class's configuration.
+        // Batch 3: the gravity study, each row under its selected configuration at 9.8 m/s²
+        // (the reference rows: the reference at 9.8).
         let mut jobs = Vec::new();
-        for e in &evidence {
-            let row = &e.measured.published;
-            let mut c = e.configuration.configuration(row);
+        for s in &selections {
+            let row = &s.measured.published;
+            let mut c = s.configuration.configuration(row);
             if row.solver == SolverId::BackwardEuler {
                 c.reference_gravity = MISMATCHED_GRAVITY;
             } else {
@@ -326,22 +345,51 @@ impl Forensics {
             }
             jobs.push((row.clone(), c));
         }
-        let outcomes = run_unique(&jobs, progress);
+        // The Liu intervals' sequential bisection runs beside the gravity batch (it needs only
+        // the fitted point): the two share the cores instead of waiting for each other.
+        let (liu, outcomes) = std::thread::scope(|scope| {
+            let intervals = scope
+                .spawn(|| fit_intervals(points, in_sample, &twins, &measure_against, &|_, _| {}));
+            let outcomes = run_unique(&jobs, progress);
+            (
+                intervals.join().expect("the interval runs do not panic"),
+                outcomes,
+            )
+        });
+        let liu = liu?;
         let mut mismatched_references = Vec::new();
+        let mut at_9_8 = Vec::new();
         let mut solver_runs = Vec::new();
-        for (e, run) in evidence.iter().zip(outcomes) {
+        for (s, run) in selections.iter().zip(outcomes) {
             let run = run?;
-            if e.measured.published.solver == SolverId::BackwardEuler {
-                mismatched_references.push(measure(&e.measured.published, &run, None));
+            let row = &s.measured.published;
+            if row.solver == SolverId::BackwardEuler {
+                let m = measure(row, &run, None);
+                at_9_8.push(m.clone());
+                mismatched_references.push(m);
             } else {
-                solver_runs.push((e, run));
+                at_9_8.push(measure_against(row, &run));
+                solver_runs.push((s, run));
             }
         }
+        let evidence: Vec<RowEvidence> = selections
+            .iter()
+            .zip(&at_9_8)
+            .map(|(s, g)| {
+                classify(
+                    s.clone(),
+                    &SceneReadings {
+                        gravity_9_8: Some(g),
+                    },
+                )
+            })
+            .collect();
+        let equilibria = gravity::Equilibria::solve(&[1e3, 1e6])?;
         let gravity_rows = solver_runs
             .into_iter()
-            .map(|(e, run)| {
-                let row = &e.measured.published;
-                let ours = &e.measured.final_positions;
+            .map(|(s, run)| {
+                let row = &s.measured.published;
+                let ours = &s.measured.final_positions;
                 let reference_981 = &faithful.reference(row.stiffness).final_positions;
                 let reference_98 = &mismatched_references
                     .iter()
@@ -350,21 +398,39 @@ impl Forensics {
                     .final_positions;
                 GravityRow {
                     published: row.clone(),
-                    configuration: e.configuration,
+                    configuration: s.configuration,
                     same_gravity: ErrorPair::between(ours, reference_981),
                     reference_mismatched: ErrorPair::between(ours, reference_98),
                     solver_mismatched: ErrorPair::between(&run.final_state.x, reference_981),
                     solver_mismatched_run: measure_against(row, &run),
-                    reproduced_at_981: e.evidence.reproduced(),
+                    to_exact: gravity::ErrorsToExact::new(
+                        ours,
+                        &run.final_state.x,
+                        row.stiffness,
+                        &equilibria,
+                    ),
+                    reproduced_at_981: s.evidence.reproduced(),
                 }
             })
             .collect();
+        let references: Vec<(f64, &[Vec3])> = [1e3, 1e6]
+            .into_iter()
+            .map(|k| (k, faithful.reference(k).final_positions.as_slice()))
+            .collect();
+        let gravity = GravityStudy::new(
+            gravity_rows,
+            mismatched_references,
+            &references,
+            &equilibria,
+            &twins,
+        );
         Ok(Self {
             runs,
             liu,
             liu_as_admm,
+            twins,
             evidence,
-            gravity: GravityStudy::new(gravity_rows, mismatched_references),
+            gravity,
         })
     }
 
@@ -380,6 +446,14 @@ impl Forensics {
             .find(|e| same_experiment(&e.measured.published, row))
     }
 
+    /// How many observations (twins once) have each class, in [`Evidence::ALL`] order.
+    pub fn observation_counts(&self) -> [usize; 7] {
+        evidence::counts(
+            self.twins
+                .observations(&self.evidence, |e| &e.measured.published),
+        )
+    }
+
     /// How many rows of `table` (all tables for None) have each class, in [`Evidence::ALL`]
     /// order.
     pub fn counts(&self, table: Option<u8>) -> [usize; 7] {
@@ -389,6 +463,127 @@ impl Forensics {
                 .filter(|e| table.is_none_or(|t| e.measured.published.table == t)),
         )
     }
+}
+
+/// Locates the fitted point's damping interval by bisection and its threshold interval from
+/// runs that go on to [`liu_fit::THRESHOLD_FLOOR_J`] (the design of [`liu_fit`]).
+fn fit_intervals(
+    grid: Vec<GridPoint>,
+    in_sample: LiuHypothesis,
+    twins: &Twins,
+    measure_against: &(dyn Fn(&PublishedRow, &Run) -> Measured + Sync),
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<LiuFit> {
+    let point = |h: LiuHypothesis| -> &GridPoint {
+        grid.iter()
+            .find(|p| p.hypothesis == h)
+            .expect("a point of the grid")
+    };
+    let reproduced: Vec<&Measured> = twins
+        .observations(&point(in_sample).rows, |m| &m.published)
+        .filter(|m| m.reproduces())
+        .collect();
+    let threshold = in_sample.threshold(configurations::LIU_THRESHOLD_STIFFNESS);
+    let fitted = in_sample.velocity_damping();
+    // Each end starts from the fitted value and its grid neighbour; the rows to run at a
+    // probe are those that fail at the neighbour (the others pass over the whole bracket).
+    let side = |neighbour: Option<usize>| {
+        neighbour.map(|damping| {
+            let at = point(LiuHypothesis {
+                damping,
+                ..in_sample
+            });
+            let failing: Vec<PublishedRow> = reproduced
+                .iter()
+                .filter(|m| !at.row(&m.published).is_some_and(Measured::reproduces))
+                .map(|m| m.published.clone())
+                .collect();
+            (
+                liu_fit::Bracket {
+                    inside: fitted,
+                    outside: configurations::LIU_DAMPING_GRID[damping],
+                },
+                failing,
+            )
+        })
+    };
+    let mut sides = [
+        side(in_sample.damping.checked_sub(1)),
+        side(Some(in_sample.damping + 1).filter(|&d| d < configurations::LIU_DAMPING_GRID.len())),
+    ];
+    let threshold_rows: Vec<&PublishedRow> = reproduced
+        .iter()
+        .map(|m| &m.published)
+        .filter(|r| r.stiffness >= configurations::LIU_THRESHOLD_STIFFNESS)
+        .collect();
+    let mut probes = Vec::new();
+    let mut threshold_runs: Vec<(PublishedRow, Vec<crate::metrics::Peak>)> = Vec::new();
+    for round in 0..liu_fit::DAMPING_BISECTIONS {
+        let mut jobs: Vec<(PublishedRow, Configuration)> = Vec::new();
+        for (bracket, rows) in sides.iter().flatten() {
+            for row in rows {
+                jobs.push((
+                    row.clone(),
+                    in_sample.probe(row, bracket.midpoint(), threshold),
+                ));
+            }
+        }
+        if round == 0 {
+            for row in &threshold_rows {
+                jobs.push((
+                    (*row).clone(),
+                    in_sample.probe(row, fitted, liu_fit::THRESHOLD_FLOOR_J),
+                ));
+            }
+        }
+        let mut outcomes = run_unique(&jobs, progress).into_iter();
+        for (bracket, rows) in sides.iter_mut().flatten() {
+            let mut probe = liu_fit::DampingProbe {
+                damping: bracket.midpoint(),
+                rows: Vec::new(),
+            };
+            for row in rows.iter() {
+                let run = outcomes.next().expect("one outcome per job")?;
+                probe.rows.push(measure_against(row, &run));
+            }
+            *bracket = bracket.halved(probe.rows.iter().all(Measured::reproduces));
+            probes.push(probe);
+        }
+        if round == 0 {
+            for row in &threshold_rows {
+                let run = outcomes.next().expect("one outcome per job")?;
+                threshold_runs.push(((*row).clone(), run.peaks));
+            }
+        }
+    }
+    let bracket_of = |s: &Option<(liu_fit::Bracket, Vec<PublishedRow>)>| {
+        s.as_ref().map_or(
+            liu_fit::Bracket {
+                inside: fitted,
+                outside: fitted,
+            },
+            |(b, _)| *b,
+        )
+    };
+    let threshold_interval = liu_fit::threshold_interval(
+        &threshold_runs
+            .iter()
+            .map(|(r, p)| (r, p.as_slice()))
+            .collect::<Vec<_>>(),
+        threshold,
+        in_sample.exempt_first_peak,
+    );
+    Ok(LiuFit {
+        damping: liu_fit::Interval {
+            low: bracket_of(&sides[0]),
+            high: bracket_of(&sides[1]),
+        },
+        damping_probes: probes,
+        threshold: threshold_interval,
+        threshold_runs,
+        grid,
+        in_sample,
+    })
 }
 
 /// The forensic results of all 56 rows, computed once per process from

@@ -1,12 +1,14 @@
 //! The machine-readable files of `report/data/`: the 56 results in the columns of
 //! `thesis_results.csv`, Table 1 alone, the exact catenary, the forensic reproduction (evidence
-//! class per row, every named configuration's runs, the gravity-mismatch errors) and (written by
+//! class per row, every named configuration's runs, the Liu grid, the gravity-mismatch errors)
+//! and (written by
 //! the figures) one CSV per figure. Numbers are written as the shortest decimal that
 //! round-trips the `f64`.
 
 use crate::experiments::{better_time_convention, Measured, PublishedRow, ResultSet};
 use crate::forensics::Forensics;
 use crate::registry::SolverId;
+use crate::report::forensics::row_label;
 use crate::report::format::{full, full_opt};
 use crate::report::rest_state::Catenary;
 use crate::report::tables::half_period_deviation;
@@ -69,117 +71,260 @@ pub fn catenary_csv(catenary: &Catenary) -> Option<String> {
     any.then_some(out)
 }
 
-/// The header of `reproduction.csv`: one row per published row with its evidence class, the
-/// configuration that produced our numbers and the free choices it spent.
-pub const REPRODUCTION_HEADER: &str = "table,solver,dt_s,iterations,stiffness,evidence,configuration,free_choices,published_peaks,our_peaks,published_half_period_s,our_half_period_s,half_period_rel_dev,marginal,better_time_convention,published_error,our_error";
+/// A CSV file of `header` and `records`, written with `csv::Writer` (fields quoted where they
+/// hold a comma, a quote or a line break).
+pub fn write_csv(header: &[&str], records: impl IntoIterator<Item = Vec<String>>) -> String {
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    writer
+        .write_record(header)
+        .expect("writing to memory cannot fail");
+    for record in records {
+        writer
+            .write_record(&record)
+            .expect("writing to memory cannot fail");
+    }
+    String::from_utf8(writer.into_inner().expect("writing to memory cannot fail"))
+        .expect("every field is UTF-8")
+}
 
-fn experiment(p: &PublishedRow) -> String {
-    format!(
-        "{},{},{},{},{}",
-        p.table,
-        p.solver.id(),
+/// The columns of `reproduction.csv`: one row per published row with its evidence class, the
+/// configuration that produced our numbers, the choices it rests on and its twin.
+pub const REPRODUCTION_HEADER: &[&str] = &[
+    "table",
+    "solver",
+    "dt_s",
+    "iterations",
+    "stiffness_n_per_m",
+    "evidence",
+    "configuration",
+    "rests_on",
+    "twin_of",
+    "published_peaks",
+    "our_peaks",
+    "published_half_period_s",
+    "our_half_period_s",
+    "half_period_rel_dev",
+    "marginal",
+    "better_time_convention",
+    "published_error_m",
+    "our_error_m",
+];
+
+fn experiment(p: &PublishedRow) -> Vec<String> {
+    vec![
+        p.table.to_string(),
+        p.solver.id().to_string(),
         full(p.dt_s),
-        p.iterations,
-        full(p.stiffness)
+        p.iterations.to_string(),
+        full(p.stiffness),
+    ]
+}
+
+/// `reproduction.csv`: the evidence class of every row run, in the thesis's order.
+/// `our_error_m` is the sum of per-node distances to our reference (convention 7);
+/// `better_time_convention` is the T/2 convention of ours closer to the published value.
+pub fn reproduction_csv(forensics: &Forensics) -> String {
+    write_csv(
+        REPRODUCTION_HEADER,
+        forensics.evidence.iter().map(|e| {
+            let m = &e.measured;
+            let p = &m.published;
+            let mut r = experiment(p);
+            r.extend([
+                e.evidence.id().to_string(),
+                e.configuration.id(),
+                e.rests_on(),
+                forensics.twins.twin_of(p).map_or(String::new(), row_label),
+                p.ke_peaks.to_string(),
+                m.peaks.to_string(),
+                full(p.half_period_s),
+                full_opt(m.half_period_thesis),
+                full_opt(half_period_deviation(m)),
+                m.marginal().to_string(),
+                better_time_convention(p, m.half_period_thesis, m.half_period_exact)
+                    .map_or("", |c| c.id())
+                    .to_string(),
+                full_opt(p.error),
+                full_opt(m.error_sum),
+            ]);
+            r
+        }),
     )
 }
 
-/// `reproduction.csv`: the evidence class of every row run, in the thesis's order. `our_error`
-/// is the sum of per-node distances (convention 7); `better_time_convention` is the T/2
-/// convention of ours closer to the published value.
-pub fn reproduction_csv(forensics: &Forensics) -> String {
-    let mut out = format!("{REPRODUCTION_HEADER}\n");
-    for e in &forensics.evidence {
-        let m = &e.measured;
-        let p = &m.published;
-        out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            experiment(p),
-            e.evidence.id(),
-            e.configuration.id(),
-            csv_text(&e.free_choices),
-            p.ke_peaks,
-            m.peaks,
-            full(p.half_period_s),
-            full_opt(m.half_period_thesis),
-            full_opt(half_period_deviation(m)),
-            m.marginal(),
-            better_time_convention(p, m.half_period_thesis, m.half_period_exact)
-                .map_or("", |c| c.id()),
-            full_opt(p.error),
-            full_opt(m.error_sum)
-        );
-    }
-    out
-}
-
-/// A CSV field, quoted when it holds a comma or a quote.
-fn csv_text(s: &str) -> String {
-    if s.contains([',', '"']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
-/// The header of `configurations.csv`: every run of a named configuration other than the
-/// faithful one (`outcome` is `ran` or the error of a failed run).
-pub const CONFIGURATIONS_HEADER: &str = "configuration,table,solver,dt_s,iterations,stiffness,outcome,peaks,half_period_s,half_period_rel_dev,error_l1,error_sum,last_peak_energy_j,hit_time_limit,reproduces";
+/// The columns of `configurations.csv`: every run of a named configuration other than the
+/// faithful one and the Liu grid (`outcome` is `ran` or the error of a failed run).
+pub const CONFIGURATIONS_HEADER: &[&str] = &[
+    "configuration",
+    "table",
+    "solver",
+    "dt_s",
+    "iterations",
+    "stiffness_n_per_m",
+    "outcome",
+    "peaks",
+    "half_period_s",
+    "half_period_rel_dev",
+    "error_l1_m",
+    "error_m",
+    "last_peak_energy_j",
+    "hit_time_limit",
+    "reproduces",
+];
 
 /// `configurations.csv`: the runs of every named configuration, configuration by
 /// configuration, rows in the thesis's order.
 pub fn configurations_csv(forensics: &Forensics) -> String {
-    let mut out = format!("{CONFIGURATIONS_HEADER}\n");
+    let mut records = Vec::new();
     for run in &forensics.runs {
         for m in &run.rows {
-            out += &format!(
-                "{},{},ran,{},{},{},{},{},{},{},{}\n",
-                run.id.id(),
-                experiment(&m.published),
-                m.peaks,
+            let mut r = vec![run.id.id()];
+            r.extend(experiment(&m.published));
+            r.extend([
+                "ran".to_string(),
+                m.peaks.to_string(),
                 full_opt(m.half_period_thesis),
                 full_opt(half_period_deviation(m)),
                 full_opt(m.error_l1),
                 full_opt(m.error_sum),
                 full_opt(m.last_peak_energy),
-                m.hit_time_limit,
-                m.reproduces()
-            );
+                m.hit_time_limit.to_string(),
+                m.reproduces().to_string(),
+            ]);
+            records.push(r);
         }
         for (row, error) in &run.failed {
-            out += &format!(
-                "{},{},{},,,,,,,,false\n",
-                run.id.id(),
-                experiment(row),
-                csv_text(error)
-            );
+            let mut r = vec![run.id.id()];
+            r.extend(experiment(row));
+            r.push(error.clone());
+            r.extend(std::iter::repeat_n(String::new(), 7));
+            r.push("false".into());
+            records.push(r);
         }
     }
-    out
+    write_csv(CONFIGURATIONS_HEADER, records)
 }
 
-/// The header of `gravity-mismatch.csv`: per solver row, the published error and ours in both
-/// norms with the reference and solver gravities of each hypothesis.
-pub const GRAVITY_HEADER: &str = "table,solver,dt_s,iterations,stiffness,configuration,published_error,l1_same_gravity,sum_same_gravity,l1_reference_9_8,sum_reference_9_8,l1_solver_9_8,sum_solver_9_8,solver_9_8_peaks,solver_9_8_half_period_s";
+/// The columns of `liu_grid.csv`: every run of the Liu hypothesis, the grid's points and the
+/// probes of its intervals.
+pub const LIU_GRID_HEADER: &[&str] = &[
+    "configuration",
+    "role",
+    "table",
+    "dt_s",
+    "iterations",
+    "stiffness_n_per_m",
+    "exempt_first_peak",
+    "damping_per_s",
+    "threshold_j",
+    "peaks",
+    "half_period_s",
+    "error_m",
+    "last_peak_energy_j",
+    "reproduces",
+];
+
+/// `liu_grid.csv`: every grid point on every Liu row, then the damping probes.
+pub fn liu_grid_csv(forensics: &Forensics) -> String {
+    let fit = &forensics.liu;
+    let record =
+        |id: String, role: &str, h: crate::forensics::LiuHypothesis, c: f64, m: &Measured| {
+            let p = &m.published;
+            vec![
+                id,
+                role.to_string(),
+                p.table.to_string(),
+                full(p.dt_s),
+                p.iterations.to_string(),
+                full(p.stiffness),
+                h.exempt_first_peak.to_string(),
+                full(c),
+                full(h.threshold(p.stiffness)),
+                m.peaks.to_string(),
+                full_opt(m.half_period_thesis),
+                full_opt(m.error_sum),
+                full_opt(m.last_peak_energy),
+                m.reproduces().to_string(),
+            ]
+        };
+    let mut records = Vec::new();
+    for point in &fit.grid {
+        let role = if point.hypothesis == fit.in_sample {
+            "grid, fitted"
+        } else {
+            "grid"
+        };
+        for m in &point.rows {
+            records.push(record(
+                point.hypothesis.id(),
+                role,
+                point.hypothesis,
+                point.hypothesis.velocity_damping(),
+                m,
+            ));
+        }
+    }
+    let h = fit.in_sample;
+    for probe in &fit.damping_probes {
+        for m in &probe.rows {
+            records.push(record(
+                h.probe_id(probe.damping, h.threshold(1e6)),
+                "damping probe",
+                h,
+                probe.damping,
+                m,
+            ));
+        }
+    }
+    write_csv(LIU_GRID_HEADER, records)
+}
+
+/// The columns of `gravity-mismatch.csv`: per solver row, the published error and ours (sum of
+/// per-node distances, and the sum of coordinate differences) under each hypothesis, against
+/// our reference runs and against the exact equilibria.
+pub const GRAVITY_HEADER: &[&str] = &[
+    "table",
+    "solver",
+    "dt_s",
+    "iterations",
+    "stiffness_n_per_m",
+    "configuration",
+    "published_error_m",
+    "error_same_gravity_m",
+    "error_l1_same_gravity_m",
+    "error_reference_9_8_m",
+    "error_l1_reference_9_8_m",
+    "error_solver_9_8_m",
+    "error_l1_solver_9_8_m",
+    "error_to_exact_same_gravity_m",
+    "error_to_exact_reference_9_8_m",
+    "error_to_exact_solver_9_8_m",
+    "solver_9_8_peaks",
+    "solver_9_8_half_period_s",
+];
 
 /// `gravity-mismatch.csv`: the gravity-mismatch hypothesis for every solver row.
 pub fn gravity_csv(forensics: &Forensics) -> String {
-    let mut out = format!("{GRAVITY_HEADER}\n");
-    for g in &forensics.gravity.rows {
-        out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{}\n",
-            experiment(&g.published),
-            g.configuration.id(),
-            full_opt(g.published.error),
-            full(g.same_gravity.l1),
-            full(g.same_gravity.sum),
-            full(g.reference_mismatched.l1),
-            full(g.reference_mismatched.sum),
-            full(g.solver_mismatched.l1),
-            full(g.solver_mismatched.sum),
-            g.solver_mismatched_run.peaks,
-            full_opt(g.solver_mismatched_run.half_period_thesis)
-        );
-    }
-    out
+    write_csv(
+        GRAVITY_HEADER,
+        forensics.gravity.rows.iter().map(|g| {
+            let mut r = experiment(&g.published);
+            r.extend([
+                g.configuration.id(),
+                full_opt(g.published.error),
+                full(g.same_gravity.sum),
+                full(g.same_gravity.l1),
+                full(g.reference_mismatched.sum),
+                full(g.reference_mismatched.l1),
+                full(g.solver_mismatched.sum),
+                full(g.solver_mismatched.l1),
+                full(g.to_exact.same_gravity),
+                full(g.to_exact.reference_mismatched),
+                full(g.to_exact.solver_mismatched),
+                g.solver_mismatched_run.peaks.to_string(),
+                full_opt(g.solver_mismatched_run.half_period_thesis),
+            ]);
+            r
+        }),
+    )
 }

@@ -160,6 +160,34 @@ impl MarkdownTable {
     }
 }
 
+/// A rest-state error below this is the round-off of a converged solve, not physics, m: the
+/// report and the snapshots print it as the bound.
+pub const ROUND_OFF_REST_ERROR_M: f64 = 1e-6;
+
+/// A kinetic energy, J: [`sig4`], or `< 1e-15` below [`crate::forensics::NOISE_PEAK_J`], where
+/// its digits are floating-point noise.
+pub fn energy(e: f64) -> String {
+    if e.abs() < crate::forensics::NOISE_PEAK_J {
+        format!("< {:e}", crate::forensics::NOISE_PEAK_J)
+    } else {
+        sig4(e)
+    }
+}
+
+/// A rest-state error, m: [`sig4`], or `< 1e-6` below [`ROUND_OFF_REST_ERROR_M`].
+pub fn rest_error(e: f64) -> String {
+    if e.abs() < ROUND_OFF_REST_ERROR_M {
+        format!("< {ROUND_OFF_REST_ERROR_M:e}")
+    } else {
+        sig4(e)
+    }
+}
+
+/// [`rest_error`] of an optional error, `–` when absent.
+pub fn opt_rest_error(e: Option<f64>) -> String {
+    e.map_or_else(|| "–".to_string(), rest_error)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -223,6 +223,7 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
             "data/gravity-mismatch.csv",
             data::gravity_csv(f),
         ));
+        files.push(OutputFile::text("data/liu_grid.csv", data::liu_grid_csv(f)));
     }
     Ok(files)
 }
@@ -496,13 +497,15 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
          - [`data/table1.csv`](data/table1.csv): the same for Table 1.\n\
          - [`data/catenary.csv`](data/catenary.csv): `stiffness,node,x,y`, the exact discrete-chain equilibrium \
          of the thesis rope, full precision.\n\
-         - [`data/reproduction.csv`](data/reproduction.csv): `{}`, the status of every published row and the \
-         configuration that produced our numbers (section 6); `our_error` is the sum of absolute coordinate \
-         differences.\n\
-         - [`data/configurations.csv`](data/configurations.csv): `{}`, every run of a named configuration other \
-         than the faithful one.\n\
+         - [`data/reproduction.csv`](data/reproduction.csv): `{}`, the class of every published row, the \
+         configuration that produced our numbers and the choices it rests on (section 6); `our_error_m` is the \
+         sum of per-node distances to our reference.\n\
+         - [`data/configurations.csv`](data/configurations.csv): `{}`, every run of Liu's other first iterate \
+         and of the ADMM candidates (the Liu grid is in `liu_grid.csv`).\n\
+         - [`data/liu_grid.csv`](data/liu_grid.csv): `{}`, every run of the Liu hypothesis: each grid point on \
+         each Liu row and the probes that located the damping interval (section 6.4).\n\
          - [`data/gravity-mismatch.csv`](data/gravity-mismatch.csv): `{}`, the gravity-mismatch errors of \
-         section 6.4 in both norms.\n\
+         section 6.6, against our reference runs and against the exact equilibria.\n\
          - `data/figNN-*.csv`: the points each figure draws (long series reduced to the minimum and maximum of \
          each of at most 1500 buckets).\n\
          - `data/tutorial_*.csv`: the tutorial chapter (section 9): the points of each of its figures \
@@ -520,9 +523,10 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
          - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
          peak count, T/2 and rest-state error (Figure 16).\n\n",
         data::RESULTS_HEADER,
-        data::REPRODUCTION_HEADER,
-        data::CONFIGURATIONS_HEADER,
-        data::GRAVITY_HEADER,
+        data::REPRODUCTION_HEADER.join(","),
+        data::CONFIGURATIONS_HEADER.join(","),
+        data::LIU_GRID_HEADER.join(","),
+        data::GRAVITY_HEADER.join(","),
         beyond::BEYOND_HEADER
     );
 

@@ -505,11 +505,11 @@ pub fn explain(m: &Measured, evidence: Option<&RowEvidence>) -> String {
              after one peak",
             sig4(e)
         )
-    } else if let Some(e) = m.last_peak_energy.filter(|&e| e < NOISE_PEAK_J) {
+    } else if m.last_peak_energy.is_some_and(|e| e < NOISE_PEAK_J) {
         format!(
-            "our last peak ({} J) is round-off (forensic finding 1): after the real peaks the rope creeps \
-             to rest and a noise wiggle is detected as a peak, so T/2 is set by arithmetic details",
-            sig4(e)
+            "our last peak (below {NOISE_PEAK_J:e} J) is round-off (forensic finding 1): after the real peaks \
+             the rope creeps to rest and a noise wiggle is detected as a peak, so T/2 is set by arithmetic \
+             details"
         )
     } else if m.peaks > p.ke_peaks {
         "our run oscillates longer than the published one".to_string()

@@ -6,7 +6,9 @@
 //! [`experiments::faithful_results`]: mass_spring_solvers::experiments::faithful_results
 //! [`forensics::forensic_results`]: mass_spring_solvers::forensics::forensic_results
 
+mod evidence;
 mod forensics;
+mod lock;
 mod reference;
 mod report;
 mod tables_liu_admm;

@@ -1,0 +1,523 @@
+//! The rule of evidence (`forensics::evidence`), tested claim by claim: each test recomputes
+//! its claim from the runs or from the CSV files the report writes, with its own code, and has
+//! a negative case beside it, a plausible wrong hypothesis that the same check rejects.
+
+use mass_spring_solvers::experiments::{
+    faithful_results, published_rows, reproduces, same_experiment, Measured, PublishedRow,
+};
+use mass_spring_solvers::forensics::evidence::{
+    round_off_spread, Choice, ADMM_CANDIDATES_TRIED, ROUND_OFF_AGREEMENT,
+};
+use mass_spring_solvers::forensics::gravity::Hypothesis;
+use mass_spring_solvers::forensics::liu_fit::{stop_under, THRESHOLD_FLOOR_J};
+use mass_spring_solvers::forensics::{
+    forensic_results, AdmmCandidate, ConfigurationId, Evidence, RowEvidence, NOISE_PEAK_J,
+};
+use mass_spring_solvers::metrics::STOP_THRESHOLD_J;
+use mass_spring_solvers::registry::SolverId;
+use mass_spring_solvers::report::data::{
+    gravity_csv, liu_grid_csv, reproduction_csv, GRAVITY_HEADER, LIU_GRID_HEADER,
+    REPRODUCTION_HEADER,
+};
+use std::collections::HashMap;
+
+fn label(p: &PublishedRow) -> String {
+    format!(
+        "T{} {}/{} k={:e}",
+        p.table, p.dt_s, p.iterations, p.stiffness
+    )
+}
+
+fn evidence_of(row: &PublishedRow) -> &'static RowEvidence {
+    forensic_results()
+        .evidence_of(row)
+        .expect("every row has a class")
+}
+
+fn rests_on(e: &RowEvidence, choice: Choice) -> bool {
+    e.effects.iter().any(|c| c.choice == choice)
+}
+
+/// A CSV file the report writes, read back strictly (no flexible records), as maps from
+/// column name to field.
+fn read_strictly(text: &str, header: &[&str]) -> Vec<HashMap<String, String>> {
+    let mut reader = csv::ReaderBuilder::new()
+        .flexible(false)
+        .from_reader(text.as_bytes());
+    let names: Vec<String> = reader
+        .headers()
+        .expect("a header")
+        .iter()
+        .map(String::from)
+        .collect();
+    assert_eq!(names, header, "the header the report documents");
+    reader
+        .records()
+        .map(|r| {
+            let r = r.expect("every record parses with the header's width");
+            names
+                .iter()
+                .cloned()
+                .zip(r.iter().map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+fn number(field: &str) -> f64 {
+    field.parse().unwrap_or(f64::NAN)
+}
+
+/// The rows reproduced under the selected configuration whose reproduction `breaks` under
+/// another reading, recomputed from the selected runs.
+fn broken_by(breaks: impl Fn(&Measured) -> bool) -> Vec<PublishedRow> {
+    forensic_results()
+        .evidence
+        .iter()
+        .filter(|e| e.measured.reproduces() && e.evidence != Evidence::NoiseLimited)
+        .filter(|e| breaks(&e.measured))
+        .map(|e| e.measured.published.clone())
+        .collect()
+}
+
+fn resting_on(choice: Choice) -> Vec<PublishedRow> {
+    forensic_results()
+        .evidence
+        .iter()
+        .filter(|e| rests_on(e, choice))
+        .map(|e| e.measured.published.clone())
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// The scene-level choices.
+
+/// Convention 4: the rows whose reproduction fails when each peak is stamped at its own
+/// sample are exactly those that rest on it, 14 of them (10 otherwise faithful). Negative case:
+/// the other reading as the thesis's convention is rejected by the published numbers
+/// themselves, since every dt = 0.1 s XPBD row stamped at its sample is one step short.
+#[test]
+fn convention_4_weakens_exactly_the_rows_the_other_stamp_breaks() {
+    let broken = broken_by(|m| !reproduces(&m.published, m.peaks, m.half_period_sample_stamp));
+    assert_eq!(broken, resting_on(Choice::PeakStamp));
+    assert_eq!(
+        broken.len(),
+        14,
+        "{:?}",
+        broken.iter().map(label).collect::<Vec<_>>()
+    );
+    let otherwise_faithful = broken
+        .iter()
+        .filter(|r| {
+            let e = evidence_of(r);
+            e.effects
+                .iter()
+                .all(|c| c.evidence == Evidence::Interpretation)
+                && e.configuration == ConfigurationId::Faithful
+        })
+        .count();
+    assert_eq!(otherwise_faithful, 10);
+    for r in &broken {
+        assert_eq!(
+            evidence_of(r).evidence.max(Evidence::Interpretation),
+            evidence_of(r).evidence
+        );
+    }
+    // Negative case: stamped at the sample, each XPBD dt = 0.1 s row reads exactly one step
+    // (0.1 s) short of the published stamp, peaks × T/2.
+    for m in faithful_results()
+        .rows
+        .iter()
+        .filter(|m| m.published.solver == SolverId::Xpbd && m.published.dt_s == 0.1)
+    {
+        let p = &m.published;
+        let published_stamp = p.half_period_s * p.ke_peaks as f64;
+        let sample_stamp = m.half_period_sample_stamp.unwrap() * m.peaks as f64;
+        assert!(
+            (published_stamp - sample_stamp - 0.1).abs() < 2e-3,
+            "{}: published stamp {published_stamp}, sample stamp {sample_stamp}",
+            label(p)
+        );
+        assert!(!reproduces(p, m.peaks, m.half_period_sample_stamp));
+    }
+}
+
+/// Convention 5: the rows an f64 clock breaks are those that rest on the f32 clock: the long
+/// k = 1e3 runs at dt = 1e-3 s. Negative case: with the f64 clock the k = 1e3 reference reads
+/// more than the tolerance short of Table 1.
+#[test]
+fn convention_5_weakens_exactly_the_rows_an_f64_clock_breaks() {
+    let broken = broken_by(|m| !reproduces(&m.published, m.peaks, m.half_period_f64_clock));
+    assert_eq!(broken, resting_on(Choice::Clock));
+    assert!(!broken.is_empty());
+    for r in &broken {
+        assert_eq!(r.dt_s, 1e-3, "{}", label(r));
+        assert_eq!(r.stiffness, 1e3, "{}", label(r));
+    }
+    let reference = faithful_results().reference(1e3);
+    let t = reference.half_period_f64_clock.unwrap();
+    assert!(
+        (t / reference.published.half_period_s - 1.0).abs() > 0.005,
+        "f64 clock: {t}"
+    );
+}
+
+/// The scene was fitted on Table 1, so both Table 1 rows rest on it and no other row does.
+#[test]
+fn table_1_rests_on_the_scene_fit_and_no_other_row_does() {
+    let rows = resting_on(Choice::SceneFit);
+    assert_eq!(rows.len(), 2);
+    assert!(rows.iter().all(|r| r.table == 1));
+    assert!(rows
+        .iter()
+        .all(|r| evidence_of(r).evidence == Evidence::Interpretation));
+}
+
+/// Gravity: the rows whose selected configuration at 9.8 m/s² fails the rule, recomputed from
+/// `gravity-mismatch.csv`, are those that rest on 9.81. Negative case: the same rows at
+/// 9.81 m/s² (the runs they are classed on) pass.
+#[test]
+fn gravity_weakens_exactly_the_rows_9_8_breaks() {
+    let f = forensic_results();
+    let records = read_strictly(&gravity_csv(f), GRAVITY_HEADER);
+    let mut broken = Vec::new();
+    for r in &records {
+        let row = published_rows()
+            .iter()
+            .find(|p| {
+                p.table.to_string() == r["table"]
+                    && number(&r["dt_s"]) == p.dt_s
+                    && r["iterations"] == p.iterations.to_string()
+            })
+            .unwrap();
+        let e = evidence_of(row);
+        let peaks: usize = r["solver_9_8_peaks"].parse().unwrap();
+        let t = r["solver_9_8_half_period_s"].parse().ok();
+        if e.evidence.reproduced() && !reproduces(row, peaks, t) {
+            broken.push(row.clone());
+            assert!(e.measured.reproduces(), "{}: passes at 9.81", label(row));
+        }
+    }
+    let resting: Vec<PublishedRow> = resting_on(Choice::Gravity)
+        .into_iter()
+        .filter(|r| r.table != 1)
+        .collect();
+    assert_eq!(broken, resting);
+    assert_eq!(
+        broken.len(),
+        3,
+        "{:?}",
+        broken.iter().map(label).collect::<Vec<_>>()
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The solver-level choices.
+
+/// Every row the Liu hypothesis reproduces is fitted, never predicted: its values were chosen
+/// with the Liu rows in view. No row is predicted.
+#[test]
+fn the_liu_hypothesis_fits_and_predicts_nothing() {
+    let f = forensic_results();
+    assert_eq!(f.counts(None)[Evidence::Predicted as usize], 0);
+    let h = f.liu.in_sample;
+    assert_eq!(h.velocity_damping(), 0.05);
+    assert!(h.exempt_first_peak && h.low_threshold);
+    let fitted = resting_on(Choice::LiuHypothesis);
+    assert!(!fitted.is_empty());
+    for r in &fitted {
+        let e = evidence_of(r);
+        assert_eq!(e.evidence, Evidence::Fitted, "{}", label(r));
+        assert_eq!(e.configuration, ConfigurationId::Liu(h), "{}", label(r));
+        // The printed method, either reading, misses it.
+        assert!(!faithful_results()
+            .rows
+            .iter()
+            .find(|m| same_experiment(&m.published, r))
+            .unwrap()
+            .reproduces());
+    }
+}
+
+/// The damping interval, recomputed from `liu_grid.csv`: every probe inside it passes, and each
+/// end is bracketed by a probe where some row fails. Negative case: the wider interval
+/// 0.05 ± 0.001 s⁻¹ holds a failing probe.
+#[test]
+fn the_damping_interval_is_bracketed_by_runs() {
+    let f = forensic_results();
+    let records = read_strictly(&liu_grid_csv(f), LIU_GRID_HEADER);
+    let mut probes: HashMap<String, (f64, bool)> = HashMap::new();
+    for r in records.iter().filter(|r| r["role"] == "damping probe") {
+        let entry = probes
+            .entry(r["damping_per_s"].clone())
+            .or_insert((number(&r["damping_per_s"]), true));
+        entry.1 &= r["reproduces"] == "true";
+    }
+    let (lo, hi) = f.liu.damping.inside();
+    assert!(lo < 0.05 && 0.05 < hi, "[{lo}, {hi}]");
+    for (c, passes) in probes.values() {
+        if (lo..=hi).contains(c) {
+            assert!(passes, "a probe inside the interval fails: c = {c}");
+        }
+    }
+    for outside in [f.liu.damping.low.outside, f.liu.damping.high.outside] {
+        let (_, passes) = probes
+            .values()
+            .find(|(c, _)| *c == outside)
+            .expect("each end is bracketed by a probe");
+        assert!(!passes, "c = {outside} should fail");
+        assert!((outside - if outside < 0.05 { lo } else { hi }).abs() < 1e-4);
+    }
+    assert!(
+        probes
+            .values()
+            .any(|(c, passes)| (c - 0.05).abs() <= 0.001 && !passes),
+        "0.05 ± 0.001 holds a failing probe"
+    );
+}
+
+/// The threshold interval at k = 1e6, recomputed from the runs continued to the floor with
+/// this test's own stopping logic: inside it every reproduced k = 1e6 row passes, just
+/// outside it one fails. Negative case: the printed 1e-3 J threshold fails.
+#[test]
+fn the_threshold_interval_is_read_off_the_runs() {
+    let f = forensic_results();
+    let (low, high) = f.liu.threshold.expect("k = 1e6 rows are reproduced");
+    assert!(low < 1e-4 && 1e-4 <= high, "({low}, {high}]");
+    assert!(low > THRESHOLD_FLOOR_J);
+    let exempt = f.liu.in_sample.exempt_first_peak;
+    let all_pass = |threshold: f64| {
+        f.liu.threshold_runs.iter().all(|(row, peaks)| {
+            // The first peak below the threshold stops the run (the first one exempt).
+            let stop = peaks
+                .iter()
+                .skip(usize::from(exempt))
+                .position(|p| p.energy < threshold)
+                .map(|i| i + 1 + usize::from(exempt))
+                .unwrap_or(peaks.len());
+            let t = peaks[stop - 1].time_thesis / stop as f64;
+            assert_eq!((stop, Some(t)), stop_under(peaks, threshold, exempt));
+            reproduces(row, stop, Some(t))
+        })
+    };
+    assert!(!f.liu.threshold_runs.is_empty());
+    for t in [low * 1.0001, 1e-4, high] {
+        assert!(all_pass(t), "threshold {t:e}");
+    }
+    assert!(!all_pass(low * 0.9999) || low <= THRESHOLD_FLOOR_J);
+    assert!(!all_pass(high * 1.0001));
+    assert!(!all_pass(STOP_THRESHOLD_J), "the printed threshold");
+}
+
+/// The ADMM start is selected, from the candidates of the history: 8 run here and 5 tried
+/// with the prototype. It reproduces all 18 ADMM rows, and no other candidate reproduces a
+/// row the faithful method misses.
+#[test]
+fn the_admm_start_is_selected_from_13() {
+    assert_eq!(ADMM_CANDIDATES_TRIED, 13);
+    let f = forensic_results();
+    let selected = resting_on(Choice::AdmmStart);
+    assert_eq!(selected.len(), 7);
+    for r in &selected {
+        let e = evidence_of(r);
+        assert_eq!(e.evidence, Evidence::Selected, "{}", label(r));
+        assert_eq!(
+            e.configuration,
+            ConfigurationId::Admm(AdmmCandidate::StartInertial)
+        );
+    }
+    let run = f
+        .run(ConfigurationId::Admm(AdmmCandidate::StartInertial))
+        .unwrap();
+    assert_eq!(run.rows.len(), 18);
+    assert!(run.rows.iter().all(Measured::reproduces));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The noise test and the twins.
+
+/// T5 0.01/1 matches on noise: its reproducing run's last peak is round-off, so it is
+/// noise-limited, not reproduced. Negative case: T5 0.01/30, reproduced with a real last peak,
+/// is not noise-limited.
+#[test]
+fn a_row_that_matches_on_noise_is_noise_limited() {
+    let row = |dt: f64, iterations: usize| {
+        published_rows()
+            .iter()
+            .find(|r| r.table == 5 && r.dt_s == dt && r.iterations == iterations)
+            .unwrap()
+    };
+    let noise = evidence_of(row(0.01, 1));
+    assert_eq!(noise.evidence, Evidence::NoiseLimited);
+    assert!(noise.measured.reproduces(), "it meets the rule, on noise");
+    assert!(noise.measured.last_peak_energy.unwrap() < NOISE_PEAK_J);
+    let real = evidence_of(row(0.01, 30));
+    assert_eq!(real.evidence, Evidence::Fitted);
+    assert!(real.measured.last_peak_energy.unwrap() > 1e-6);
+    for e in &forensic_results().evidence {
+        if e.evidence.reproduced() {
+            assert!(
+                e.measured.last_peak_energy.unwrap() >= NOISE_PEAK_J,
+                "{} rests on a noise peak",
+                label(&e.measured.published)
+            );
+        }
+    }
+}
+
+/// The second noise criterion: runs of one motion (the same first peak to round-off and the
+/// same peak count) whose T/2 spread exceeds the tolerance. Negative case: a spread within the
+/// tolerance, or runs of another motion, do not count.
+#[test]
+fn a_t2_spread_across_one_motion_is_noise() {
+    let base = faithful_results()
+        .rows
+        .iter()
+        .find(|m| m.peaks == 2 && m.first_peak_energy.is_some())
+        .unwrap();
+    let with = |t: f64, first: f64| Measured {
+        half_period_thesis: Some(t),
+        first_peak_energy: Some(first),
+        ..base.clone()
+    };
+    let t0 = base.half_period_thesis.unwrap();
+    let e0 = base.first_peak_energy.unwrap();
+    let same_motion_far = with(t0 * 1.02, e0 * (1.0 + 0.1 * ROUND_OFF_AGREEMENT));
+    assert!(round_off_spread(base, [&same_motion_far]) > 0.005);
+    let same_motion_near = with(t0 * 1.001, e0);
+    assert!(round_off_spread(base, [&same_motion_near]) < 0.005);
+    let other_motion = with(t0 * 1.02, e0 * 1.01);
+    assert_eq!(round_off_spread(base, [&other_motion]), 0.0);
+}
+
+/// Twins, recomputed from the published table and our faithful runs with this test's own
+/// criterion: 7 pairs, each one observation. Negative case: T5 0.001/30 and 0.001/70 print the
+/// same peaks and T/2 but different errors, so they are not twins.
+#[test]
+fn twins_count_once() {
+    let f = forensic_results();
+    let rows = &faithful_results().rows;
+    let mut pairs = Vec::new();
+    for (i, a) in rows.iter().enumerate() {
+        for b in &rows[i + 1..] {
+            let (p, q) = (&a.published, &b.published);
+            let printed_alike = p.table == q.table
+                && p.dt_s == q.dt_s
+                && (p.error, p.ke_peaks, p.half_period_s, p.period_rel_error)
+                    == (q.error, q.ke_peaks, q.half_period_s, q.period_rel_error);
+            let ours_alike = a.peaks == b.peaks
+                && a.half_period_thesis == b.half_period_thesis
+                && a.final_positions
+                    .iter()
+                    .zip(&b.final_positions)
+                    .all(|(x, y)| (x - y).norm() < 1e-7);
+            if printed_alike && ours_alike {
+                pairs.push((p.clone(), q.clone()));
+            }
+        }
+    }
+    assert_eq!(pairs, f.twins.pairs);
+    assert_eq!(pairs.len(), 7);
+    let rows_total: usize = f.counts(None).iter().sum();
+    let observations: usize = f.observation_counts().iter().sum();
+    assert_eq!(rows_total - observations, pairs.len());
+    for (a, b) in &pairs {
+        assert_eq!(evidence_of(a).evidence, evidence_of(b).evidence);
+    }
+    let t5 = |it: usize| {
+        published_rows()
+            .iter()
+            .find(|r| r.table == 5 && r.dt_s == 1e-3 && r.iterations == it)
+            .unwrap()
+    };
+    assert_eq!(t5(30).ke_peaks, t5(70).ke_peaks);
+    assert!(f.twins.twin_of(t5(30)).is_none());
+}
+
+// ---------------------------------------------------------------------------------------------
+// The counts the report prints.
+
+/// The headline counts, recomputed from `reproduction.csv` read strictly: the classes per row,
+/// and as observations with each twin pair once.
+#[test]
+fn the_headline_counts_come_from_the_rows() {
+    let f = forensic_results();
+    let records = read_strictly(&reproduction_csv(f), REPRODUCTION_HEADER);
+    assert_eq!(records.len(), published_rows().len());
+    let mut counts = [0usize; 7];
+    let mut twinned = 0;
+    for r in &records {
+        let class = Evidence::ALL
+            .iter()
+            .position(|e| e.id() == r["evidence"])
+            .expect("a known class");
+        counts[class] += 1;
+        twinned += usize::from(!r["twin_of"].is_empty());
+    }
+    assert_eq!(counts, f.counts(None));
+    assert_eq!(twinned, 2 * f.twins.pairs.len());
+    let observations: usize = f.observation_counts().iter().sum();
+    assert_eq!(observations, records.len() - twinned / 2);
+}
+
+/// The gravity counts, recomputed from `gravity-mismatch.csv`: per hypothesis and stiffness,
+/// the floor observations within 0.8-1.25 of the published error. Negative case: with the
+/// published floors shifted by one row (a shuffled assignment), the leading hypothesis loses
+/// most of its rows.
+#[test]
+fn the_gravity_counts_come_from_the_csv() {
+    let f = forensic_results();
+    let records = read_strictly(&gravity_csv(f), GRAVITY_HEADER);
+    let twin_seconds: Vec<String> = f
+        .twins
+        .pairs
+        .iter()
+        .map(|(_, b)| format!("{} {} {}", b.table, b.dt_s, b.iterations))
+        .collect();
+    let floors: Vec<&HashMap<String, String>> = records
+        .iter()
+        .filter(|r| number(&r["published_error_m"]) <= 0.1)
+        .filter(|r| {
+            !twin_seconds.contains(&format!(
+                "{} {} {}",
+                r["table"],
+                number(&r["dt_s"]),
+                r["iterations"]
+            ))
+        })
+        .collect();
+    let column = |h: Hypothesis| match h {
+        Hypothesis::NoMismatch => "error_same_gravity_m",
+        Hypothesis::ReferenceMismatched => "error_reference_9_8_m",
+        Hypothesis::SolverMismatched => "error_solver_9_8_m",
+    };
+    let in_band = |ours: f64, published: f64| (0.8..=1.25).contains(&(ours / published));
+    for k in [1e3, 1e6] {
+        let at_k: Vec<&&HashMap<String, String>> = floors
+            .iter()
+            .filter(|r| number(&r["stiffness_n_per_m"]) == k)
+            .collect();
+        for h in Hypothesis::ALL {
+            let within = at_k
+                .iter()
+                .filter(|r| in_band(number(&r[column(h)]), number(&r["published_error_m"])))
+                .count();
+            let c = f.gravity.count(h, k);
+            assert_eq!((c.rows, c.within), (at_k.len(), within), "{h:?} k = {k:e}");
+        }
+        // Negative case: each row's error against the next row's published floor.
+        let h = Hypothesis::SolverMismatched;
+        let shuffled = (0..at_k.len())
+            .filter(|&i| {
+                in_band(
+                    number(&at_k[i][column(h)]),
+                    number(&at_k[(i + 1) % at_k.len()]["published_error_m"]),
+                )
+            })
+            .count();
+        assert!(
+            shuffled < f.gravity.count(h, k).within,
+            "k = {k:e}: shuffled {shuffled}"
+        );
+    }
+}
