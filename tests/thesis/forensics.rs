@@ -418,18 +418,36 @@ fn table_6_dt_1e3_rows_are_marginal_and_fit_the_exact_convention() {
 }
 
 /// The explanation of a row is decided from our run: Table 5's one-iteration rows at dt = 0.1
-/// and 0.01 stop at a first peak already below the threshold.
+/// and 0.01 stop at a first peak already below the threshold (recomputed from the runs), and
+/// the sentence quotes that run's own first-peak energy. Negative case: at dt = 0.001 the same
+/// row's first peak is above the threshold, so its explanation quotes no first peak.
 #[test]
 fn explanations_start_from_our_run() {
+    use mass_spring_solvers::metrics::STOP_THRESHOLD_J;
     let text = explanations(faithful_results(), Some(forensic_results()));
-    for dt in ["0.1", "0.01"] {
-        let line = text
-            .lines()
+    let line_of = |dt: f64| {
+        text.lines()
             .find(|l| l.starts_with(&format!("- Table 5, Fast m-s dt = {dt} s, 1 iterations")))
+            .unwrap()
+            .to_string()
+    };
+    for dt in [0.1, 0.01] {
+        let m = faithful_results()
+            .rows
+            .iter()
+            .find(|m| &m.published == row(5, dt, 1))
             .unwrap();
-        assert!(line.contains("Our first peak"), "{line}");
-        assert!(!line.contains("round-off"), "{line}");
+        let first = m.first_peak_energy.unwrap();
+        assert!(m.peaks == 1 && first < STOP_THRESHOLD_J, "T5 {dt}/1");
+        assert!(line_of(dt).contains(&sig4(first)), "{}", line_of(dt));
     }
+    let m = faithful_results()
+        .rows
+        .iter()
+        .find(|m| &m.published == row(5, 0.001, 1))
+        .unwrap();
+    assert!(m.first_peak_energy.unwrap() > STOP_THRESHOLD_J);
+    assert!(!line_of(0.001).contains(&sig4(m.first_peak_energy.unwrap())));
 }
 
 /// The faithful configuration is the default of `run_all`'s result set.
