@@ -67,6 +67,7 @@
 //! spring's axis $`H_0`$ has $`k`$, the true Hessian $`k(1 - l_0/l)`$, smaller by the strain.
 
 use crate::error::{Error, Result};
+use crate::first_iterate::{FirstIterate, StepStart};
 use crate::projective::{finish_step, node_of_columns, to_columns, GlobalSolve};
 use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
@@ -164,6 +165,28 @@ pub fn potential_change(
     nodes + springs
 }
 
+/// $`\nabla g(x) = \frac{1}{h^2}M(x - y) - F(x)`$ of the incremental potential of thesis
+/// Eq 20 (gravity in $`F`$), column-major into `gradient`, zero on the fixed nodes, whose
+/// unknowns the solve eliminates; `forces` is scratch, one entry per node.
+pub fn potential_gradient(
+    system: &MassSpringSystem,
+    y: &[Vec3],
+    x: &[Vec3],
+    dt: f64,
+    forces: &mut [Vec3],
+    gradient: &mut [f64],
+) {
+    let n = x.len();
+    let h2 = dt * dt;
+    system.forces(x, forces);
+    for (i, node) in system.nodes().iter().enumerate() {
+        let g = node.mass * (x[i] - y[i]) / h2 - forces[i];
+        for c in 0..3 {
+            gradient[c * n + i] = if node.fixed { 0.0 } else { g[c] };
+        }
+    }
+}
+
 /// One stored L-BFGS pair with its $`\rho_i = 1/(t_i^\top s_i)`$ and the $`\zeta_i`$ of the
 /// current two-loop recursion.
 #[derive(Debug, Clone)]
@@ -221,6 +244,8 @@ pub struct Lbfgs {
     forces: Vec<Vec3>,
     /// The step length $`\alpha`$ of each iteration of the last step.
     step_lengths: Vec<f64>,
+    /// Where each step starts: the inertial prediction, the authors' code's, by default.
+    start: StepStart,
     /// When a step stops iterating, and the iterations steps took, with the line-search
     /// trials after each iteration's first as their extra work.
     convergence: Convergence,
@@ -251,8 +276,15 @@ impl Lbfgs {
             zeros: vec![0.0; 3 * n],
             forces: vec![Vec3::zeros(); n],
             step_lengths: Vec::new(),
+            start: StepStart::new(FirstIterate::InertialPrediction),
             convergence: Convergence::default(),
         })
+    }
+
+    /// The same solver starting each step at `first_iterate` ([`crate::first_iterate`]).
+    pub fn with_first_iterate(mut self, first_iterate: FirstIterate) -> Self {
+        self.start = StepStart::new(first_iterate);
+        self
     }
 
     /// The step length $`\alpha`$ the line search accepted at each iteration of the last step
@@ -261,18 +293,9 @@ impl Lbfgs {
         &self.step_lengths
     }
 
-    /// [Liu 2017, Alg. 1] $`\nabla g(x) = \frac{1}{h^2}M(x - y) - F(x)`$ (column-major), zero on
-    /// the fixed nodes, whose unknowns the solve eliminates.
+    /// $`\nabla g(x)`$ ([`potential_gradient`]) with the solver's force buffer.
     fn gradient(&mut self, x: &[Vec3], y: &[Vec3], gradient: &mut [f64]) {
-        let n = x.len();
-        let h2 = self.dt * self.dt;
-        self.system.forces(x, &mut self.forces);
-        for (i, node) in self.system.nodes().iter().enumerate() {
-            let g = node.mass * (x[i] - y[i]) / h2 - self.forces[i];
-            for c in 0..3 {
-                gradient[c * n + i] = if node.fixed { 0.0 } else { g[c] };
-            }
-        }
+        potential_gradient(&self.system, y, x, self.dt, &mut self.forces, gradient);
     }
 
     /// [Liu 2017, Alg. 1] The two-loop recursion: $`d = -H^{-1}\nabla g`$ with
@@ -359,22 +382,15 @@ impl TimeStepper for Lbfgs {
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let (dt, n) = (self.dt, state.x.len());
-        // y = xⁿ + h·vⁿ of Eq 20 (gravity is in E); x₀ = y + h²M⁻¹f_ext, the paper's line 1.
+        // y = xⁿ + h·vⁿ of Eq 20 (gravity is in E); x₀ = y + h²M⁻¹f_ext by default, the
+        // authors' code's start.
         let y: Vec<Vec3> = state
             .x
             .iter()
             .zip(&state.v)
             .map(|(x, v)| x + dt * v)
             .collect();
-        let mut x: Vec<Vec3> = (0..n)
-            .map(|i| {
-                if self.system.nodes()[i].fixed {
-                    state.x[i]
-                } else {
-                    y[i] + dt * dt * self.system.gravity()
-                }
-            })
-            .collect();
+        let mut x = self.start.first_iterate(&self.system, state, dt).to_vec();
         let mut gradient = vec![0.0; 3 * n];
         self.gradient(&x, &y, &mut gradient);
         let mut history: VecDeque<Pair> = VecDeque::with_capacity(self.params.window);
