@@ -508,3 +508,44 @@ fn the_solvers_can_run_on_other_threads() {
     send::<Chebyshev>();
     send::<Anderson>();
 }
+
+/// Wang 2015 (§5.1) starts $`\rho`$ from the ratio of the objective's gradient norms at the
+/// last two of the $`K`$ iterations used, and notes that it grows with $`K`$; the crate's
+/// default is the plain iteration's asymptotic rate, one $`\rho`$ for every $`K`$. Measured on
+/// the rope's start (k = 1e6, dt = 1e-2, from the inertial prediction): the ratio grows with
+/// $`K`$, 0.99372 at K = 10 to 0.99701 at K = 1000, past the asymptotic rate (0.99468) from
+/// K of about 50 on. What would fail it: a ratio that falls with $`K`$, or one that stays
+/// below the rate.
+#[test]
+fn wangs_gradient_ratio_grows_with_the_iterations() {
+    let system = thesis_rope(1e6).unwrap();
+    let dt = 1e-2;
+    let start = system.initial_state();
+    let first = FirstIterate::InertialPrediction;
+    let rate = asymptotic_rate(&system, dt, Base::Liu, first, &start).unwrap();
+    let ks = [10, 50, 200, 1000];
+    let ratios: Vec<f64> = ks
+        .iter()
+        .map(|&k| gradient_ratio(&system, dt, Base::Liu, first, &start, k).unwrap())
+        .collect();
+    println!("\nasymptotic rate {rate}; gradient ratios at K = {ks:?}: {ratios:?}");
+    assert!(ratios.windows(2).all(|w| w[1] > w[0]), "{ratios:?}");
+    assert!(
+        ratios[0] < rate && ratios[3] > rate && ratios[3] < 1.0,
+        "{ratios:?} {rate}"
+    );
+    // The rule in a solver: its rho is the ratio at its own iteration count.
+    let params = ChebyshevParams {
+        rho_rule: RhoRule::GradientRatio,
+        ..ChebyshevParams::default()
+    };
+    let solver = Chebyshev::new(&system, dt, 50, params).unwrap();
+    assert_eq!(solver.spectral_radius(), ratios[1]);
+    assert_eq!(
+        gradient_ratio(&system, dt, Base::Liu, first, &start, 0)
+            .map_err(|e| e.to_string())
+            .unwrap_err()
+            .contains("iterations"),
+        true
+    );
+}

@@ -739,3 +739,109 @@ fn runs_are_deterministic() {
         assert_eq!(first.steps, 50);
     }
 }
+
+/// Two free unit masses joined by one spring (k = 100 N/m, rest length 1 m), no gravity,
+/// released stretched by 0.1 m: the relative coordinate $`r = l - l_0`$ of a spring with
+/// Macklin 2019's constraint damping (§4.1, Eq. 8) obeys $`\mu\ddot r = -kr - \beta\dot r`$
+/// ($`\mu = 1/2`$ kg), whose closed form is
+/// $`r(t) = r_0 e^{-\zeta\omega t}(\cos\omega_d t + \frac{\zeta\omega}{\omega_d}\sin\omega_d t)`$,
+/// $`\omega = \sqrt{k/\mu}`$, $`\zeta = \beta/(2\sqrt{k\mu})`$, $`\omega_d = \omega\sqrt{1 - \zeta^2}`$.
+/// With β = 2 N·s/m over 1 s (100 steps of 1e-2 s) the substepped run approaches it at first
+/// order in the substep. What would fail it: Eq. 8's γ misread (γ = α̃β̃ without the 1/Δt_s,
+/// or β taken as stiffness-proportional), or no damping, whose gap to the damped closed form is
+/// the decay itself. The Jacobi sweep, on this one constraint, is the Gauss-Seidel sweep.
+#[test]
+fn constraint_damping_matches_the_damped_oscillator() {
+    use mass_spring_solvers::system::{Node, Spring};
+    use mass_spring_solvers::xpbd_substeps::{damped_delta_lambda, Sweep};
+    let (k, beta, r0, mu) = (100.0_f64, 2.0_f64, 0.1_f64, 0.5_f64);
+    let node = |x: f64| Node {
+        mass: 1.0,
+        position: Vec3::new(x, 0.0, 0.0),
+        velocity: Vec3::zeros(),
+        fixed: false,
+    };
+    let spring = Spring {
+        a: 0,
+        b: 1,
+        rest_length: 1.0,
+        stiffness: k,
+        damping: 0.0,
+    };
+    let system =
+        MassSpringSystem::new(vec![node(0.0), node(1.0 + r0)], vec![spring], Vec3::zeros())
+            .unwrap();
+    let omega = (k / mu).sqrt();
+    let zeta = beta / (2.0 * (k * mu).sqrt());
+    let omega_d = omega * (1.0 - zeta * zeta).sqrt();
+    let exact = |t: f64| {
+        r0 * (-zeta * omega * t).exp()
+            * ((omega_d * t).cos() + zeta * omega / omega_d * (omega_d * t).sin())
+    };
+    let largest_gap = |substeps, constraint_damping, sweep| {
+        let params = XpbdSubstepsParams {
+            constraint_damping,
+            sweep,
+            ..Default::default()
+        };
+        let mut solver = XpbdSubsteps::new(&system, 1e-2, substeps, params).unwrap();
+        let mut s = system.initial_state();
+        let mut worst = 0.0_f64;
+        for step in 1..=100 {
+            solver.step(&mut s).unwrap();
+            let r = (s.x[1] - s.x[0]).norm() - 1.0;
+            worst = worst.max((r - exact(step as f64 * 1e-2)).abs());
+        }
+        worst
+    };
+    let gaps: Vec<f64> = [10, 20, 40, 80]
+        .iter()
+        .map(|&n| largest_gap(n, beta, Sweep::GaussSeidel))
+        .collect();
+    let undamped = largest_gap(80, 0.0, Sweep::GaussSeidel);
+    println!(
+        "\ndamped free spring, largest |r - r_exact| over 1 s at 10, 20, 40, 80 substeps: {} \
+         (orders {:.3?}); undamped at 80: {undamped:.3e} m",
+        sci(&gaps),
+        orders(&gaps)
+    );
+    assert!(
+        orders(&gaps).iter().all(|p| (p - 1.0).abs() < 0.15),
+        "{gaps:?}"
+    );
+    assert!(
+        gaps[3] < 3e-4 && undamped > 100.0 * gaps[3],
+        "{gaps:?} {undamped}"
+    );
+    assert_eq!(largest_gap(40, beta, Sweep::Jacobi), gaps[2]);
+    // Eq. 8 with γ = 0 is XPBD's Eq 18.
+    let plain = mass_spring_solvers::xpbd::delta_lambda(0.3, 0.01, 0.2, 2.0);
+    assert_eq!(damped_delta_lambda(0.3, 0.01, 0.2, 2.0, 0.0, 5.0), plain);
+}
+
+/// The optioned substep without its options is the thesis's XPBD substep (to round-off: its
+/// prediction rounds $`h^2 g`$ directly, XPBD's $`h^2 w\,m g`$), and the Jacobi sweep on the
+/// rope differs from Gauss-Seidel and still converges to the exact motion.
+#[test]
+fn jacobi_sweep_on_the_rope() {
+    use mass_spring_solvers::xpbd_substeps::Sweep;
+    let rope = thesis_rope(1e6).unwrap();
+    let state = step10(&rope);
+    let dt = 1e-2;
+    let exact = exact_motion(&rope, &state, dt, 2000);
+    let run = |n, sweep| {
+        let params = XpbdSubstepsParams {
+            sweep,
+            ..Default::default()
+        };
+        one_step(&|n| XpbdSubsteps::new(&rope, dt, n, params), n, &state)
+    };
+    let (gs, jacobi) = (run(256, Sweep::GaussSeidel), run(256, Sweep::Jacobi));
+    let (gap_gs, gap_jacobi) = (gap(&gs.x, &exact.x), gap(&jacobi.x, &exact.x));
+    println!("\n256 substeps, gap to the exact motion: Gauss-Seidel {gap_gs:.3e} m, Jacobi {gap_jacobi:.3e} m");
+    assert!(gap(&gs.x, &jacobi.x) > 0.0);
+    assert!(
+        gap_jacobi < 10.0 * gap_gs && gap_jacobi < 1e-3,
+        "{gap_jacobi:e}"
+    );
+}
