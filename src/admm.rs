@@ -136,7 +136,7 @@ impl AdmmIterate {
         }
     }
 
-    /// [Brown 2018, dissipation potential] The mass-proportional damping's term joins the
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) The mass-proportional damping's term joins the
     /// inertial one: $`\frac{1}{2h^2}|x - \tilde x|_M^2 + \frac{\alpha}{2h}|x - x_n|_M^2`$ is, up to
     /// a constant, $`\frac{1 + \alpha h}{2h^2}|x - \hat x|_M^2`$ with
     /// $`\hat x = (\tilde x + \alpha h\,x_n)/(1 + \alpha h)`$. Replaces $`\tilde x`$ (after

@@ -343,9 +343,9 @@ impl TimeStepper for Anderson {
         Some(&mut self.convergence)
     }
 
-    /// [Peng 2018, safeguarded Anderson acceleration] The merit safeguard as AASolver's
-    /// `DynamicsSolver.h` applies it (unverified against the paper's body: checked against
-    /// bldeng/AASolver), and for ADMM as bldeng/AA-ADMM's `Solver.cpp` does.
+    /// [Peng 2018, safeguarded Anderson acceleration] Checked against bldeng/AASolver `DynamicsSolver.h`:
+    /// the energy safeguard for Liu 2013 as AASolver applies it (the paper's body unread), and
+    /// for ADMM Zhang et al.'s primal residual ([`AdmmMerit`]).
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let it = &mut self.iteration;

@@ -168,7 +168,7 @@ impl BackwardEuler {
         Self::damped(system, dt, newton_iterations, RayleighDamping::NONE)
     }
 
-    /// [Brown 2018, Rayleigh damping] The same solver with the damping force
+    /// [Brown 2018, Rayleigh damping] (unverified: no body text or reference code found) The same solver with the damping force
     /// $`-(\alpha M + \beta K(x_n))\,v_{n+1}`$: the residual gains $`h(\alpha M + \beta K(x_n))v`$,
     /// so Eq (12)'s matrix gains $`h(\alpha M + \beta K(x_n))`$ and its right-hand side is unchanged.
     pub fn damped(
@@ -387,7 +387,7 @@ pub fn converged_step(
     damped_converged_step(system, state, dt, RayleighDamping::NONE, options)
 }
 
-/// [Brown 2018, dissipation potential] [`converged_step`] with Rayleigh damping: projected
+/// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) [`converged_step`] with Rayleigh damping: projected
 /// Newton on $`\Phi(x) + h\,\mathcal D(x_n, (x - x_n)/h)`$ ([`crate::damping`]), the oracle of
 /// the damped solvers. With $`\alpha = \beta = 0`$ it is [`converged_step`].
 pub fn damped_converged_step(

@@ -150,7 +150,7 @@ impl ChebyshevParams {
     }
 }
 
-/// [Wang 2015, Eq. 14] $`\omega_{k+1}`$ for the iteration $`k`$ (0-based) of a step, delayed
+/// [Wang 2015, Eq. 14, Alg. 1] $`\omega_{k+1}`$ for the iteration $`k`$ (0-based) of a step, delayed
 /// by $`S`$ as in Algorithm 1:
 /// $`1`$ during the warm-up ($`k < S`$), $`2/(2 - \rho^2)`$ at $`k = S`$, then
 /// $`4/(4 - \rho^2\,\omega_k)`$.

@@ -245,7 +245,7 @@ impl TimeStepper for DampedAdmm {
         Some(&mut self.convergence)
     }
 
-    /// [Brown 2018, dissipation potential] Algorithm 4 on the objective with the damping term.
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) Algorithm 4 on the objective with the damping term.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let it = &mut self.iterate;

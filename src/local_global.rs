@@ -83,7 +83,8 @@ impl FromStr for Base {
     }
 }
 
-/// The merit of an ADMM iterate $`(x, \bar u)`$ that a safeguard compares (module doc).
+/// [Zhang 2019, primal-residual safeguard] Checked against bldeng/AA-ADMM `Solver.cpp`: the merit of an ADMM
+/// iterate $`(x, \bar u)`$ that a safeguard compares (module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum AdmmMerit {
     /// Zhang et al. 2019's primal residual $`|W(Dx - z)|^2`$, checked after the local step.

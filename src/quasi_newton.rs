@@ -10,7 +10,8 @@
 //! Backward Euler step. The paper's observation is that Projective Dynamics is a quasi-Newton
 //! method whose Hessian approximation is the constant, prefactored
 //! $`\nabla^2 g \approx \frac{1}{h^2}M + L`$, $`L`$ the stiffness-weighted Laplacian (for
-//! springs, thesis Eq 25). Its Algorithm 1 keeps that matrix as the *initial* Hessian
+//! springs, thesis Eq 25). Its L-BFGS loop (Algorithm 2 of the TOG version; the numbering is
+//! from secondary evidence, the body was not read) keeps that matrix as the *initial* Hessian
 //! $`H_0`$ of L-BFGS and corrects it with the last $`m`$ pairs
 //! $`s_i = x_{i+1} - x_i`$, $`t_i = \nabla g(x_{i+1}) - \nabla g(x_i)`$ by the two-loop
 //! recursion (written here in Nocedal & Wright's form, with $`t`$ for their $`y`$, which is the
@@ -118,8 +119,8 @@ impl LbfgsParams {
     }
 }
 
-/// [Liu 2017, Alg. 1] $`g(x') - g(x)`$ for the incremental potential of thesis Eq 20, term by
-/// term from the differences $`\delta_i = x'_i - x_i`$, which are exact in floating point for
+/// This crate's device, not the paper's: $`g(x') - g(x)`$ for the incremental potential of
+/// thesis Eq 20, term by term from the differences $`\delta_i = x'_i - x_i`$, which are exact in floating point for
 /// nearby points: $`\frac{m_i}{2h^2}\,\delta_i\cdot(\delta_i + 2(x_i - y_i))`$ and
 /// $`-m_i\,g\cdot\delta_i`$ per node, and $`\frac{k}{2}\,\Delta l\,(\Delta l + 2(l - l_0))`$ per
 /// spring with $`\Delta l = l' - l = \delta q\cdot(q' + q)/(l' + l)`$ and
@@ -298,7 +299,7 @@ impl Lbfgs {
         potential_gradient(&self.system, y, x, self.dt, &mut self.forces, gradient);
     }
 
-    /// [Liu 2017, Alg. 1] The two-loop recursion: $`d = -H^{-1}\nabla g`$ with
+    /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) The two-loop recursion: $`d = -H^{-1}\nabla g`$ with
     /// $`H_0^{-1} q = h^2 A^{-1} q`$ and the stored pairs, oldest first in `history`.
     fn direction(&self, gradient: &[f64], history: &mut VecDeque<Pair>, d: &mut [f64]) {
         for (v, g) in d.iter_mut().zip(gradient) {
@@ -323,7 +324,7 @@ impl Lbfgs {
         }
     }
 
-    /// [Liu 2017, Alg. 1] Backtracking from $`\alpha = 1`$ by $`\beta`$ until
+    /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) Backtracking from $`\alpha = 1`$ by $`\beta`$ until
     /// $`g(x + \alpha d) - g(x) \le \gamma\,\alpha\,\nabla g^\top d`$; returns $`\alpha`$ with
     /// the accepted point in `trial`, or `None` below [`MIN_STEP_LENGTH`].
     fn line_search(
@@ -376,7 +377,7 @@ impl TimeStepper for Lbfgs {
         Some(&mut self.convergence)
     }
 
-    /// [Liu 2017, Alg. 1] From the inertial prediction, `iterations` L-BFGS iterations with the
+    /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) From the inertial prediction, `iterations` L-BFGS iterations with the
     /// Projective-Dynamics matrix as $`H_0`$ and the Armijo line search; then
     /// $`v = (x - x_n)/h`$.
     // region: step
