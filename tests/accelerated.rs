@@ -541,11 +541,6 @@ fn wangs_gradient_ratio_grows_with_the_iterations() {
     };
     let solver = Chebyshev::new(&system, dt, 50, params).unwrap();
     assert_eq!(solver.spectral_radius(), ratios[1]);
-    assert_eq!(
-        gradient_ratio(&system, dt, Base::Liu, first, &start, 0)
-            .map_err(|e| e.to_string())
-            .unwrap_err()
-            .contains("iterations"),
-        true
-    );
+    let zero = gradient_ratio(&system, dt, Base::Liu, first, &start, 0).unwrap_err();
+    assert!(zero.to_string().contains("iterations"), "{zero}");
 }
