@@ -62,8 +62,9 @@
 //! # Measured on the thesis rope (`tests/newer_solvers.rs`)
 //! At dt = 1e-2, k = 1e6, one step from a moving state (10 converged steps from rest), L-BFGS
 //! needs 92 iterations for a gap of 1e-6 m to the converged Backward Euler step and 188 for
-//! 1e-9 m; its base, Liu 2013 with the same prefactored matrix, needs 1582 for 1e-6 m, 17 times
-//! more. The window matters: 1e-6 m takes 204 iterations with $`m = 2`$, 44 with 10 and 29 with
+//! 1e-9 m; its base, Liu 2013 with the same prefactored matrix, needs 1828 for 1e-6 m from the
+//! same start (the inertial prediction), 19.9 times more (1582 from $`x_n`$, the start the
+//! thesis's tables read Algorithm 3 with). The window matters: 1e-6 m takes 204 iterations with $`m = 2`$, 44 with 10 and 29 with
 //! the full 24 unknowns. What slows both is the Laplacian's isotropic stiffness: across a
 //! spring's axis $`H_0`$ has $`k`$, the true Hessian $`k(1 - l_0/l)`$, smaller by the strain.
 
