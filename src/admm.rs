@@ -27,6 +27,7 @@
 //! from this module's building blocks in [`crate::forensics::admm_variants`].
 
 use crate::error::{require_positive, Error, Result};
+use crate::first_iterate::{FirstIterate, StepStart};
 use crate::projective::{
     finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve,
     SpringIncidence,
@@ -135,7 +136,7 @@ impl AdmmIterate {
         }
     }
 
-    /// [Brown 2018, dissipation potential] The mass-proportional damping's term joins the
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) The mass-proportional damping's term joins the
     /// inertial one: $`\frac{1}{2h^2}|x - \tilde x|_M^2 + \frac{\alpha}{2h}|x - x_n|_M^2`$ is, up to
     /// a constant, $`\frac{1 + \alpha h}{2h^2}|x - \hat x|_M^2`$ with
     /// $`\hat x = (\tilde x + \alpha h\,x_n)/(1 + \alpha h)`$. Replaces $`\tilde x`$ (after
@@ -168,6 +169,26 @@ impl AdmmIterate {
         }
     }
 
+    /// The combined residual after a global step from `x_before` to the iterate $`x^+`$, with
+    /// the $`z`$ of the local step before it: primal $`|W(Dx^+ - z)|^2`$ plus dual
+    /// $`|WD(x^+ - x_{before})|^2`$ (Zhang et al. 2019's code's `comb_residual`, weighted).
+    pub fn combined_residual(&self, x_before: &[f64]) -> f64 {
+        let mut change = vec![0.0; x_before.len()];
+        for ((d, x), x0) in change.iter_mut().zip(&self.x).zip(x_before) {
+            *d = x - x0;
+        }
+        self.z
+            .iter()
+            .zip(&self.omega)
+            .enumerate()
+            .map(|(i, (z, &w))| {
+                let primal = w * (self.d.apply_row(i, &self.x) - z);
+                let dual = w * self.d.apply_row(i, &change);
+                primal.norm_squared() + dual.norm_squared()
+            })
+            .sum()
+    }
+
     /// Eq. (40): $`(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$;
     /// forms the right-hand side in $`x`$, for the prefactored solve of the step.
     pub fn global_rhs(&mut self) {
@@ -193,6 +214,8 @@ pub struct AdmmPd {
     /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (line 1.5).
     a: GlobalSolve,
     iterate: AdmmIterate,
+    /// Where each step starts: $`x^0 = \tilde x`$ (line 2.1) by default.
+    start: StepStart,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
 }
@@ -215,8 +238,16 @@ impl AdmmPd {
             iterations,
             a: GlobalSolve::new(system, dt, &omega2)?,
             iterate: AdmmIterate::new(system, dt, omega),
+            start: StepStart::new(FirstIterate::InertialPrediction),
             convergence: Convergence::default(),
         })
+    }
+
+    /// The same solver starting each step at `first_iterate` ([`crate::first_iterate`]); the
+    /// default, the inertial prediction, is line 2.1's $`x^0 = \tilde x`$ bit for bit.
+    pub fn with_first_iterate(mut self, first_iterate: FirstIterate) -> Self {
+        self.start = StepStart::new(first_iterate);
+        self
     }
 
     /// Iterations per step.
@@ -267,9 +298,12 @@ impl TimeStepper for AdmmPd {
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let it = &mut self.iterate;
-        // 2.1: x̃, and x⁰ = x̃.
+        // 2.1: x̃, and x⁰ = x̃ (or another first iterate).
         it.predict(&self.system, state, self.dt);
-        it.x.copy_from_slice(&it.x_tilde);
+        to_columns(
+            self.start.first_iterate(&self.system, state, self.dt),
+            &mut it.x,
+        );
         // 2.2: ū = 0 every step.
         it.u_bar.fill(Vec3::zeros());
         self.convergence.begin(nodes_of_columns(&it.x));

@@ -18,6 +18,7 @@
 use crate::boundary::{fixed_unknowns, ConstrainedSystem};
 use crate::damping::{RayleighDamping, StepDissipation};
 use crate::error::{require_positive, Error, Result};
+use crate::first_iterate::{FirstIterate, StepStart};
 use crate::linear::SymmetricMatrix;
 use crate::solver::TimeStepper;
 use crate::spring;
@@ -155,6 +156,8 @@ pub struct BackwardEuler {
     v_k: Vec<Vec3>,
     rhs: Vec<f64>,
     zeros: Vec<f64>,
+    /// Where each step's Newton iteration starts ($`x_0 = x_n`$, $`v_0 = 0`$, by default).
+    start: StepStart,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
 }
@@ -165,7 +168,7 @@ impl BackwardEuler {
         Self::damped(system, dt, newton_iterations, RayleighDamping::NONE)
     }
 
-    /// [Brown 2018, Rayleigh damping] The same solver with the damping force
+    /// [Brown 2018, Rayleigh damping] (unverified: no body text or reference code found) The same solver with the damping force
     /// $`-(\alpha M + \beta K(x_n))\,v_{n+1}`$: the residual gains $`h(\alpha M + \beta K(x_n))v`$,
     /// so Eq (12)'s matrix gains $`h(\alpha M + \beta K(x_n))`$ and its right-hand side is unchanged.
     pub fn damped(
@@ -201,8 +204,17 @@ impl BackwardEuler {
             v_k: vec![Vec3::zeros(); n],
             rhs: vec![0.0; 3 * n],
             zeros: vec![0.0; 3 * n],
+            start: StepStart::new(FirstIterate::Previous),
             convergence: Convergence::default(),
         })
+    }
+
+    /// The same solver starting each step's Newton iteration at `first_iterate`
+    /// ([`crate::first_iterate`]): $`v_0 = (x^0 - x_n)/dt`$. The default, $`x^0 = x_n`$, is
+    /// $`v_0 = 0`$, with which the first iteration is Eq (12) as printed.
+    pub fn with_first_iterate(mut self, first_iterate: FirstIterate) -> Self {
+        self.start = StepStart::new(first_iterate);
+        self
     }
 
     /// The thesis's reference: dt = 1e-3 s, 5 Newton iterations.
@@ -293,8 +305,11 @@ impl TimeStepper for BackwardEuler {
 
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
-        // v_0 = 0, so x_0 = x_n and the first iteration is Eq (12) as printed.
-        self.v_k.fill(Vec3::zeros());
+        // v_0 = (x⁰ − x_n)/dt; the default x⁰ = x_n gives v_0 = 0 and Eq (12) as printed.
+        let x0 = self.start.first_iterate(&self.system, state, self.dt);
+        for ((v, x0), x_n) in self.v_k.iter_mut().zip(x0).zip(&state.x) {
+            *v = (x0 - x_n) / self.dt;
+        }
         self.dissipation.start(&self.system, &state.x);
         self.convergence.begin(state.x.iter().copied());
         // Stopping early only in the tolerance mode, on the positions of Eq (9).
@@ -372,7 +387,7 @@ pub fn converged_step(
     damped_converged_step(system, state, dt, RayleighDamping::NONE, options)
 }
 
-/// [Brown 2018, dissipation potential] [`converged_step`] with Rayleigh damping: projected
+/// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) [`converged_step`] with Rayleigh damping: projected
 /// Newton on $`\Phi(x) + h\,\mathcal D(x_n, (x - x_n)/h)`$ ([`crate::damping`]), the oracle of
 /// the damped solvers. With $`\alpha = \beta = 0`$ it is [`converged_step`].
 pub fn damped_converged_step(

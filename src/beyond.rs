@@ -12,12 +12,16 @@
 //! (a fresh solver for each $`m`$), against the step solved to round-off
 //! ([`SolverSpec::converged_step`]): the gap $`\max_i |x_i - x_i^\ast|`$ after $`m`$
 //! iterations. The start is the thesis rope at rest, or [`Start::Step10`], a moving state.
+//! Every solver's step starts from the inertial prediction
+//! $`y = x_n + h v_n + h^2 M^{-1} f_{ext}`$ ([`COMPARISON_START`]), so that the curves compare
+//! solvers, not starts; [`own_start_effects`] measures what each solver's own start changes.
 
 use crate::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions, REFERENCE_DT};
 use crate::catenary::ElasticChain;
 use crate::damping::RayleighDamping;
 use crate::error::Result;
 use crate::experiments::run_parallel;
+use crate::first_iterate::FirstIterate;
 use crate::metrics::{rest_error_max, rest_error_sum, StoppingRule};
 use crate::registry::{Builder, SolverId, SolverSpec};
 use crate::scene::{thesis_rope, SheetParams, SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
@@ -445,8 +449,25 @@ pub fn gap_curve(
         .collect())
 }
 
+/// The first iterate of every solver in the comparisons: the inertial prediction.
+pub const COMPARISON_START: FirstIterate = FirstIterate::InertialPrediction;
+
+/// `spec` starting each step at [`COMPARISON_START`], if it takes a first iterate (PBD, XPBD
+/// and its substeps start at the prediction by construction).
+pub fn from_comparison_start(mut spec: SolverSpec) -> SolverSpec {
+    if takes_first_iterate(spec.id) {
+        spec.params.first_iterate = Some(COMPARISON_START);
+    }
+    spec
+}
+
+/// Whether `id` has the `first_iterate` option.
+pub fn takes_first_iterate(id: SolverId) -> bool {
+    id.info().options.iter().any(|o| o.name == "first_iterate")
+}
+
 /// The solvers of the convergence curves: every solver of springs and gravity with
-/// iterations, at its default options.
+/// iterations, at its default options, from [`COMPARISON_START`].
 pub fn convergence_solvers() -> Vec<SolverSpec> {
     SolverId::ALL
         .into_iter()
@@ -459,7 +480,142 @@ pub fn convergence_solvers() -> Vec<SolverSpec> {
             if matches!(id, SolverId::DampedBackwardEuler | SolverId::DampedAdmm) {
                 spec.params.damping = CONVERGENCE_DAMPING;
             }
-            spec
+            from_comparison_start(spec)
+        })
+        .collect()
+}
+
+/// What a solver's own start changes: iterations to a tolerance from its own first iterate
+/// and from [`COMPARISON_START`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StartEffect {
+    /// The solver at its own start (the registry's default).
+    pub spec: SolverSpec,
+    pub own: Option<usize>,
+    pub shared: Option<usize>,
+}
+
+/// [`StartEffect`] of every solver of [`convergence_solvers`] whose own start is not the
+/// comparison's, one step of `dt` from `state` at `tolerance`, searched up to `max`. A solver
+/// with history (VBD's adaptive guess) first takes the step from `previous` (the state one
+/// step of the same motion earlier), so that its own start is what a running solver uses.
+pub fn own_start_effects(
+    system: &MassSpringSystem,
+    previous: &State,
+    state: &State,
+    dt: f64,
+    tolerance: f64,
+    max: usize,
+) -> Result<Vec<StartEffect>> {
+    convergence_solvers()
+        .into_iter()
+        .filter(|spec| takes_first_iterate(spec.id))
+        .filter_map(|shared| {
+            let own = SolverSpec {
+                params: crate::registry::SolverParams {
+                    first_iterate: None,
+                    ..shared.params
+                },
+                ..shared
+            };
+            let own_rule = own_first_iterate(own.id);
+            (own_rule != Some(COMPARISON_START)).then_some((own, shared))
+        })
+        .map(|(own, shared)| {
+            let warm = own_first_iterate(own.id) == Some(FirstIterate::Adaptive);
+            Ok(StartEffect {
+                spec: own,
+                own: iterations_to_warm(
+                    &own,
+                    system,
+                    warm.then_some(previous),
+                    state,
+                    dt,
+                    tolerance,
+                    max,
+                )?,
+                shared: iterations_to(&shared, system, state, dt, tolerance, max)?,
+            })
+        })
+        .collect()
+}
+
+/// The first iterate `id` starts from by default: `None` for damped ADMM's own $`\hat x`$.
+pub fn own_first_iterate(id: SolverId) -> Option<FirstIterate> {
+    match id {
+        SolverId::BackwardEuler | SolverId::DampedBackwardEuler | SolverId::FastMassSpring => {
+            Some(FirstIterate::Previous)
+        }
+        SolverId::Vbd => Some(FirstIterate::Adaptive),
+        SolverId::DampedAdmm => None,
+        _ => Some(FirstIterate::InertialPrediction),
+    }
+}
+
+/// [`iterations_to`], each solver first stepping from `previous` when given (its history),
+/// by a linear scan up to `max`.
+fn iterations_to_warm(
+    spec: &SolverSpec,
+    system: &MassSpringSystem,
+    previous: Option<&State>,
+    state: &State,
+    dt: f64,
+    tolerance: f64,
+    max: usize,
+) -> Result<Option<usize>> {
+    let Some(previous) = previous else {
+        return iterations_to(spec, system, state, dt, tolerance, max);
+    };
+    let oracle = spec.converged_step(system, state, dt)?;
+    for m in 1..=max {
+        let mut solver = SolverSpec {
+            iterations: m,
+            ..*spec
+        }
+        .build_send(system, dt)?;
+        solver.step(&mut previous.clone())?;
+        let mut next = state.clone();
+        solver.step(&mut next)?;
+        if gap(&next, &oracle) < tolerance {
+            return Ok(Some(m));
+        }
+    }
+    Ok(None)
+}
+
+/// One point of the scan of Chebyshev-Liu's $`\rho`$: the iterations to a tolerance with
+/// `rho` given, or found by Wang's gradient-ratio rule (`rho` `None`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RhoPoint {
+    pub rho: Option<f64>,
+    pub iterations: Option<usize>,
+}
+
+/// Iterations of Chebyshev-Liu from [`COMPARISON_START`] to `tolerance` for each $`\rho`$ of
+/// `rhos`, and by the gradient-ratio rule (last), up to `max`.
+pub fn rho_scan(
+    system: &MassSpringSystem,
+    state: &State,
+    dt: f64,
+    rhos: &[f64],
+    tolerance: f64,
+    max: usize,
+) -> Result<Vec<RhoPoint>> {
+    let base = from_comparison_start(SolverSpec::new(SolverId::ChebyshevLiu, 1));
+    let given = rhos.iter().map(|&rho| {
+        let mut spec = base;
+        spec.params.spectral_radius = Some(rho);
+        (Some(rho), spec)
+    });
+    let mut wang = base;
+    wang.params.rho_rule = crate::chebyshev::RhoRule::GradientRatio;
+    given
+        .chain(std::iter::once((None, wang)))
+        .map(|(rho, spec)| {
+            Ok(RhoPoint {
+                rho,
+                iterations: iterations_to(&spec, system, state, dt, tolerance, max)?,
+            })
         })
         .collect()
 }

@@ -28,58 +28,105 @@
 //! so its spectrum need not be real and the Chebyshev weights, built for a real spectrum, can
 //! amplify the complex modes: measured in `tests/accelerated.rs` and stated below.
 //!
-//! $`\rho`$ is either given ([`ChebyshevParams::spectral_radius`]) or estimated by
-//! [`estimate_spectral_radius`] on the scene's start state and the solver's `dt`: the plain
-//! iteration is run and $`\rho`$ is the geometric mean of the ratios of successive update
-//! norms over the second half of its linear phase (the ratio of successive errors, which
-//! Wang uses, without needing the converged solution).
+//! $`\rho`$ is given ([`ChebyshevParams::spectral_radius`]) or computed when the solver is
+//! built, on the scene's start state and the solver's `dt`, by one of two rules
+//! ([`RhoRule`]):
+//! - [`RhoRule::AsymptoticRate`], this crate's (the default): the asymptotic rate of the plain
+//!   iteration, [`asymptotic_rate`]: the plain iteration is run toward convergence and
+//!   $`\rho`$ is the geometric mean of the ratios of successive update norms over the second
+//!   half of its linear phase. It is one $`\rho`$ for every iteration count.
+//! - [`RhoRule::GradientRatio`], the starting point of Wang's procedure (§5.1),
+//!   [`gradient_ratio`]: the plain iteration is run for the $`K`$ iterations the solver will
+//!   use and $`\rho = |\nabla g(x^{(K)})| / |\nabla g(x^{(K-1)})|`$, the ratio of the
+//!   objective's gradient norms at its last two iterates ($`g`$ the incremental potential of
+//!   Eq 20). Wang then tunes $`\rho`$ by hand to the fastest convergence, lowering it when
+//!   oscillation appears, and notes that it grows with $`K`$ (his Table 1: 0.9992-0.9999); the
+//!   hand tuning is not automated here, and the report's scan of $`\rho`$ stands in for it.
 //!
-//! Defaults ([`ChebyshevParams::default`]): $`S = 10`$, the delay Wang uses; $`\gamma = 1`$,
-//! no under-relaxation, since Wang's $`\gamma < 1`$ serves the Jacobi and Gauss-Seidel global
-//! steps and this crate's global step is a direct solve; $`\rho`$ estimated.
+//! Defaults ([`ChebyshevParams::default`]): $`S = 10`$; $`\gamma = 1`$, no under-relaxation,
+//! since Wang's $`\gamma \in [0.6, 0.9]`$ serves his Jacobi global step (with Gauss-Seidel he
+//! uses a forward and a backward sweep instead) and this crate's global step is a direct
+//! solve; $`\rho`$ by the asymptotic rate; each step starts from the inertial prediction
+//! $`x_n + h v_n + h^2 M^{-1} f_{ext}`$, Wang's Algorithm 1's $`s^t`$.
 //!
-//! The paper's text was not available to this project: the equation numbers of the tags and
-//! the default $`S`$ are as recalled, to be checked against the paper.
+//! Checked against the paper's text (papers.md): the weights are Eq. 14 with Algorithm 1's
+//! delay $`S`$, the update Eq. 21.
 //!
-//! Measured (`tests/accelerated.rs`, default parameters): at dt = 1e-2, k = 1e6, from the
-//! thesis rope after 10 converged Backward Euler steps, the first iteration count whose step
-//! lands within 1e-6 m of the converged step is 118 for Chebyshev-Liu against Liu's 1582
-//! (x 13.4), and 102 for Chebyshev-ADMM against ADMM's 1828 (x 17.9): Wang's "at least one
-//! order of magnitude" holds on the rope. $`\rho`$ estimated there is 0.99674 (Liu); the
-//! default, estimated on the rope's start, 0.99693. Over the thesis grid (dt 0.1, 0.01, 0.001,
-//! k 1e3 and 1e6, 1 to 50 iterations, 5 s runs) neither base diverged under acceleration,
-//! ADMM's non-symmetric iteration included.
+//! Measured: the report's section 10 (iterations to 1e-6 m from the inertial prediction, and
+//! the scan of $`\rho`$), `tests/accelerated.rs`.
 
 use crate::error::{Error, Result};
-use crate::local_global::{Base, LocalGlobal};
+use crate::first_iterate::FirstIterate;
+use crate::local_global::{AdmmMerit, Base, LocalGlobal};
+use crate::quasi_newton::potential_gradient;
 use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
-use crate::system::{MassSpringSystem, State};
+use crate::system::{MassSpringSystem, State, Vec3};
+
+/// How $`\rho`$ is found when it is not given (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RhoRule {
+    /// The asymptotic rate of the plain iteration (this crate's estimate).
+    #[default]
+    AsymptoticRate,
+    /// Wang 2015's starting point: the gradient-norm ratio at the last two of $`K`$ iterations.
+    GradientRatio,
+}
+
+impl RhoRule {
+    /// Both rules.
+    pub const ALL: [RhoRule; 2] = [RhoRule::AsymptoticRate, RhoRule::GradientRatio];
+
+    /// The name on the command line.
+    pub fn key(self) -> &'static str {
+        match self {
+            RhoRule::AsymptoticRate => "asymptotic-rate",
+            RhoRule::GradientRatio => "gradient-ratio",
+        }
+    }
+}
+
+impl std::str::FromStr for RhoRule {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        RhoRule::ALL
+            .into_iter()
+            .find(|r| r.key() == s)
+            .ok_or_else(|| Error::invalid("rho_rule", s, "asymptotic-rate or gradient-ratio"))
+    }
+}
 
 /// The parameters of [`Chebyshev`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChebyshevParams {
     /// The iteration accelerated.
     pub base: Base,
-    /// $`\rho \in (0, 1)`$; `None`: estimated by [`estimate_spectral_radius`] on the scene's
-    /// start state.
+    /// $`\rho \in (0, 1)`$; `None`: found by `rho_rule` on the scene's start state.
     pub spectral_radius: Option<f64>,
+    /// How $`\rho`$ is found when not given.
+    pub rho_rule: RhoRule,
     /// The under-relaxation $`\gamma \in (0, 1]`$.
     pub gamma: f64,
     /// $`S`$, the warm-up iterations with $`\omega = 1`$. Any value: $`S`$ at least the
     /// iterations of a step makes the step the plain ($`\gamma`$-relaxed) iteration.
     pub warmup: usize,
+    /// Where each step starts.
+    pub first_iterate: FirstIterate,
 }
 
 impl Default for ChebyshevParams {
-    /// Wang 2015's settings for the direct solver: $`S = 10`$, $`\gamma = 1`$, $`\rho`$
-    /// estimated on the scene; Liu 2013 as the base.
+    /// Wang 2015's settings for the direct solver: $`S = 10`$, $`\gamma = 1`$, the inertial
+    /// prediction as each step's start; $`\rho`$ by the asymptotic rate (ours); Liu 2013 as
+    /// the base.
     fn default() -> Self {
         Self {
             base: Base::Liu,
             spectral_radius: None,
+            rho_rule: RhoRule::AsymptoticRate,
             gamma: 1.0,
             warmup: 10,
+            first_iterate: FirstIterate::InertialPrediction,
         }
     }
 }
@@ -103,7 +150,8 @@ impl ChebyshevParams {
     }
 }
 
-/// [Wang 2015, Eq. 12] $`\omega_{k+1}`$ for the iteration $`k`$ (0-based) of a step:
+/// [Wang 2015, Eq. 14, Alg. 1] $`\omega_{k+1}`$ for the iteration $`k`$ (0-based) of a step, delayed
+/// by $`S`$ as in Algorithm 1:
 /// $`1`$ during the warm-up ($`k < S`$), $`2/(2 - \rho^2)`$ at $`k = S`$, then
 /// $`4/(4 - \rho^2\,\omega_k)`$.
 pub fn omega(k: usize, warmup: usize, rho: f64, omega_k: f64) -> f64 {
@@ -117,7 +165,7 @@ pub fn omega(k: usize, warmup: usize, rho: f64, omega_k: f64) -> f64 {
     }
 }
 
-/// [Wang 2015, Eq. 13] $`v^{(k+1)} = \omega_{k+1}(\gamma(\hat v^{(k+1)} - v^{(k)}) + v^{(k)} -
+/// [Wang 2015, Eq. 21] $`v^{(k+1)} = \omega_{k+1}(\gamma(\hat v^{(k+1)} - v^{(k)}) + v^{(k)} -
 /// v^{(k-1)}) + v^{(k-1)}`$, written into `v_previous` (which held $`v^{(k-1)}`$).
 pub fn extrapolate(omega: f64, gamma: f64, v_hat: &[f64], v: &[f64], v_previous: &mut [f64]) {
     for ((v_prev, &v_hat), &v) in v_previous.iter_mut().zip(v_hat).zip(v) {
@@ -128,19 +176,21 @@ pub fn extrapolate(omega: f64, gamma: f64, v_hat: &[f64], v: &[f64], v_previous:
 /// Iterations the estimate may run at most.
 const ESTIMATE_ITERATIONS: usize = 2000;
 
-/// Wang 2015's "spectral radius" (estimated from a run) of `base`'s iteration for `system`, `dt` and
-/// `state`: the plain iteration is run (at most 2000 iterations) until its update
-/// $`\Delta_k = |v^{(k+1)} - v^{(k)}|`$ falls below $`10^{-11}`$ of the first update or into
-/// round-off ($`10^{-12}|v|`$), and $`\rho = (\Delta_K / \Delta_{K/2})^{1/(K - K/2)}`$ over the
-/// second half of the updates recorded; 0 when the iteration converges within three. An
-/// iteration that does not contract (estimate $`\ge 1`$) is an error.
-pub fn estimate_spectral_radius(
+/// The asymptotic rate of `base`'s plain iteration (this crate's estimate of $`\rho`$) for
+/// `system`, `dt` and `state`, each step starting at `first_iterate`: the plain iteration is
+/// run (at most 2000 iterations) until its update $`\Delta_k = |v^{(k+1)} - v^{(k)}|`$ falls
+/// below $`10^{-11}`$ of the first update or into round-off ($`10^{-12}|v|`$), and
+/// $`\rho = (\Delta_K / \Delta_{K/2})^{1/(K - K/2)}`$ over the second half of the updates
+/// recorded; 0 when the iteration converges within three. An iteration that does not contract
+/// (estimate $`\ge 1`$) is an error.
+pub fn asymptotic_rate(
     system: &MassSpringSystem,
     dt: f64,
     base: Base,
+    first_iterate: FirstIterate,
     state: &State,
 ) -> Result<f64> {
-    let mut iteration = LocalGlobal::new(system, dt, base)?;
+    let mut iteration = LocalGlobal::new(system, dt, base, first_iterate, AdmmMerit::default())?;
     iteration.begin(state);
     let mut previous = iteration.variable().to_vec();
     let mut updates: Vec<f64> = Vec::new();
@@ -168,16 +218,91 @@ pub fn estimate_spectral_radius(
             (updates[k] / updates[half]).powf(1.0 / (k - half) as f64)
         }
     };
+    require_contraction(rho, base, dt, &format!("over {} iterations", updates.len()))
+}
+
+/// [Wang 2015, §5.1] The starting value of Wang's $`\rho`$ for a solver of `iterations`
+/// ($`K`$) iterations: $`|\nabla g(x^{(K)})| / |\nabla g(x^{(K-1)})|`$ along `base`'s plain
+/// iteration of one step from `state` (each step starting at `first_iterate`), $`g`$ the
+/// incremental potential of Eq 20. A ratio not in $`(0, 1)`$ is an error.
+pub fn gradient_ratio(
+    system: &MassSpringSystem,
+    dt: f64,
+    base: Base,
+    first_iterate: FirstIterate,
+    state: &State,
+    iterations: usize,
+) -> Result<f64> {
+    if iterations == 0 {
+        return Err(Error::invalid("iterations", 0, "an integer >= 1"));
+    }
+    let mut iteration = LocalGlobal::new(system, dt, base, first_iterate, AdmmMerit::default())?;
+    iteration.begin(state);
+    let n = system.len();
+    let y: Vec<Vec3> = state
+        .x
+        .iter()
+        .zip(&state.v)
+        .map(|(x, v)| x + dt * v)
+        .collect();
+    let (mut forces, mut gradient) = (vec![Vec3::zeros(); n], vec![0.0; 3 * n]);
+    let mut gradient_norm = |iteration: &LocalGlobal| {
+        let x: Vec<Vec3> = iteration.positions().collect();
+        potential_gradient(system, &y, &x, dt, &mut forces, &mut gradient);
+        gradient.iter().map(|g| g * g).sum::<f64>().sqrt()
+    };
+    let mut last = gradient_norm(&iteration);
+    let mut before = last;
+    for _ in 0..iterations {
+        iteration.apply(f64::INFINITY);
+        before = last;
+        last = gradient_norm(&iteration);
+    }
+    let rho = last / before;
+    // A zero or undefined ratio (a gradient already zero) gives no rho either.
+    require_contraction(
+        if rho > 0.0 { rho } else { f64::NAN },
+        base,
+        dt,
+        &format!(
+            "from the gradient norms {before:e} and {last:e} at iterations {} and {iterations}",
+            iterations - 1
+        ),
+    )
+}
+
+/// `rho` if $`0 \le \rho < 1`$; otherwise an error naming `base`, `dt` and `how`.
+fn require_contraction(rho: f64, base: Base, dt: f64, how: &str) -> Result<f64> {
     if (0.0..1.0).contains(&rho) {
         Ok(rho)
     } else {
         Err(Error::NotConverged {
             what: format!("spectral radius of {} at dt = {dt} s", base.label()),
-            detail: format!(
-                "the plain iteration's updates give rho = {rho} over {} iterations (needs 0 <= rho < 1)",
-                updates.len()
-            ),
+            detail: format!("the plain iteration gives rho = {rho} {how} (needs 0 <= rho < 1)"),
         })
+    }
+}
+
+/// $`\rho`$ of `params` for a solver of `iterations` on `system` and `dt`: given, or found by
+/// its rule on `system.initial_state()`.
+pub fn spectral_radius(
+    system: &MassSpringSystem,
+    dt: f64,
+    iterations: usize,
+    params: &ChebyshevParams,
+) -> Result<f64> {
+    let state = system.initial_state();
+    let ChebyshevParams {
+        base,
+        first_iterate,
+        ..
+    } = *params;
+    match (params.spectral_radius, params.rho_rule) {
+        (Some(rho), _) => Ok(rho),
+        (None, RhoRule::AsymptoticRate) => asymptotic_rate(system, dt, base, first_iterate, &state),
+        (None, RhoRule::GradientRatio) => {
+            gradient_ratio(system, dt, base, first_iterate, &state, iterations)
+        }
     }
 }
 
@@ -200,8 +325,8 @@ pub struct Chebyshev {
 
 impl Chebyshev {
     /// The accelerated `params.base` for `system`, time step `dt` (s, > 0) and `iterations`
-    /// (>= 1) global solves per step; $`\rho`$ estimated on `system.initial_state()` unless
-    /// given.
+    /// (>= 1) global solves per step; $`\rho`$ found on `system.initial_state()` by the
+    /// parameters' rule unless given.
     pub fn new(
         system: &MassSpringSystem,
         dt: f64,
@@ -212,11 +337,14 @@ impl Chebyshev {
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
-        let iteration = LocalGlobal::new(system, dt, params.base)?;
-        let rho = match params.spectral_radius {
-            Some(rho) => rho,
-            None => estimate_spectral_radius(system, dt, params.base, &system.initial_state())?,
-        };
+        let iteration = LocalGlobal::new(
+            system,
+            dt,
+            params.base,
+            params.first_iterate,
+            AdmmMerit::default(),
+        )?;
+        let rho = spectral_radius(system, dt, iterations, &params)?;
         let len = iteration.variable().len();
         Ok(Self {
             iteration,
@@ -248,13 +376,18 @@ impl Chebyshev {
 impl TimeStepper for Chebyshev {
     fn name(&self) -> String {
         format!(
-            "Chebyshev {} (Wang 2015, {}, rho = {}, gamma = {}, warmup = {})",
+            "Chebyshev {} (Wang 2015, {}, rho = {}{}, gamma = {}, warmup = {}, from {})",
             self.params.base.label(),
             self.convergence
                 .iterations_label(self.iterations, "iterations"),
             self.rho,
+            match self.params.spectral_radius {
+                Some(_) => String::new(),
+                None => format!(" by the {}", self.params.rho_rule.key()),
+            },
             self.params.gamma,
-            self.params.warmup
+            self.params.warmup,
+            self.params.first_iterate.key()
         )
     }
 
@@ -281,7 +414,7 @@ impl TimeStepper for Chebyshev {
         let mut omega_k = 1.0;
         self.convergence.begin(it.positions());
         // Stopping early only in the tolerance mode.
-        for k in 0..it.applications(self.iterations) {
+        for k in 0..self.iterations {
             // v̂^(k+1) = G(v^(k)), the base's iteration.
             it.apply(f64::INFINITY);
             omega_k = omega(k, warmup, self.rho, omega_k);

@@ -40,8 +40,9 @@
 use crate::admm::{default_omega, AdmmIterate};
 use crate::damping::{RayleighDamping, StepDissipation};
 use crate::error::{require_positive, Error, Result};
+use crate::first_iterate::{FirstIterate, StepStart};
 use crate::projective::{
-    finish_step, nodes_of_columns, reduction_matrix, GlobalSolve, SpringIncidence,
+    finish_step, nodes_of_columns, reduction_matrix, to_columns, GlobalSolve, SpringIncidence,
 };
 use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
@@ -139,6 +140,9 @@ pub struct DampedAdmm {
     dissipation: StepDissipation,
     /// Absent when $`\beta = 0`$.
     stiffness_damping: Option<StiffnessDampingBlock>,
+    /// Where each step starts; `None`: at the damped prediction $`\hat x`$, the centre of the
+    /// damped objective's inertial term (its own start).
+    start: Option<StepStart>,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
 }
@@ -200,8 +204,16 @@ impl DampedAdmm {
             iterate: AdmmIterate::new(system, tau, omega),
             dissipation: StepDissipation::new(system, params, dt),
             stiffness_damping,
+            start: None,
             convergence: Convergence::default(),
         })
+    }
+
+    /// The same solver starting each step at `first_iterate` ([`crate::first_iterate`])
+    /// instead of $`\hat x`$ (which is the inertial prediction when $`\alpha = 0`$).
+    pub fn with_first_iterate(mut self, first_iterate: FirstIterate) -> Self {
+        self.start = Some(StepStart::new(first_iterate));
+        self
     }
 
     /// The damping coefficients.
@@ -233,16 +245,19 @@ impl TimeStepper for DampedAdmm {
         Some(&mut self.convergence)
     }
 
-    /// [Brown 2018, dissipation potential] Algorithm 4 on the objective with the damping term.
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) Algorithm 4 on the objective with the damping term.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let it = &mut self.iterate;
-        // 2.1: x̂ = (x̃ + αh·x_n)/(1 + αh), and x⁰ = x̂.
+        // 2.1: x̂ = (x̃ + αh·x_n)/(1 + αh), and x⁰ = x̂ (or another first iterate).
         it.predict(&self.system, state, self.dt);
         if self.damping.alpha > 0.0 {
             it.damp_prediction(&self.system, self.damping.alpha * self.dt);
         }
-        it.x.copy_from_slice(&it.x_tilde);
+        match &mut self.start {
+            Some(start) => to_columns(start.first_iterate(&self.system, state, self.dt), &mut it.x),
+            None => it.x.copy_from_slice(&it.x_tilde),
+        }
         // 2.2: ū = 0 and ū' = 0 every step; H_i and d_i frozen at x_n.
         it.u_bar.fill(Vec3::zeros());
         if let Some(block) = &mut self.stiffness_damping {

@@ -102,7 +102,7 @@ impl RayleighDamping {
     }
 }
 
-/// [Brown 2018, Rayleigh damping] $`H_i = \nabla^2_{d} E_i`$, spring `i`'s energy Hessian in its
+/// [Brown 2018, Rayleigh damping] (unverified: no body text or reference code found) $`H_i = \nabla^2_{d} E_i`$, spring `i`'s energy Hessian in its
 /// vector $`d = x_a - x_b`$, projected to the positive semidefinite cone: $`-\partial F_a/\partial
 /// x_a`$ of Eq (4) with the transverse factor clamped at 0.
 pub fn spring_hessian(system: &MassSpringSystem, x: &[Vec3], i: usize) -> Matrix3<f64> {
@@ -110,7 +110,7 @@ pub fn spring_hessian(system: &MassSpringSystem, x: &[Vec3], i: usize) -> Matrix
     -spring::force_jacobian_definite(&x[s.a], &x[s.b], s.rest_length, s.stiffness)
 }
 
-/// [Brown 2018, Rayleigh damping] $`f_d = -(\alpha M + \beta K(x))\,v`$, the damping force on
+/// [Brown 2018, Rayleigh damping] (unverified: no body text or reference code found) $`f_d = -(\alpha M + \beta K(x))\,v`$, the damping force on
 /// every node at positions `x` and velocities `v`, with $`K(x)`$ the tangent stiffness at `x`
 /// ([`spring_hessian`]). Fixed nodes get 0.
 pub fn rayleigh_force(
@@ -192,7 +192,7 @@ impl StepDissipation {
         &self.hessians[i]
     }
 
-    /// [Brown 2018, dissipation potential] $`h\,\mathcal D = \frac{\alpha}{2h}|x - x_n|_M^2 +
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) $`h\,\mathcal D = \frac{\alpha}{2h}|x - x_n|_M^2 +
     /// \frac{\beta}{2h}\sum_i (d_i - d_{n,i})^\top H_i (d_i - d_{n,i})`$ at positions `x`.
     pub fn potential(&self, system: &MassSpringSystem, x: &[Vec3]) -> f64 {
         let RayleighDamping { alpha, beta } = self.damping;
@@ -218,7 +218,7 @@ impl StepDissipation {
         (alpha * mass + beta * stiffness) / (2.0 * self.dt)
     }
 
-    /// [Brown 2018, dissipation potential] Adds the damping force at $`v = (x - x_n)/h`$,
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) Adds the damping force at $`v = (x - x_n)/h`$,
     /// $`-\nabla_x h\,\mathcal D = -(\alpha M + \beta K(x_n))(x - x_n)/h`$, to `f` (free nodes only).
     pub fn add_force(&self, system: &MassSpringSystem, x: &[Vec3], f: &mut [Vec3]) {
         let RayleighDamping { alpha, beta } = self.damping;

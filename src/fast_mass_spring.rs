@@ -15,13 +15,17 @@
 //! - Algorithm 3 has no velocity update: $`v_{n+1} = (x_{n+1} - x_n)/dt`$ after the loop, as in
 //!   Algorithm 4 line 2.11.
 //!
-//! Algorithm 3 does not say where the iteration starts: an open point, resolved by
-//! [`FirstIterate`]. The default is $`x_n`$ ([`FirstIterate::Previous`]); Liu 2013's inertial
-//! prediction $`y`$ ([`FirstIterate::Inertial`]) is the other reading. The report runs both
-//! and says which published rows each reproduces (its "interpretation" evidence class). With
-//! many iterations the step converges to the Backward Euler step of Eq (20) whatever the start.
+//! Algorithm 3 does not say where the iteration starts: an open point, resolved by the shared
+//! [`FirstIterate`] of [`crate::first_iterate`]. The default is $`x_n`$
+//! ([`FirstIterate::Previous`]), this crate's reading for the thesis's tables; Liu 2013's
+//! $`y = x_n + dt\,v_n`$ ([`FirstIterate::Inertial`]) is the other reading. The report runs
+//! both and says which published rows each reproduces (its "interpretation" evidence class).
+//! The comparisons beyond the thesis start it, like every solver, from the inertial prediction
+//! ([`FirstIterate::InertialPrediction`]). With many iterations the step converges to the
+//! Backward Euler step of Eq (20) whatever the start.
 
 use crate::error::{require_positive, Error, Result};
+use crate::first_iterate::StepStart;
 use crate::projective::{
     finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve,
     SpringIncidence,
@@ -30,15 +34,9 @@ use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 
-/// Where each step's local/global iteration starts, a point Algorithm 3 leaves open.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum FirstIterate {
-    /// $`x^0 = x_n`$, the previous positions (the default).
-    #[default]
-    Previous,
-    /// $`x^0 = y = x_n + dt\,v_n`$, Liu 2013's inertial prediction.
-    Inertial,
-}
+/// Where each step's local/global iteration starts, a point Algorithm 3 leaves open: the
+/// crate's one notion of a first iterate.
+pub use crate::first_iterate::FirstIterate;
 
 /// Liu 2013's solver with a fixed number of local/global iterations per step.
 #[derive(Debug, Clone)]
@@ -46,7 +44,7 @@ pub struct FastMassSpring {
     system: MassSpringSystem,
     dt: f64,
     iterations: usize,
-    first_iterate: FirstIterate,
+    start: StepStart,
     /// $`J`$ of Eqs (26), (53), stored per spring.
     j: SpringIncidence,
     rest_lengths: Vec<f64>,
@@ -84,7 +82,7 @@ impl FastMassSpring {
             system: system.clone(),
             dt,
             iterations,
-            first_iterate: FirstIterate::default(),
+            start: StepStart::new(FirstIterate::default()),
             j: incidence_matrix(system),
             rest_lengths: system.springs().iter().map(|s| s.rest_length).collect(),
             a: GlobalSolve::new(system, dt, &k)?,
@@ -100,8 +98,13 @@ impl FastMassSpring {
 
     /// The same solver starting each step's iteration at `first_iterate`.
     pub fn with_first_iterate(mut self, first_iterate: FirstIterate) -> Self {
-        self.first_iterate = first_iterate;
+        self.start = StepStart::new(first_iterate);
         self
+    }
+
+    /// Where each step starts.
+    pub fn first_iterate(&self) -> FirstIterate {
+        self.start.rule()
     }
 
     /// Local/global iterations per step.
@@ -115,18 +118,8 @@ impl FastMassSpring {
     pub fn begin_step(&mut self, state: &State) {
         to_columns(&state.x, &mut self.x_n);
         self.inertial_rhs(state);
-        match self.first_iterate {
-            FirstIterate::Previous => self.x.copy_from_slice(&self.x_n),
-            FirstIterate::Inertial => {
-                let n = state.x.len();
-                for (i, (x, v)) in state.x.iter().zip(&state.v).enumerate() {
-                    let y = x + self.dt * v;
-                    for c in 0..3 {
-                        self.x[c * n + i] = y[c];
-                    }
-                }
-            }
-        }
+        let x0 = self.start.first_iterate(&self.system, state, self.dt);
+        to_columns(x0, &mut self.x);
     }
 
     /// Algorithm 3 lines 2.2-2.8 once: the local step, then the global step, from the current

@@ -22,6 +22,7 @@ pub mod damping;
 pub mod error;
 pub mod experiments;
 pub mod fast_mass_spring;
+pub mod first_iterate;
 pub mod forensics;
 pub mod linear;
 pub mod local_global;

@@ -9,22 +9,27 @@
 //!   accelerate them too, in their local-global solvers, with the incremental potential of
 //!   Eq (20) as the merit function. At a fixed point of the local step's projections that potential is exactly the
 //!   local-global energy, so [`crate::backward_euler::incremental_potential`] is it.
-//! - ADMM-PD: $`v = (z, \bar u)`$, the auxiliary and scaled dual variables. The positions are a
-//!   function of them ($`x = A^{-1}(M\tilde x + dt^2 D^\top W^\top W(z - \bar u))`$, Eq 40), so
-//!   ADMM is a fixed-point iteration on $`(z, \bar u)`$, the variable Peng et al. 2018
-//!   accelerate in their ADMM discussion (and Zhang, Peng, Ouyang, Deng 2019, *Accelerating
-//!   ADMM for Efficient Simulation and Optimization*, prove ADMM a fixed-point iteration of
-//!   the second primal variable and the dual); $`G`$ is Algorithm 4's global step followed
-//!   by its local step and dual update (the same iteration as lines 2.3-2.10, read from the
-//!   global step on). The merit
-//!   is Peng et al.'s combined residual, primal plus dual:
-//!   $`r = |W(Dx - z^+)|^2 + |W(z^+ - z)|^2`$, with $`x`$ the global step's output and $`z^+`$
-//!   the local step's; the primal part is $`|W(\bar u^+ - \bar u)|^2`$ by Eq (42).
+//! - ADMM-PD: $`v = (x, \bar u)`$, the positions and the scaled duals, the variable Zhang,
+//!   Peng, Ouyang & Deng 2019 (*Accelerating ADMM for Efficient Simulation and Optimization*)
+//!   accelerate (their reference code, bldeng/AA-ADMM `Solver.cpp`, extrapolates the pair
+//!   `(u, x)`); $`G`$ is one iteration of Algorithm 4 (lines 2.3-2.10): the local step
+//!   $`z = z(x, \bar u)`$ with the dual update $`\bar u^+ = \bar u + Dx - z`$ (Eqs 41-42), then
+//!   the global step $`x^+ = A^{-1}(M\tilde x + dt^2 D^\top W^\top W(z - \bar u^+))`$ (Eq 40).
+//!   The $`z`$ of the local step is a function of $`(x, \bar u)`$, so it needs no place in
+//!   the variable. Two merits ([`AdmmMerit`]): Zhang et al.'s primal residual
+//!   $`|W(Dx - z)|^2 = |W(\bar u^+ - \bar u)|^2`$, known right after the local step, so that a
+//!   rejected iterate costs a local step and no global solve (the default); or the combined
+//!   residual after the global step, primal at the new positions plus dual,
+//!   $`|W(Dx^+ - z)|^2 + |WD(x^+ - x)|^2`$ (the merit of this crate before issue 22, and the
+//!   residual Zhang et al.'s code stops on), for which a rejected iterate has spent its global
+//!   solve.
 //!
-//! A budget of `iterations` global solves (the base solvers' count) gives Liu `iterations`
-//! applications of $`G`$ and ADMM `iterations - 1`: ADMM's step starts with a local step
-//! from $`\tilde x`$ (no solve) and ends with the global step that turns $`(z, \bar u)`$ into
-//! positions. Unaccelerated, both reproduce their base solver's step bit for bit.
+//! A budget of `iterations` global solves (the base solvers' count) gives both bases
+//! `iterations` applications of $`G`$. Every step starts from a [`FirstIterate`]
+//! ([`crate::first_iterate`]), the accelerating papers' own being the inertial prediction
+//! (Wang 2015's Algorithm 1, AASolver, AA-ADMM); ADMM's $`\bar u`$ starts at 0 (line 2.2).
+//! Unaccelerated, both reproduce their base solver's step from the same first iterate bit for
+//! bit.
 
 use std::str::FromStr;
 
@@ -32,7 +37,8 @@ use crate::admm::{default_omega, AdmmIterate};
 use crate::backward_euler::incremental_potential;
 use crate::error::{require_positive, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
-use crate::projective::{finish_step, node_of_columns, nodes_of_columns, GlobalSolve};
+use crate::first_iterate::{FirstIterate, StepStart};
+use crate::projective::{finish_step, node_of_columns, nodes_of_columns, to_columns, GlobalSolve};
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// The local-global iteration being accelerated.
@@ -77,6 +83,46 @@ impl FromStr for Base {
     }
 }
 
+/// [Zhang 2019, primal-residual safeguard] Checked against bldeng/AA-ADMM `Solver.cpp`: the merit of an ADMM
+/// iterate $`(x, \bar u)`$ that a safeguard compares (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum AdmmMerit {
+    /// Zhang et al. 2019's primal residual $`|W(Dx - z)|^2`$, checked after the local step.
+    #[default]
+    PrimalResidual,
+    /// The combined residual after the global step, $`|W(Dx^+ - z)|^2 + |WD(x^+ - x)|^2`$.
+    CombinedResidual,
+}
+
+impl AdmmMerit {
+    /// Both merits.
+    pub const ALL: [AdmmMerit; 2] = [AdmmMerit::PrimalResidual, AdmmMerit::CombinedResidual];
+
+    /// The name on the command line.
+    pub fn key(self) -> &'static str {
+        match self {
+            AdmmMerit::PrimalResidual => "primal-residual",
+            AdmmMerit::CombinedResidual => "combined-residual",
+        }
+    }
+
+    /// Whether a rejected iterate has spent its global solve.
+    pub fn rejection_costs_a_solve(self) -> bool {
+        self == AdmmMerit::CombinedResidual
+    }
+}
+
+impl FromStr for AdmmMerit {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        AdmmMerit::ALL
+            .into_iter()
+            .find(|m| m.key() == s)
+            .ok_or_else(|| Error::invalid("safeguard", s, "primal-residual or combined-residual"))
+    }
+}
+
 /// What [`LocalGlobal::apply`] did, with the merit of the variable it was given.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Merit {
@@ -100,6 +146,11 @@ enum Iteration {
         /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (Algorithm 4 line 1.5).
         a: Box<GlobalSolve>,
         iterate: Box<AdmmIterate>,
+        start: StepStart,
+        merit: AdmmMerit,
+        /// The positions and duals the variable held before $`G`$ (for the residuals).
+        x_before: Vec<f64>,
+        u_before: Vec<Vec3>,
     },
 }
 
@@ -110,7 +161,7 @@ pub struct LocalGlobal {
     dt: f64,
     base: Base,
     iteration: Iteration,
-    /// The variable $`v`$: column-major positions (Liu), or $`z`$ then $`\bar u`$, three
+    /// The variable $`v`$: column-major positions (Liu), or those then $`\bar u`$, three
     /// coordinates per spring (ADMM).
     v: Vec<f64>,
     /// Global solves since [`LocalGlobal::begin`].
@@ -118,14 +169,23 @@ pub struct LocalGlobal {
 }
 
 impl LocalGlobal {
-    /// The base iteration of `base` for `system` with time step `dt` (s, > 0).
-    pub fn new(system: &MassSpringSystem, dt: f64, base: Base) -> Result<Self> {
+    /// The base iteration of `base` for `system` with time step `dt` (s, > 0), each step
+    /// starting at `first_iterate`; `merit` is ADMM's (Liu's is its energy).
+    pub fn new(
+        system: &MassSpringSystem,
+        dt: f64,
+        base: Base,
+        first_iterate: FirstIterate,
+        merit: AdmmMerit,
+    ) -> Result<Self> {
         let n = system.len();
         let s = system.springs().len();
         let (iteration, v) = match base {
             Base::Liu => (
                 Iteration::Liu {
-                    solver: Box::new(FastMassSpring::new(system, dt, 1)?),
+                    solver: Box::new(
+                        FastMassSpring::new(system, dt, 1)?.with_first_iterate(first_iterate),
+                    ),
                     y: vec![Vec3::zeros(); n],
                     x: vec![Vec3::zeros(); n],
                 },
@@ -141,8 +201,12 @@ impl LocalGlobal {
                     Iteration::Admm {
                         a: Box::new(GlobalSolve::new(system, dt, &omega2)?),
                         iterate: Box::new(AdmmIterate::new(system, dt, omega)),
+                        start: StepStart::new(first_iterate),
+                        merit,
+                        x_before: vec![0.0; 3 * n],
+                        u_before: vec![Vec3::zeros(); s],
                     },
-                    vec![0.0; 6 * s],
+                    vec![0.0; 3 * n + 3 * s],
                 )
             }
         };
@@ -171,22 +235,14 @@ impl LocalGlobal {
         self.dt
     }
 
-    /// Applications of $`G`$ that a budget of `iterations` global solves allows (module doc).
-    pub fn applications(&self, iterations: usize) -> usize {
-        match self.base {
-            Base::Liu => iterations,
-            Base::Admm => iterations.saturating_sub(1),
-        }
-    }
-
     /// Global solves since [`LocalGlobal::begin`].
     pub fn solves(&self) -> usize {
         self.solves
     }
 
     /// The first variable of a step from `state`: Liu's first iterate (Algorithm 3, line 2.1
-    /// and [`crate::fast_mass_spring::FirstIterate::Previous`]); for ADMM, $`\tilde x`$ and
-    /// $`\bar u = 0`$ (lines 2.1-2.2) followed by the first local step (lines 2.4-2.7).
+    /// and [`FastMassSpring::begin_step`]); for ADMM, $`\tilde x`$ (line 2.1), the first
+    /// iterate and $`\bar u = 0`$ (line 2.2).
     pub fn begin(&mut self, state: &State) {
         self.solves = 0;
         match &mut self.iteration {
@@ -197,12 +253,14 @@ impl LocalGlobal {
                 }
                 self.v.copy_from_slice(solver.positions());
             }
-            Iteration::Admm { iterate, .. } => {
+            Iteration::Admm { iterate, start, .. } => {
                 iterate.predict(&self.system, state, self.dt);
-                iterate.x.copy_from_slice(&iterate.x_tilde);
-                iterate.u_bar.fill(Vec3::zeros());
-                iterate.local_step(&self.system);
-                store_admm(iterate, &mut self.v);
+                let n = iterate.x.len();
+                to_columns(
+                    start.first_iterate(&self.system, state, self.dt),
+                    &mut self.v[..n],
+                );
+                self.v[n..].fill(0.0);
             }
         }
     }
@@ -212,14 +270,9 @@ impl LocalGlobal {
         &self.v
     }
 
-    /// The positions of the latest iterate, as nodes: the variable itself for Liu; for ADMM,
-    /// whose variable is $`(z, \bar u)`$, the output of the latest global step ($`\tilde x`$
-    /// before the first).
+    /// The positions of the variable, as nodes.
     pub fn positions(&self) -> impl Iterator<Item = Vec3> + '_ {
-        nodes_of_columns(match &self.iteration {
-            Iteration::Liu { .. } => &self.v,
-            Iteration::Admm { iterate, .. } => &iterate.x,
-        })
+        nodes_of_columns(&self.v[..3 * self.system.len()])
     }
 
     /// Replaces the variable (by an extrapolated one).
@@ -228,9 +281,10 @@ impl LocalGlobal {
     }
 
     /// $`v \leftarrow G(v)`$ if the merit of the current $`v`$ is at most `threshold`;
-    /// otherwise $`v`$ is left unchanged. Either way the merit is returned. Liu's merit (the incremental
-    /// potential) costs no solve, so a rejected Liu iterate costs none; ADMM's combined residual
-    /// needs $`G(v)`$ itself, so a rejected ADMM iterate has spent a global solve.
+    /// otherwise $`v`$ is left unchanged. Either way the merit is returned. Liu's merit (the
+    /// incremental potential) and ADMM's primal residual cost no solve, so such a rejected
+    /// iterate costs none (ADMM's, a local step); ADMM's combined residual needs the global
+    /// step, so an iterate it rejects has spent a solve.
     pub fn apply(&mut self, threshold: f64) -> Merit {
         match &mut self.iteration {
             Iteration::Liu { solver, y, x } => {
@@ -248,23 +302,36 @@ impl LocalGlobal {
                 self.v.copy_from_slice(solver.positions());
                 Merit::Applied(merit)
             }
-            Iteration::Admm { a, iterate } => {
+            Iteration::Admm {
+                a,
+                iterate,
+                merit: rule,
+                x_before,
+                u_before,
+                ..
+            } => {
                 load_admm(&self.v, iterate);
-                // 2.8-2.9, then the next iteration's 2.4-2.7.
+                x_before.copy_from_slice(&iterate.x);
+                u_before.copy_from_slice(&iterate.u_bar);
+                // 2.4-2.7: z and ū⁺ = ū + Dx − z, so that ū⁺ − ū is the primal residual.
+                iterate.local_step(&self.system);
+                let weighted = |iterate: &AdmmIterate, i: usize, r: Vec3| {
+                    (iterate.omega()[i] * r).norm_squared()
+                };
+                let primal: f64 = (0..u_before.len())
+                    .map(|i| weighted(iterate, i, iterate.u_bar[i] - u_before[i]))
+                    .sum();
+                if *rule == AdmmMerit::PrimalResidual && primal > threshold {
+                    return Merit::Rejected(primal);
+                }
+                // 2.8-2.9.
                 iterate.global_rhs();
                 a.solve(&mut iterate.x, &iterate.x_n);
                 self.solves += 1;
-                iterate.local_step(&self.system);
-                let s = iterate.z.len();
-                let mut merit = 0.0;
-                for (i, &omega) in iterate.omega().iter().enumerate() {
-                    let z = Vec3::new(self.v[3 * i], self.v[3 * i + 1], self.v[3 * i + 2]);
-                    let j = 3 * (s + i);
-                    let u_bar = Vec3::new(self.v[j], self.v[j + 1], self.v[j + 2]);
-                    let primal = omega * (iterate.u_bar[i] - u_bar);
-                    let dual = omega * (iterate.z[i] - z);
-                    merit += primal.norm_squared() + dual.norm_squared();
-                }
+                let merit = match rule {
+                    AdmmMerit::PrimalResidual => primal,
+                    AdmmMerit::CombinedResidual => iterate.combined_residual(x_before),
+                };
                 if merit > threshold {
                     return Merit::Rejected(merit);
                 }
@@ -274,20 +341,11 @@ impl LocalGlobal {
         }
     }
 
-    /// Ends the step: the positions of the variable (for ADMM one more global step, Algorithm 4
-    /// lines 2.8-2.9), then $`v_{n+1} = (x_{n+1} - x_n)/dt`$ (line 2.11). A non-finite iterate
-    /// is an error naming the base, and `state` is left as it was.
+    /// Ends the step: $`v_{n+1} = (x_{n+1} - x_n)/dt`$ from the variable's positions
+    /// (Algorithm 3's erratum, Algorithm 4 line 2.11). A non-finite iterate is an error naming
+    /// the base, and `state` is left as it was.
     pub fn finish(&mut self, state: &mut State) -> Result<()> {
-        let x = match &mut self.iteration {
-            Iteration::Liu { .. } => &self.v,
-            Iteration::Admm { a, iterate } => {
-                load_admm(&self.v, iterate);
-                iterate.global_rhs();
-                a.solve(&mut iterate.x, &iterate.x_n);
-                self.solves += 1;
-                &iterate.x
-            }
-        };
+        let x = &self.v[..3 * self.system.len()];
         if !x.iter().all(|c| c.is_finite()) {
             return Err(Error::NotConverged {
                 what: format!("accelerated {}", self.base.label()),
@@ -302,25 +360,20 @@ impl LocalGlobal {
     }
 }
 
-/// $`(z, \bar u)`$ of `iterate` into the variable.
+/// $`(x, \bar u)`$ of `iterate` into the variable.
 fn store_admm(iterate: &AdmmIterate, v: &mut [f64]) {
-    let s = iterate.z.len();
-    for (i, (z, u_bar)) in iterate.z.iter().zip(&iterate.u_bar).enumerate() {
-        v[3 * i..3 * i + 3].copy_from_slice(z.as_slice());
-        v[3 * (s + i)..3 * (s + i) + 3].copy_from_slice(u_bar.as_slice());
+    let n = iterate.x.len();
+    v[..n].copy_from_slice(&iterate.x);
+    for (i, u_bar) in iterate.u_bar.iter().enumerate() {
+        v[n + 3 * i..n + 3 * i + 3].copy_from_slice(u_bar.as_slice());
     }
 }
 
-/// The variable into $`(z, \bar u)`$ of `iterate`.
+/// The variable into $`(x, \bar u)`$ of `iterate`.
 fn load_admm(v: &[f64], iterate: &mut AdmmIterate) {
-    let s = iterate.z.len();
-    for (i, (z, u_bar)) in iterate
-        .z
-        .iter_mut()
-        .zip(iterate.u_bar.iter_mut())
-        .enumerate()
-    {
-        *z = Vec3::from_column_slice(&v[3 * i..3 * i + 3]);
-        *u_bar = Vec3::from_column_slice(&v[3 * (s + i)..3 * (s + i) + 3]);
+    let n = iterate.x.len();
+    iterate.x.copy_from_slice(&v[..n]);
+    for (i, u_bar) in iterate.u_bar.iter_mut().enumerate() {
+        *u_bar = Vec3::from_column_slice(&v[n + 3 * i..n + 3 * i + 3]);
     }
 }

@@ -10,7 +10,8 @@
 //! Backward Euler step. The paper's observation is that Projective Dynamics is a quasi-Newton
 //! method whose Hessian approximation is the constant, prefactored
 //! $`\nabla^2 g \approx \frac{1}{h^2}M + L`$, $`L`$ the stiffness-weighted Laplacian (for
-//! springs, thesis Eq 25). Its Algorithm 1 keeps that matrix as the *initial* Hessian
+//! springs, thesis Eq 25). Its L-BFGS loop (Algorithm 2 of the TOG version; the numbering is
+//! from secondary evidence, the body was not read) keeps that matrix as the *initial* Hessian
 //! $`H_0`$ of L-BFGS and corrects it with the last $`m`$ pairs
 //! $`s_i = x_{i+1} - x_i`$, $`t_i = \nabla g(x_{i+1}) - \nabla g(x_i)`$ by the two-loop
 //! recursion (written here in Nocedal & Wright's form, with $`t`$ for their $`y`$, which is the
@@ -61,12 +62,14 @@
 //! # Measured on the thesis rope (`tests/newer_solvers.rs`)
 //! At dt = 1e-2, k = 1e6, one step from a moving state (10 converged steps from rest), L-BFGS
 //! needs 92 iterations for a gap of 1e-6 m to the converged Backward Euler step and 188 for
-//! 1e-9 m; its base, Liu 2013 with the same prefactored matrix, needs 1582 for 1e-6 m, 17 times
-//! more. The window matters: 1e-6 m takes 204 iterations with $`m = 2`$, 44 with 10 and 29 with
+//! 1e-9 m; its base, Liu 2013 with the same prefactored matrix, needs 1828 for 1e-6 m from the
+//! same start (the inertial prediction), 19.9 times more (1582 from $`x_n`$, the start the
+//! thesis's tables read Algorithm 3 with). The window matters: 1e-6 m takes 204 iterations with $`m = 2`$, 44 with 10 and 29 with
 //! the full 24 unknowns. What slows both is the Laplacian's isotropic stiffness: across a
 //! spring's axis $`H_0`$ has $`k`$, the true Hessian $`k(1 - l_0/l)`$, smaller by the strain.
 
 use crate::error::{Error, Result};
+use crate::first_iterate::{FirstIterate, StepStart};
 use crate::projective::{finish_step, node_of_columns, to_columns, GlobalSolve};
 use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
@@ -117,8 +120,8 @@ impl LbfgsParams {
     }
 }
 
-/// [Liu 2017, Alg. 1] $`g(x') - g(x)`$ for the incremental potential of thesis Eq 20, term by
-/// term from the differences $`\delta_i = x'_i - x_i`$, which are exact in floating point for
+/// This crate's device, not the paper's: $`g(x') - g(x)`$ for the incremental potential of
+/// thesis Eq 20, term by term from the differences $`\delta_i = x'_i - x_i`$, which are exact in floating point for
 /// nearby points: $`\frac{m_i}{2h^2}\,\delta_i\cdot(\delta_i + 2(x_i - y_i))`$ and
 /// $`-m_i\,g\cdot\delta_i`$ per node, and $`\frac{k}{2}\,\Delta l\,(\Delta l + 2(l - l_0))`$ per
 /// spring with $`\Delta l = l' - l = \delta q\cdot(q' + q)/(l' + l)`$ and
@@ -162,6 +165,28 @@ pub fn potential_change(
         })
         .sum();
     nodes + springs
+}
+
+/// $`\nabla g(x) = \frac{1}{h^2}M(x - y) - F(x)`$ of the incremental potential of thesis
+/// Eq 20 (gravity in $`F`$), column-major into `gradient`, zero on the fixed nodes, whose
+/// unknowns the solve eliminates; `forces` is scratch, one entry per node.
+pub fn potential_gradient(
+    system: &MassSpringSystem,
+    y: &[Vec3],
+    x: &[Vec3],
+    dt: f64,
+    forces: &mut [Vec3],
+    gradient: &mut [f64],
+) {
+    let n = x.len();
+    let h2 = dt * dt;
+    system.forces(x, forces);
+    for (i, node) in system.nodes().iter().enumerate() {
+        let g = node.mass * (x[i] - y[i]) / h2 - forces[i];
+        for c in 0..3 {
+            gradient[c * n + i] = if node.fixed { 0.0 } else { g[c] };
+        }
+    }
 }
 
 /// One stored L-BFGS pair with its $`\rho_i = 1/(t_i^\top s_i)`$ and the $`\zeta_i`$ of the
@@ -221,6 +246,8 @@ pub struct Lbfgs {
     forces: Vec<Vec3>,
     /// The step length $`\alpha`$ of each iteration of the last step.
     step_lengths: Vec<f64>,
+    /// Where each step starts: the inertial prediction, the authors' code's, by default.
+    start: StepStart,
     /// When a step stops iterating, and the iterations steps took, with the line-search
     /// trials after each iteration's first as their extra work.
     convergence: Convergence,
@@ -251,8 +278,15 @@ impl Lbfgs {
             zeros: vec![0.0; 3 * n],
             forces: vec![Vec3::zeros(); n],
             step_lengths: Vec::new(),
+            start: StepStart::new(FirstIterate::InertialPrediction),
             convergence: Convergence::default(),
         })
+    }
+
+    /// The same solver starting each step at `first_iterate` ([`crate::first_iterate`]).
+    pub fn with_first_iterate(mut self, first_iterate: FirstIterate) -> Self {
+        self.start = StepStart::new(first_iterate);
+        self
     }
 
     /// The step length $`\alpha`$ the line search accepted at each iteration of the last step
@@ -261,21 +295,12 @@ impl Lbfgs {
         &self.step_lengths
     }
 
-    /// [Liu 2017, Alg. 1] $`\nabla g(x) = \frac{1}{h^2}M(x - y) - F(x)`$ (column-major), zero on
-    /// the fixed nodes, whose unknowns the solve eliminates.
+    /// $`\nabla g(x)`$ ([`potential_gradient`]) with the solver's force buffer.
     fn gradient(&mut self, x: &[Vec3], y: &[Vec3], gradient: &mut [f64]) {
-        let n = x.len();
-        let h2 = self.dt * self.dt;
-        self.system.forces(x, &mut self.forces);
-        for (i, node) in self.system.nodes().iter().enumerate() {
-            let g = node.mass * (x[i] - y[i]) / h2 - self.forces[i];
-            for c in 0..3 {
-                gradient[c * n + i] = if node.fixed { 0.0 } else { g[c] };
-            }
-        }
+        potential_gradient(&self.system, y, x, self.dt, &mut self.forces, gradient);
     }
 
-    /// [Liu 2017, Alg. 1] The two-loop recursion: $`d = -H^{-1}\nabla g`$ with
+    /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) The two-loop recursion: $`d = -H^{-1}\nabla g`$ with
     /// $`H_0^{-1} q = h^2 A^{-1} q`$ and the stored pairs, oldest first in `history`.
     fn direction(&self, gradient: &[f64], history: &mut VecDeque<Pair>, d: &mut [f64]) {
         for (v, g) in d.iter_mut().zip(gradient) {
@@ -300,7 +325,7 @@ impl Lbfgs {
         }
     }
 
-    /// [Liu 2017, Alg. 1] Backtracking from $`\alpha = 1`$ by $`\beta`$ until
+    /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) Backtracking from $`\alpha = 1`$ by $`\beta`$ until
     /// $`g(x + \alpha d) - g(x) \le \gamma\,\alpha\,\nabla g^\top d`$; returns $`\alpha`$ with
     /// the accepted point in `trial`, or `None` below [`MIN_STEP_LENGTH`].
     fn line_search(
@@ -353,28 +378,21 @@ impl TimeStepper for Lbfgs {
         Some(&mut self.convergence)
     }
 
-    /// [Liu 2017, Alg. 1] From the inertial prediction, `iterations` L-BFGS iterations with the
+    /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) From the inertial prediction, `iterations` L-BFGS iterations with the
     /// Projective-Dynamics matrix as $`H_0`$ and the Armijo line search; then
     /// $`v = (x - x_n)/h`$.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let (dt, n) = (self.dt, state.x.len());
-        // y = xⁿ + h·vⁿ of Eq 20 (gravity is in E); x₀ = y + h²M⁻¹f_ext, the paper's line 1.
+        // y = xⁿ + h·vⁿ of Eq 20 (gravity is in E); x₀ = y + h²M⁻¹f_ext by default, the
+        // authors' code's start.
         let y: Vec<Vec3> = state
             .x
             .iter()
             .zip(&state.v)
             .map(|(x, v)| x + dt * v)
             .collect();
-        let mut x: Vec<Vec3> = (0..n)
-            .map(|i| {
-                if self.system.nodes()[i].fixed {
-                    state.x[i]
-                } else {
-                    y[i] + dt * dt * self.system.gravity()
-                }
-            })
-            .collect();
+        let mut x = self.start.first_iterate(&self.system, state, dt).to_vec();
         let mut gradient = vec![0.0; 3 * n];
         self.gradient(&x, &y, &mut gradient);
         let mut history: VecDeque<Pair> = VecDeque::with_capacity(self.params.window);

@@ -14,12 +14,13 @@
 use crate::admm::AdmmPd;
 use crate::anderson::{Anderson, AndersonParams};
 use crate::backward_euler::{damped_converged_step, BackwardEuler, ConvergedStepOptions};
-use crate::chebyshev::{estimate_spectral_radius, Chebyshev, ChebyshevParams};
+use crate::chebyshev::{spectral_radius, Chebyshev, ChebyshevParams, RhoRule};
 use crate::damped_admm::DampedAdmm;
 use crate::damping::RayleighDamping;
 use crate::error::{require_positive, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
-use crate::local_global::Base;
+use crate::first_iterate::FirstIterate;
+use crate::local_global::{AdmmMerit, Base};
 use crate::particles::adaptive::AdaptiveStepper;
 use crate::particles::integrators::{Integrator, ParticleStepper};
 use crate::particles::ParticleSystem;
@@ -28,9 +29,9 @@ use crate::quasi_newton::{Lbfgs, LbfgsParams};
 use crate::solver::TimeStepper;
 use crate::stopping::Stopping;
 use crate::system::{MassSpringSystem, State};
-use crate::vbd::{Initialization, Vbd, VbdParams};
+use crate::vbd::{LocalHessian, Vbd, VbdParams};
 use crate::xpbd::Xpbd;
-use crate::xpbd_substeps::{XpbdSubsteps, XpbdSubstepsParams};
+use crate::xpbd_substeps::{Sweep, XpbdSubsteps, XpbdSubstepsParams};
 use serde::{Deserialize, Serialize};
 
 /// One identifier per solver: the thesis's (§2), the tutorial's integrators and the newer
@@ -163,11 +164,14 @@ impl SolverId {
                 file: "src/backward_euler.rs",
                 family: Family::Thesis,
                 iteration: Some("Newton iteration"),
-                options: &[],
+                options: &[FIRST_ITERATE_PREVIOUS],
                 relative_cost: 9.0,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(BackwardEuler::new(system, dt, spec.iterations)?))
+                    let solver = BackwardEuler::new(system, dt, spec.iterations)?;
+                    Ok(Box::new(solver.with_first_iterate(
+                        spec.params.first_iterate_or(FirstIterate::Previous),
+                    )))
                 }),
             },
             SolverId::Pbd => SolverInfo {
@@ -216,11 +220,14 @@ impl SolverId {
                 file: "src/fast_mass_spring.rs",
                 family: Family::Thesis,
                 iteration: Some("local/global iteration"),
-                options: &[],
+                options: &[FIRST_ITERATE_PREVIOUS],
                 relative_cost: 1.0,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(FastMassSpring::new(system, dt, spec.iterations)?))
+                    let solver = FastMassSpring::new(system, dt, spec.iterations)?;
+                    Ok(Box::new(solver.with_first_iterate(
+                        spec.params.first_iterate_or(FirstIterate::Previous),
+                    )))
                 }),
             },
             SolverId::AdmmPd => SolverInfo {
@@ -231,11 +238,14 @@ impl SolverId {
                 file: "src/admm.rs",
                 family: Family::Thesis,
                 iteration: Some("ADMM iteration"),
-                options: &[],
+                options: &[FIRST_ITERATE_PREDICTION],
                 relative_cost: 1.2,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(AdmmPd::new(system, dt, spec.iterations)?))
+                    let solver = AdmmPd::new(system, dt, spec.iterations)?;
+                    Ok(Box::new(solver.with_first_iterate(
+                        spec.params.first_iterate_or(FirstIterate::InertialPrediction),
+                    )))
                 }),
             },
             SolverId::ChebyshevLiu => chebyshev(Base::Liu),
@@ -250,16 +260,15 @@ impl SolverId {
                 file: "src/backward_euler.rs",
                 family: Family::Beyond,
                 iteration: Some("Newton iteration"),
-                options: RAYLEIGH_OPTIONS,
+                options: &[RAYLEIGH_ALPHA, RAYLEIGH_BETA, FIRST_ITERATE_PREVIOUS],
                 relative_cost: 9.0,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(BackwardEuler::damped(
-                        system,
-                        dt,
-                        spec.iterations,
-                        spec.params.damping,
-                    )?))
+                    let solver =
+                        BackwardEuler::damped(system, dt, spec.iterations, spec.params.damping)?;
+                    Ok(Box::new(solver.with_first_iterate(
+                        spec.params.first_iterate_or(FirstIterate::Previous),
+                    )))
                 }),
             },
             SolverId::DampedAdmm => SolverInfo {
@@ -270,16 +279,25 @@ impl SolverId {
                 file: "src/damped_admm.rs",
                 family: Family::Beyond,
                 iteration: Some("ADMM iteration"),
-                options: RAYLEIGH_OPTIONS,
+                options: &[
+                    RAYLEIGH_ALPHA,
+                    RAYLEIGH_BETA,
+                    OptionInfo {
+                        name: "first_iterate",
+                        help: "first iterate of each step: previous-position, inertia, \
+                               inertia-and-acceleration or adaptive (Chen 2024's (a)-(d)) \
+                               [default: the damped prediction x̂, the inertial term's centre]",
+                    },
+                ],
                 relative_cost: 1.5,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(DampedAdmm::new(
-                        system,
-                        dt,
-                        spec.iterations,
-                        spec.params.damping,
-                    )?))
+                    let solver =
+                        DampedAdmm::new(system, dt, spec.iterations, spec.params.damping)?;
+                    Ok(Box::new(match spec.params.first_iterate {
+                        Some(first_iterate) => solver.with_first_iterate(first_iterate),
+                        None => solver,
+                    }))
                 }),
             },
             SolverId::XpbdSubsteps => SolverInfo {
@@ -290,7 +308,17 @@ impl SolverId {
                 file: "src/xpbd_substeps.rs",
                 family: Family::Beyond,
                 iteration: Some("substep of one XPBD sweep (iterations = substeps)"),
-                options: &[],
+                options: &[
+                    OptionInfo {
+                        name: "constraint_damping",
+                        help: "Macklin 2019's constraint damping beta >= 0 (Eq. 8), in N·s/m \
+                               [default: 0]",
+                    },
+                    OptionInfo {
+                        name: "sweep",
+                        help: "constraint pass: gauss-seidel or jacobi [default: gauss-seidel]",
+                    },
+                ],
                 relative_cost: 2.0,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
@@ -298,7 +326,7 @@ impl SolverId {
                         system,
                         dt,
                         spec.iterations,
-                        XpbdSubstepsParams::default(),
+                        spec.params.xpbd_substeps(),
                     )?))
                 }),
             },
@@ -310,19 +338,20 @@ impl SolverId {
                 file: "src/quasi_newton.rs",
                 family: Family::Beyond,
                 iteration: Some("L-BFGS iteration (one global solve and a line search)"),
-                options: &[OptionInfo {
-                    name: "history",
-                    help: "L-BFGS window m, past pairs kept, an integer >= 1 [default: 5]",
-                }],
+                options: &[
+                    OptionInfo {
+                        name: "history",
+                        help: "L-BFGS window m, past pairs kept, an integer >= 1 [default: 5]",
+                    },
+                    FIRST_ITERATE_PREDICTION,
+                ],
                 relative_cost: 6.5,
                 accelerates: Some(SolverId::FastMassSpring),
                 builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(Lbfgs::new(
-                        system,
-                        dt,
-                        spec.iterations,
-                        spec.params.lbfgs(),
-                    )?))
+                    let solver = Lbfgs::new(system, dt, spec.iterations, spec.params.lbfgs())?;
+                    Ok(Box::new(solver.with_first_iterate(
+                        spec.params.first_iterate_or(FirstIterate::InertialPrediction),
+                    )))
                 }),
             },
             SolverId::Vbd => SolverInfo {
@@ -333,10 +362,19 @@ impl SolverId {
                 file: "src/vbd.rs",
                 family: Family::Beyond,
                 iteration: Some("sweep over the nodes"),
-                options: &[OptionInfo {
-                    name: "initialization",
-                    help: "initial guess: previous-position, previous-velocity, inertia or adaptive [default: adaptive]",
-                }],
+                options: &[
+                    OptionInfo {
+                        name: "first_iterate",
+                        help: "initial guess of each step: previous-position, inertia, \
+                               inertia-and-acceleration or adaptive (the paper's (a)-(d)) \
+                               [default: adaptive]",
+                    },
+                    OptionInfo {
+                        name: "hessian",
+                        help: "local Hessian: exact (the paper's, a vertex skipped when \
+                               |det H| <= 1e-10 (m/h²)³) or projected [default: exact]",
+                    },
+                ],
                 relative_cost: 8.5,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
@@ -344,9 +382,7 @@ impl SolverId {
                         system,
                         dt,
                         spec.iterations,
-                        VbdParams {
-                            initialization: spec.params.initialization,
-                        },
+                        spec.params.vbd(),
                     )?))
                 }),
             },
@@ -446,16 +482,28 @@ impl std::str::FromStr for SolverId {
 }
 
 /// The options of the Rayleigh-damped solvers.
-const RAYLEIGH_OPTIONS: &[OptionInfo] = &[
-    OptionInfo {
-        name: "alpha",
-        help: "mass-proportional Rayleigh damping alpha >= 0, in 1/s [default: 0]",
-    },
-    OptionInfo {
-        name: "beta",
-        help: "stiffness-proportional Rayleigh damping beta >= 0, in s [default: 0]",
-    },
-];
+const RAYLEIGH_ALPHA: OptionInfo = OptionInfo {
+    name: "alpha",
+    help: "mass-proportional Rayleigh damping alpha >= 0, in 1/s [default: 0]",
+};
+const RAYLEIGH_BETA: OptionInfo = OptionInfo {
+    name: "beta",
+    help: "stiffness-proportional Rayleigh damping beta >= 0, in s [default: 0]",
+};
+
+/// The first-iterate option of a solver that starts at $`x_n`$ by default.
+const FIRST_ITERATE_PREVIOUS: OptionInfo = OptionInfo {
+    name: "first_iterate",
+    help: "first iterate of each step: previous-position, inertia, inertia-and-acceleration \
+           or adaptive (Chen 2024's (a)-(d)) [default: previous-position]",
+};
+
+/// The first-iterate option of a solver that starts at the inertial prediction by default.
+const FIRST_ITERATE_PREDICTION: OptionInfo = OptionInfo {
+    name: "first_iterate",
+    help: "first iterate of each step: previous-position, inertia, inertia-and-acceleration \
+           or adaptive (Chen 2024's (a)-(d)) [default: inertia-and-acceleration]",
+};
 
 /// The solver of the thesis's tables that runs `base`'s iteration.
 fn base_solver(base: Base) -> SolverId {
@@ -495,7 +543,7 @@ fn chebyshev(base: Base) -> SolverInfo {
         options: &[
             OptionInfo {
                 name: "spectral_radius",
-                help: "rho in (0, 1) of the base iteration [default: estimated on the scene's start]",
+                help: "rho in (0, 1) of the base iteration [default: found by rho_rule on the scene's start]",
             },
             OptionInfo {
                 name: "gamma",
@@ -505,6 +553,13 @@ fn chebyshev(base: Base) -> SolverInfo {
                 name: "warmup",
                 help: "iterations S with omega = 1, an integer >= 0 [default: 10]",
             },
+            OptionInfo {
+                name: "rho_rule",
+                help: "how rho is found when not given: asymptotic-rate (of the plain \
+                       iteration, ours) or gradient-ratio (Wang 2015 §5.1's start, at the \
+                       iteration count used) [default: asymptotic-rate]",
+            },
+            FIRST_ITERATE_PREDICTION,
         ],
         relative_cost: 2.0,
         accelerates: Some(base_solver(base)),
@@ -515,7 +570,13 @@ fn chebyshev(base: Base) -> SolverInfo {
     }
 }
 
-/// The entry of Peng et al. 2018's Anderson acceleration of `base`.
+/// Anderson acceleration's window.
+const ANDERSON_WINDOW: OptionInfo = OptionInfo {
+    name: "window",
+    help: "past iterates m in each extrapolation, an integer from 1 to 20 [default: 5]",
+};
+
+/// The entry of Anderson acceleration of `base` (Peng et al. 2018, Zhang et al. 2019).
 fn anderson(base: Base) -> SolverInfo {
     SolverInfo {
         id: match base {
@@ -528,16 +589,30 @@ fn anderson(base: Base) -> SolverInfo {
         },
         summary: match base {
             Base::Liu => "Peng et al. 2018's Anderson acceleration of Liu 2013, energy safeguard",
-            Base::Admm => "Peng et al. 2018's Anderson acceleration of ADMM-PD, residual safeguard",
+            Base::Admm => {
+                "Zhang et al. 2019's Anderson acceleration of ADMM-PD, primal-residual safeguard"
+            }
         },
-        source: "Peng, Deng, Zhang, Liu 2018, Anderson Acceleration for Geometry Optimization and Physics Simulation",
+        source: match base {
+            Base::Liu => "Peng, Deng, Zhang, Geng, Qin, Liu 2018, Anderson Acceleration for Geometry Optimization and Physics Simulation",
+            Base::Admm => "Zhang, Peng, Ouyang, Deng 2019, Accelerating ADMM for Efficient Simulation and Optimization",
+        },
         file: "src/anderson.rs",
         family: Family::Beyond,
         iteration: Some("local/global iteration (one global solve)"),
-        options: &[OptionInfo {
-            name: "window",
-            help: "past iterates m in each extrapolation, an integer from 1 to 20 [default: 5]",
-        }],
+        options: match base {
+            Base::Liu => &[ANDERSON_WINDOW, FIRST_ITERATE_PREDICTION],
+            Base::Admm => &[
+                ANDERSON_WINDOW,
+                OptionInfo {
+                    name: "safeguard",
+                    help: "merit of the safeguard: primal-residual (Zhang 2019's, after the \
+                           local step, a rejection costs no global solve) or combined-residual \
+                           (after the global step) [default: primal-residual]",
+                },
+                FIRST_ITERATE_PREDICTION,
+            ],
+        },
         relative_cost: 12.0,
         accelerates: Some(base_solver(base)),
         builder: Builder::Springs(|system, dt, spec| {
@@ -593,8 +668,19 @@ pub struct SolverParams {
     pub damping: RayleighDamping,
     /// L-BFGS: the window (pairs kept).
     pub history: usize,
-    /// VBD: the initial guess.
-    pub initialization: Initialization,
+    /// Every solver iterating on the incremental potential: where each step starts; None:
+    /// the solver's own start (its paper's or the thesis's).
+    pub first_iterate: Option<FirstIterate>,
+    /// Chebyshev: how the spectral radius is found when not given.
+    pub rho_rule: RhoRule,
+    /// Anderson on ADMM: the safeguard's merit.
+    pub safeguard: AdmmMerit,
+    /// VBD: the local Hessian rule.
+    pub hessian: LocalHessian,
+    /// XPBD substeps: Macklin 2019's constraint damping, N·s/m.
+    pub constraint_damping: f64,
+    /// XPBD substeps: the constraint pass.
+    pub sweep: Sweep,
 }
 
 impl SolverParams {
@@ -611,7 +697,12 @@ impl SolverParams {
             "alpha" => self.damping.alpha.to_string(),
             "beta" => self.damping.beta.to_string(),
             "history" => self.history.to_string(),
-            "initialization" => self.initialization.key().to_string(),
+            "first_iterate" => self.first_iterate?.key().to_string(),
+            "rho_rule" => self.rho_rule.key().to_string(),
+            "safeguard" => self.safeguard.key().to_string(),
+            "hessian" => self.hessian.key().to_string(),
+            "constraint_damping" => self.constraint_damping.to_string(),
+            "sweep" => self.sweep.key().to_string(),
             _ => return None,
         })
     }
@@ -636,7 +727,12 @@ impl SolverParams {
             "alpha" => self.damping.alpha = number()?,
             "beta" => self.damping.beta = number()?,
             "history" => self.history = require_integer(name, number()?, 1)?,
-            "initialization" => self.initialization = value.parse()?,
+            "first_iterate" => self.first_iterate = Some(value.parse()?),
+            "rho_rule" => self.rho_rule = value.parse()?,
+            "safeguard" => self.safeguard = value.parse()?,
+            "hessian" => self.hessian = value.parse()?,
+            "constraint_damping" => self.constraint_damping = number()?,
+            "sweep" => self.sweep = value.parse()?,
             _ => {
                 let names: Vec<&str> = SolverId::ALL
                     .iter()
@@ -652,7 +748,31 @@ impl SolverParams {
         self.chebyshev(Base::Liu).validate()?;
         self.anderson(Base::Liu).validate()?;
         self.lbfgs().validate()?;
+        self.xpbd_substeps().validate()?;
         self.damping.validate()
+    }
+
+    /// The first iterate set, or `own`.
+    pub fn first_iterate_or(&self, own: FirstIterate) -> FirstIterate {
+        self.first_iterate.unwrap_or(own)
+    }
+
+    /// The parameters of VBD.
+    pub fn vbd(&self) -> VbdParams {
+        let own = VbdParams::default();
+        VbdParams {
+            first_iterate: self.first_iterate_or(own.first_iterate),
+            hessian: self.hessian,
+        }
+    }
+
+    /// The parameters of XPBD with substeps (one iteration per substep).
+    pub fn xpbd_substeps(&self) -> XpbdSubstepsParams {
+        XpbdSubstepsParams {
+            constraint_damping: self.constraint_damping,
+            sweep: self.sweep,
+            ..XpbdSubstepsParams::default()
+        }
     }
 
     /// The parameters of L-BFGS (its line search at the defaults).
@@ -665,19 +785,25 @@ impl SolverParams {
 
     /// The parameters of Chebyshev acceleration of `base`.
     pub fn chebyshev(&self, base: Base) -> ChebyshevParams {
+        let own = ChebyshevParams::default();
         ChebyshevParams {
             base,
             spectral_radius: self.spectral_radius,
+            rho_rule: self.rho_rule,
             gamma: self.gamma,
             warmup: self.warmup,
+            first_iterate: self.first_iterate_or(own.first_iterate),
         }
     }
 
     /// The parameters of Anderson acceleration of `base`.
     pub fn anderson(&self, base: Base) -> AndersonParams {
+        let own = AndersonParams::default();
         AndersonParams {
             base,
             window: self.window,
+            safeguard: self.safeguard,
+            first_iterate: self.first_iterate_or(own.first_iterate),
         }
     }
 }
@@ -708,7 +834,12 @@ impl Default for SolverParams {
             window: AndersonParams::default().window,
             damping: RayleighDamping::NONE,
             history: LbfgsParams::default().window,
-            initialization: VbdParams::default().initialization,
+            first_iterate: None,
+            rho_rule: chebyshev.rho_rule,
+            safeguard: AndersonParams::default().safeguard,
+            hessian: VbdParams::default().hessian,
+            constraint_damping: XpbdSubstepsParams::default().constraint_damping,
+            sweep: XpbdSubstepsParams::default().sweep,
         }
     }
 }
@@ -754,7 +885,10 @@ impl SolverSpec {
         state: &State,
         dt: f64,
     ) -> Result<State> {
-        let damping = if self.id.info().options == RAYLEIGH_OPTIONS {
+        let damping = if matches!(
+            self.id,
+            SolverId::DampedBackwardEuler | SolverId::DampedAdmm
+        ) {
             self.params.damping
         } else {
             RayleighDamping::NONE
@@ -763,21 +897,19 @@ impl SolverSpec {
     }
 
     /// This solver with every parameter it would estimate at build time on `system` and `dt`
-    /// estimated once now (Chebyshev's spectral radius), so that building it many times (one
-    /// fresh solver per iteration count) does not repeat the estimate; the solver it builds is
-    /// the same.
+    /// independently of its iteration count estimated once now (Chebyshev's spectral radius by
+    /// the asymptotic rate), so that building it many times (one fresh solver per iteration
+    /// count) does not repeat the estimate; the solver it builds is the same. Wang's
+    /// gradient-ratio rule depends on the count and is left to each build.
     pub fn with_estimates(&self, system: &MassSpringSystem, dt: f64) -> Result<SolverSpec> {
         let mut spec = *self;
         if matches!(self.id, SolverId::ChebyshevLiu | SolverId::ChebyshevAdmm)
             && self.params.spectral_radius.is_none()
+            && self.params.rho_rule == RhoRule::AsymptoticRate
         {
-            let base = accelerated_base(self.id);
-            spec.params.spectral_radius = Some(estimate_spectral_radius(
-                system,
-                dt,
-                base,
-                &system.initial_state(),
-            )?);
+            let params = self.params.chebyshev(accelerated_base(self.id));
+            spec.params.spectral_radius =
+                Some(spectral_radius(system, dt, self.iterations, &params)?);
         }
         Ok(spec)
     }

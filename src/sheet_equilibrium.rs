@@ -199,7 +199,7 @@ fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
-/// [Nocedal 2006, Alg. 3.1] Backtracking: the largest $`\alpha = 2^{-m}`$ with
+/// [Nocedal 2006, Alg. 3.1] (unverified: a textbook, no reference code; the 2nd edition's numbering from memory) Backtracking: the largest $`\alpha = 2^{-m}`$ with
 /// $`E(x + \alpha\,\Delta x) \le E(x) + c\,\alpha\,\nabla E^\top \Delta x`$, $`c = 10^{-4}`$; the
 /// full step where the predicted decrease $`-\nabla E^\top\Delta x`$ is below the energy's
 /// round-off (near the minimum, where only the force can still tell progress).
@@ -231,7 +231,7 @@ fn backtrack(
     Ok(alpha)
 }
 
-/// [Nocedal 2006, Alg. 3.3] Cholesky with added multiple of the identity: factors
+/// [Nocedal 2006, Alg. 3.3] (unverified: a textbook, no reference code; the 2nd edition's numbering from memory) Cholesky with added multiple of the identity: factors
 /// $`H + \tau I`$ with $`\tau = 0`$, then $`\tau = 10^{-10}\max_i H_{ii}`$ growing tenfold until every
 /// pivot is positive. The projected Hessian is only semidefinite: a node whose springs are all
 /// compressed keeps their axial stiffness alone, and the flat start has none in y.

@@ -63,6 +63,9 @@ pub struct IterationLog {
     /// Work beyond the iterations, in units the solver's cost model names: L-BFGS's line-search
     /// trials after the first of each iteration, Anderson's rejected extrapolations.
     pub extra: u64,
+    /// Vertex updates VBD's local step skipped ($`|\det H_i| \le \varepsilon`$,
+    /// [`crate::vbd`]): work not done, counted so that a run says how often it happened.
+    pub skipped: u64,
 }
 
 impl IterationLog {
@@ -163,6 +166,11 @@ impl Convergence {
     pub fn stalled(&mut self) {
         self.iterations += 1;
         self.met = true;
+    }
+
+    /// Local updates the step skipped ([`IterationLog::skipped`]).
+    pub fn skipped(&mut self, count: u64) {
+        self.log.skipped += count;
     }
 
     /// The step ended; `extra` counts its work beyond its iterations ([`IterationLog::extra`]).

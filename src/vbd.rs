@@ -29,32 +29,43 @@
 //! update gives, since none reads another's position.
 //!
 //! # Initial guess (the paper's §3.7)
-//! [`Initialization`]: the previous position $`x^t`$; $`x^t + hv^t`$; the inertia
-//! $`y = x^t + hv^t + h^2a_{ext}`$; or the paper's recommended adaptive guess
-//! $`x^t + hv^t + h^2\tilde a`$, $`\tilde a = \hat\alpha\,a_{ext}`$, where $`\hat\alpha`$ is the
-//! component of the previous step's acceleration $`a^t = (v^t - v^{t-1})/h`$ along
-//! $`a_{ext}`$, divided by $`|a_{ext}|`$ and clamped to [0, 1]. It is the default.
+//! The step starts from one of the paper's four guesses, which are the crate's shared
+//! [`FirstIterate`] rules ([`crate::first_iterate`]), named as the paper names them: (a)
+//! `previous-position` $`x^t`$; (b) `inertia` $`x^t + hv^t`$; (c) `inertia-and-acceleration`
+//! $`y = x^t + hv^t + h^2a_{ext}`$; (d) `adaptive`, the paper's recommendation and the default,
+//! $`x^t + hv^t + h^2\tilde a`$ with $`\tilde a = \hat\alpha\,a_{ext}`$ (Eq. 17), where
+//! $`\hat\alpha`$ is the component of the previous step's acceleration $`a^t = (v^t - v^{t-1})/h`$
+//! along $`a_{ext}`$, divided by $`|a_{ext}|`$ and clamped to [0, 1].
 //!
 //! The adaptive guess needs $`v^{t-1}`$, the velocity at the start of the previous step: it is
 //! the one thing [`Vbd`] carries from one step to the next (the paper's method does, and only
 //! with this guess does a step depend on more than the state). The first step of a solver has
-//! no history and takes $`\hat\alpha = 1`$, the inertia $`y`$, as TinyVBD does; the
-//! convergence curves measured with a fresh solver per point are therefore those of the
-//! inertia guess.
+//! no history and takes $`\hat\alpha = 1`$, the guess (c), as TinyVBD does; the convergence
+//! curves measured with a fresh solver per point are therefore those of (c).
 //!
 //! # Indefinite local Hessians
 //! A compressed spring ($`l < l_0`$) makes its Hessian block indefinite across its axis, and
-//! $`H_i`$ may then not be positive definite; the paper skips a vertex whose $`|\det H_i|`$ is
-//! below a threshold. Here, when the exact $`H_i`$ has no Cholesky factorisation, it is rebuilt
+//! $`H_i`$ may then not be positive definite. The paper (§3.2) inverts the exact $`H_i`$
+//! regardless, the step then being toward the extremum of the local quadratic model rather than
+//! a descent direction, and it considers and rejects a positive-semidefinite projection as too
+//! costly for so rare an event; it skips a vertex for the iteration only when
+//! $`|\det H_i| \le \varepsilon`$, for a small $`\varepsilon`$ it does not state. That is the
+//! default here ([`LocalHessian::Exact`]), with
+//! $`\varepsilon = 10^{-10}\,(m_i/h^2)^3`$ ([`DETERMINANT_THRESHOLD`], relative to the
+//! determinant of the inertia term alone, so that it does not depend on the units); the skipped
+//! vertices are counted in the iteration log ([`crate::stopping::IterationLog::skipped`]).
+//! [`LocalHessian::Projected`], this crate's variant, rebuilds a non-positive-definite $`H_i`$
 //! with every spring's transverse term $`1 - l_0/l`$ clamped at 0
-//! ([`spring::force_jacobian_definite`], the projection the converged Backward Euler step
-//! uses), which keeps $`H_i \succeq \frac{m_i}{h^2}I`$: every vertex moves along a descent
-//! direction of $`G_i`$ and none is skipped. Where the exact $`H_i`$ is positive definite the
-//! step is the paper's.
+//! ([`spring::force_jacobian_definite`], the projection the converged Backward Euler step uses),
+//! which keeps $`H_i \succeq \frac{m_i}{h^2}I`$: every vertex moves along a descent direction of
+//! $`G_i`$ and none is skipped. Where the exact $`H_i`$ is positive definite both rules take the
+//! paper's step. TinyVBD (the authors' strand code) solves the exact $`H_i`$ by a QR
+//! decomposition, with neither a skip nor a projection.
 //!
 //! What is left out: the paper's collisions and friction (the rope has none), its damping term,
-//! and its Chebyshev acceleration of the iterations (§3.8; TinyVBD's active configuration sets
-//! its $`\rho`$ to 0, and the Chebyshev semi-iterative method is another module's subject).
+//! and its Chebyshev acceleration of the iterations (Eqs. 18-19; TinyVBD's active set-up has it
+//! off, `useAcceleration = false`, with $`\rho`$ = 0.05 in the version read, and the Chebyshev
+//! semi-iterative method is [`crate::chebyshev`]'s subject).
 //!
 //! # Measured on the thesis rope (`tests/newer_solvers.rs`)
 //! At dt = 1e-2, k = 1e6, one step from a moving state (10 converged steps from rest), VBD needs
@@ -66,80 +77,75 @@
 //! potential; the projection is reached from a compressed start (rest length 1.2 m).
 
 use crate::error::{require_positive, Error, Result};
+use crate::first_iterate::{inertial_prediction, FirstIterate, StepStart};
 use crate::solver::TimeStepper;
 use crate::spring;
 use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 
-/// The initial guesses of the paper's §3.7.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Initialization {
-    /// $`x = x^t`$.
-    PreviousPosition,
-    /// $`x = x^t + hv^t`$.
-    PreviousVelocity,
-    /// $`x = y = x^t + hv^t + h^2a_{ext}`$.
-    Inertia,
-    /// $`x = x^t + hv^t + h^2\tilde a`$ with the previous step's acceleration (the paper's choice).
-    Adaptive,
+/// $`\varepsilon / (m_i/h^2)^3`$: a vertex whose exact $`|\det H_i|`$ is at most this times the
+/// cube of its inertia term is skipped for the iteration (the paper's §3.2 rule; the value is
+/// ours, the paper gives none).
+pub const DETERMINANT_THRESHOLD: f64 = 1e-10;
+
+/// How a vertex's Newton step treats its local Hessian $`H_i`$ (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LocalHessian {
+    /// The paper's: the exact $`H_i`$, inverted whatever its definiteness; the vertex skipped
+    /// when $`|\det H_i| \le \varepsilon`$.
+    #[default]
+    Exact,
+    /// This crate's variant: a non-positive-definite $`H_i`$ rebuilt with each spring's
+    /// transverse term clamped at 0.
+    Projected,
 }
 
-impl Initialization {
-    /// Every option, in the paper's order.
-    pub const ALL: [Initialization; 4] = [
-        Initialization::PreviousPosition,
-        Initialization::PreviousVelocity,
-        Initialization::Inertia,
-        Initialization::Adaptive,
-    ];
+impl LocalHessian {
+    /// Both rules.
+    pub const ALL: [LocalHessian; 2] = [LocalHessian::Exact, LocalHessian::Projected];
 
-    /// The name used on the command line.
+    /// The name on the command line.
     pub fn key(self) -> &'static str {
         match self {
-            Initialization::PreviousPosition => "previous-position",
-            Initialization::PreviousVelocity => "previous-velocity",
-            Initialization::Inertia => "inertia",
-            Initialization::Adaptive => "adaptive",
+            LocalHessian::Exact => "exact",
+            LocalHessian::Projected => "projected",
         }
     }
 }
 
-impl std::str::FromStr for Initialization {
+impl std::str::FromStr for LocalHessian {
     type Err = Error;
 
     fn from_str(s: &str) -> Result<Self> {
-        Initialization::ALL
+        LocalHessian::ALL
             .into_iter()
-            .find(|i| i.key() == s)
-            .ok_or_else(|| {
-                Error::invalid(
-                    "initialization",
-                    s,
-                    "one of previous-position, previous-velocity, inertia, adaptive",
-                )
-            })
+            .find(|h| h.key() == s)
+            .ok_or_else(|| Error::invalid("hessian", s, "exact or projected"))
     }
 }
 
 /// The parameters of Chen et al. 2024.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VbdParams {
-    /// The initial guess of each step.
-    pub initialization: Initialization,
+    /// The initial guess of each step (the paper's §3.7, (a)-(d)).
+    pub first_iterate: FirstIterate,
+    /// The local Hessian rule.
+    pub hessian: LocalHessian,
 }
 
 impl Default for VbdParams {
-    /// The paper's recommendation: the adaptive initial guess.
+    /// The paper's recommendation: the adaptive initial guess (d), and the exact Hessian.
     fn default() -> Self {
         Self {
-            initialization: Initialization::Adaptive,
+            first_iterate: FirstIterate::Adaptive,
+            hessian: LocalHessian::Exact,
         }
     }
 }
 
 impl VbdParams {
-    /// Every initialization is valid; kept so that every solver's parameters validate alike.
+    /// Every combination is valid; kept so that every solver's parameters validate alike.
     pub fn validate(&self) -> Result<()> {
         Ok(())
     }
@@ -173,18 +179,42 @@ pub fn greedy_colouring(system: &MassSpringSystem) -> Vec<Vec<usize>> {
 /// The outcome of one vertex's Newton step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VertexUpdate {
-    /// $`\Delta x_i = H_i^{-1} f_i`$, m.
+    /// $`\Delta x_i`$, m (zero for a skipped vertex).
     pub delta_x: Vec3,
-    /// True when the exact $`H_i`$ was positive definite (the paper's step); false when the
-    /// projected $`H_i`$ was used.
-    pub exact_hessian: bool,
+    /// True when the exact rule skipped the vertex ($`|\det H_i| \le \varepsilon`$).
+    pub skipped: bool,
 }
 
-/// [Chen 2024, Alg. 1] One vertex's Newton step on $`G_i`$: $`H_i\Delta x_i = f_i`$ with
-/// $`f_i = -\frac{m_i}{h^2}(x_i - y_i) + \sum_j F_j`$ and
-/// $`H_i = \frac{m_i}{h^2}I - \sum_j \partial F_j/\partial x_i`$ over the springs `adjacent` to
-/// node `i` (thesis Eqs 3-4), projected where the exact $`H_i`$ is not positive definite.
-/// `y` is the paper's inertia $`x^t + hv^t + h^2a_{ext}`$.
+/// [Chen 2024, Eqs. 8-9] The local system of vertex `i` over the springs `adjacent` to it: the
+/// force $`f_i = -\frac{m_i}{h^2}(x_i - y_i) + \sum_j F_j`$ and the exact Hessian
+/// $`H_i = \frac{m_i}{h^2}I - \sum_j \partial F_j/\partial x_i`$ (thesis Eqs 3-4), or with
+/// `jacobian` = [`spring::force_jacobian_definite`] the projected one. `y` is the paper's
+/// inertia $`x^t + hv^t + h^2a_{ext}`$.
+pub fn local_system(
+    system: &MassSpringSystem,
+    adjacent: &[usize],
+    x: &[Vec3],
+    y: &[Vec3],
+    i: usize,
+    dt: f64,
+    jacobian: fn(&Vec3, &Vec3, f64, f64) -> Matrix3<f64>,
+) -> (Matrix3<f64>, Vec3) {
+    let inertia = system.nodes()[i].mass / (dt * dt);
+    let mut f = -inertia * (x[i] - y[i]);
+    let mut h = inertia * Matrix3::identity();
+    for &j in adjacent {
+        let s = &system.springs()[j];
+        let force = spring::force(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
+        f += if s.a == i { force } else { -force };
+        h -= jacobian(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
+    }
+    (h, f)
+}
+
+/// [Chen 2024, Eq. 7] One vertex's Newton step on $`G_i`$, $`H_i\Delta x_i = f_i`$
+/// ([`local_system`]), under the rule `hessian`: the exact $`H_i`$ inverted, or the vertex
+/// skipped when $`|\det H_i| \le \varepsilon`$ ([`DETERMINANT_THRESHOLD`]); or the projected
+/// $`H_i`$ where the exact one is not positive definite.
 pub fn vertex_step(
     system: &MassSpringSystem,
     adjacent: &[usize],
@@ -192,33 +222,42 @@ pub fn vertex_step(
     y: &[Vec3],
     i: usize,
     dt: f64,
+    hessian: LocalHessian,
 ) -> VertexUpdate {
-    let inertia = system.nodes()[i].mass / (dt * dt);
-    let mut f = -inertia * (x[i] - y[i]);
-    for &j in adjacent {
-        let s = &system.springs()[j];
-        let force = spring::force(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
-        f += if s.a == i { force } else { -force };
-    }
-    let hessian = |jacobian: fn(&Vec3, &Vec3, f64, f64) -> Matrix3<f64>| {
-        adjacent
-            .iter()
-            .fold(inertia * Matrix3::identity(), |h, &j| {
-                let s = &system.springs()[j];
-                h - jacobian(&x[s.a], &x[s.b], s.rest_length, s.stiffness)
-            })
+    let (h, f) = local_system(system, adjacent, x, y, i, dt, spring::force_jacobian);
+    let moved = |delta_x| VertexUpdate {
+        delta_x,
+        skipped: false,
     };
-    match hessian(spring::force_jacobian).cholesky() {
-        Some(h) => VertexUpdate {
-            delta_x: h.solve(&f),
-            exact_hessian: true,
-        },
-        None => VertexUpdate {
-            delta_x: hessian(spring::force_jacobian_definite)
+    match hessian {
+        LocalHessian::Exact => {
+            let inertia = system.nodes()[i].mass / (dt * dt);
+            let threshold = DETERMINANT_THRESHOLD * inertia.powi(3);
+            match h.try_inverse() {
+                Some(inverse) if h.determinant().abs() > threshold => moved(inverse * f),
+                _ => VertexUpdate {
+                    delta_x: Vec3::zeros(),
+                    skipped: true,
+                },
+            }
+        }
+        LocalHessian::Projected => match h.cholesky() {
+            Some(h) => moved(h.solve(&f)),
+            None => moved(
+                local_system(
+                    system,
+                    adjacent,
+                    x,
+                    y,
+                    i,
+                    dt,
+                    spring::force_jacobian_definite,
+                )
+                .0
                 .cholesky()
                 .expect("m/h² I plus positive semidefinite blocks")
                 .solve(&f),
-            exact_hessian: false,
+            ),
         },
     }
 }
@@ -233,8 +272,8 @@ pub struct Vbd {
     colours: Vec<Vec<usize>>,
     /// The springs of each node, $`\mathcal F_i`$.
     adjacent: Vec<Vec<usize>>,
-    /// $`v^{t-1}`$ for the adaptive guess: the velocity at the start of the previous step.
-    previous_velocity: Option<Vec<Vec3>>,
+    /// The initial guess, with the adaptive guess's history.
+    start: StepStart,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
 }
@@ -265,7 +304,7 @@ impl Vbd {
             params,
             colours: greedy_colouring(system),
             adjacent,
-            previous_velocity: None,
+            start: StepStart::new(params.first_iterate),
             convergence: Convergence::default(),
         })
     }
@@ -279,28 +318,16 @@ impl Vbd {
     pub fn adjacent(&self) -> &[Vec<usize>] {
         &self.adjacent
     }
-
-    /// [Chen 2024, Alg. 1] The scale $`\hat\alpha \in [0, 1]`$ of $`a_{ext}`$ in the adaptive
-    /// guess of node `i`: $`a^t\cdot\hat a_{ext}/|a_{ext}|`$ clamped, 1 without history.
-    fn adaptive_scale(&self, v: &[Vec3], i: usize) -> f64 {
-        let a_ext = self.system.gravity();
-        match &self.previous_velocity {
-            Some(previous) if a_ext.norm() > 0.0 => {
-                let a_t = (v[i] - previous[i]) / self.dt;
-                (a_t.dot(&a_ext) / a_ext.norm_squared()).clamp(0.0, 1.0)
-            }
-            _ => 1.0,
-        }
-    }
 }
 
 impl TimeStepper for Vbd {
     fn name(&self) -> String {
         format!(
-            "VBD ({}, {} initialization)",
+            "VBD ({}, {} initialization, {} Hessian)",
             self.convergence
                 .iterations_label(self.iterations, "iterations"),
-            self.params.initialization.key()
+            self.params.first_iterate.key(),
+            self.params.hessian.key()
         )
     }
 
@@ -317,50 +344,38 @@ impl TimeStepper for Vbd {
     }
 
     /// [Chen 2024, Alg. 1] The inertia $`y`$, the initial guess, `iterations` sweeps over the
-    /// colours with one Newton step per vertex, then $`v^{t+1} = (x - x^t)/h`$.
+    /// colours with one Newton step per vertex, then $`v^{t+1} = (x - x^t)/h`$ (Eq. 6).
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         let h = self.dt;
-        let a_ext = self.system.gravity();
-        let free = |i: usize| !self.system.nodes()[i].fixed;
         let y: Vec<Vec3> = (0..state.x.len())
-            .map(|i| {
-                if free(i) {
-                    state.x[i] + h * state.v[i] + h * h * a_ext
-                } else {
-                    state.x[i]
-                }
-            })
+            .map(|i| inertial_prediction(&self.system, state, h, i))
             .collect();
-        let mut x: Vec<Vec3> = (0..state.x.len())
-            .map(|i| {
-                if !free(i) {
-                    return state.x[i];
-                }
-                match self.params.initialization {
-                    Initialization::PreviousPosition => state.x[i],
-                    Initialization::PreviousVelocity => state.x[i] + h * state.v[i],
-                    Initialization::Inertia => y[i],
-                    Initialization::Adaptive => {
-                        let a_tilde = self.adaptive_scale(&state.v, i) * a_ext;
-                        state.x[i] + h * state.v[i] + h * h * a_tilde
-                    }
-                }
-            })
-            .collect();
+        let mut x = self.start.first_iterate(&self.system, state, h).to_vec();
         self.convergence.begin(x.iter().copied());
+        let mut skipped = 0;
         // Stopping early only in the tolerance mode.
         for _ in 0..self.iterations {
             for colour in &self.colours {
                 for &i in colour {
-                    let update = vertex_step(&self.system, &self.adjacent[i], &x, &y, i, h);
+                    let update = vertex_step(
+                        &self.system,
+                        &self.adjacent[i],
+                        &x,
+                        &y,
+                        i,
+                        h,
+                        self.params.hessian,
+                    );
                     x[i] += update.delta_x;
+                    skipped += u64::from(update.skipped);
                 }
             }
             if self.convergence.converged(x.iter().copied()) {
                 break;
             }
         }
+        self.convergence.skipped(skipped);
         self.convergence.end_step(0);
         if !x.iter().all(|p| p.iter().all(|c| c.is_finite())) {
             return Err(Error::NotConverged {
@@ -368,7 +383,6 @@ impl TimeStepper for Vbd {
                 detail: "a vertex update is no longer finite".into(),
             });
         }
-        self.previous_velocity = Some(state.v.clone());
         for ((x_t, v), x) in state.x.iter_mut().zip(state.v.iter_mut()).zip(&x) {
             *v = (x - *x_t) / h;
             *x_t = *x;

@@ -36,6 +36,7 @@ use crate::beyond::{grid_settings, GridScene};
 use crate::error::{require_positive, Error, Result};
 use crate::experiments::run_parallel;
 use crate::linear::SymmetricMatrix;
+use crate::local_global::AdmmMerit;
 use crate::metrics::{rest_error_max, rest_error_sum};
 use crate::registry::{SolverId, SolverSpec};
 use crate::solver::TimeStepper;
@@ -820,7 +821,7 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
 /// | Liu 2013 | $`s`$ (projection + right-hand side) + $`c`$ + $`G`$ |
 /// | ADMM-PD | $`s`$ ($`Dx`$ 3, $`Dx + \bar u`$ 3, projection, $`\bar u \mathrel{+}= Dx - z`$ 6, $`W^2(z - \bar u)`$ 6, right-hand side 6) + $`c`$ + $`G`$ |
 /// | Chebyshev | its base's + $`\omega`$ 4 + the extrapolation, 6 per coordinate |
-/// | Anderson, $`k`$ columns | its base's + the residual $`c`$ + from the second iteration on the new column (the two differences $`2c`$, its norm $`2c + 1`$ and scaling $`c`$, its Gram row $`2kc`$) + the right-hand side $`2kc`$ + the $`k \times k`$ SVD, $`21k^3`$ (Golub and Van Loan's count with both bases), and its solve $`2k^2`$ + the combination $`2kc + k`$ + the safeguard's merit ($`s`$ spring energies + [`FLOPS_NODE_POTENTIAL`] per node: Liu's incremental potential; ADMM's residual counted the same) |
+/// | Anderson, $`k`$ columns | its base's + the residual $`c`$ + from the second iteration on the new column (the two differences $`2c`$, its norm $`2c + 1`$ and scaling $`c`$, its Gram row $`2kc`$) + the right-hand side $`2kc`$ + the $`k \times k`$ SVD, $`21k^3`$ (Golub and Van Loan's count with both bases), and its solve $`2k^2`$ + the combination $`2kc + k`$ + the safeguard's merit ($`s`$ spring energies + [`FLOPS_NODE_POTENTIAL`] per node: Liu's incremental potential; ADMM's residual, [`flops_admm_merit`]) |
 /// | L-BFGS, $`k`$ pairs | the two-loop recursion $`8kc + 3k`$ and the initial-Hessian solve $`G + c`$ + the slope $`2c`$ + one line-search trial (the point $`2c`$ and the potential's change, [`FLOPS_SPRING_POTENTIAL_CHANGE`] per spring and [`FLOPS_NODE_POTENTIAL_CHANGE`] per node) + the new gradient ($`s`$ forces + $`4c`$) + the new pair $`4c + 1`$ |
 /// | VBD | each spring from each of its free nodes ([`FLOPS_SPRING_VERTEX_VISIT`]) + a vertex solve per free node ([`FLOPS_VERTEX_SOLVE`]) |
 /// | tutorial integrators | 1, 1 and 4 force evaluations ($`s`$ forces + $`c`$) + 4, 4 and 20 per coordinate |
@@ -841,7 +842,7 @@ pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize
     let admm = s * (3.0 + 3.0 + FLOPS_SPRING_PROJECTION + 6.0 + 6.0 + 6.0)
         + c
         + flops_global_solve(system);
-    let anderson = |base: f64| {
+    let anderson = |base: f64, merit: f64| {
         let k = j.min(spec.params.window) as f64;
         let new_column = if j > 0 {
             6.0 * c + 1.0 + 2.0 * k * c
@@ -855,7 +856,7 @@ pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize
             + 2.0 * k * k
             + 2.0 * k * c
             + k
-            + energy
+            + merit
     };
     let chebyshev = |base: f64| base + 4.0 + 6.0 * c;
     match spec.id {
@@ -874,8 +875,8 @@ pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize
         SolverId::AdmmPd | SolverId::DampedAdmm => admm,
         SolverId::ChebyshevLiu => chebyshev(liu),
         SolverId::ChebyshevAdmm => chebyshev(admm),
-        SolverId::AndersonLiu => anderson(liu),
-        SolverId::AndersonAdmm => anderson(admm),
+        SolverId::AndersonLiu => anderson(liu, energy),
+        SolverId::AndersonAdmm => anderson(admm, flops_admm_merit(spec, system)),
         SolverId::Lbfgs => {
             let k = j.min(spec.params.history) as f64;
             let direction = 8.0 * k * c + 3.0 * k + flops_global_solve(system) + c;
@@ -924,11 +925,25 @@ pub fn run_flops(spec: &SolverSpec, system: &MassSpringSystem, dt: f64) -> Resul
 /// difference 3, its squared norm 5 and the square root 1.
 pub const FLOPS_TOLERANCE_TEST_PER_NODE: f64 = 9.0;
 
+/// The merit of one Anderson-ADMM iterate: Zhang et al.'s primal residual
+/// $`|W(\bar u^+ - \bar u)|^2`$, 11 per spring (difference 3, weight 3, squared norm 5); or
+/// the combined residual, per spring $`Dx^+ - z`$ 6, $`D\,\delta x`$ 3, the two weights 6 and
+/// squared norms 10, with the difference $`\delta x`$, $`c`$.
+pub fn flops_admm_merit(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    let s = system.springs().len() as f64;
+    match spec.params.safeguard {
+        AdmmMerit::PrimalResidual => 11.0 * s,
+        AdmmMerit::CombinedResidual => 25.0 * s + 3.0 * system.len() as f64,
+    }
+}
+
 /// The work [`IterationLog::extra`] counts, one unit of it: an L-BFGS line-search trial after
 /// the first (the trial point and the potential's change, as in [`flops_of_iteration`]); an
-/// Anderson extrapolation the safeguard rejected (its merit, $`s`$ spring energies and
-/// [`FLOPS_NODE_POTENTIAL`] per node, and its combination $`2mc + m`$ at a full window
-/// $`m`$; an ADMM rejection's global solve is among the logged iterations already).
+/// Anderson extrapolation the safeguard rejected, beyond the logged iterations (whose
+/// combinations produced it): for Liu its merit ($`s`$ spring energies and
+/// [`FLOPS_NODE_POTENTIAL`] per node); for ADMM with the primal residual the local step and
+/// the merit spent on it before the rejection, and no solve; with the combined residual
+/// nothing more, the rejected iterate's local step, solve and merit being a logged iteration.
 pub fn flops_of_extra(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
     let n = system.len() as f64;
     let s = system.springs().len() as f64;
@@ -937,10 +952,13 @@ pub fn flops_of_extra(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
         SolverId::Lbfgs => {
             2.0 * c + s * FLOPS_SPRING_POTENTIAL_CHANGE + n * FLOPS_NODE_POTENTIAL_CHANGE
         }
-        SolverId::AndersonLiu | SolverId::AndersonAdmm => {
-            let m = spec.params.window as f64;
-            s * FLOPS_SPRING_ENERGY + n * FLOPS_NODE_POTENTIAL + 2.0 * m * c + m
-        }
+        SolverId::AndersonLiu => s * FLOPS_SPRING_ENERGY + n * FLOPS_NODE_POTENTIAL,
+        SolverId::AndersonAdmm => match spec.params.safeguard {
+            AdmmMerit::PrimalResidual => {
+                s * (12.0 + FLOPS_SPRING_PROJECTION) + flops_admm_merit(spec, system)
+            }
+            AdmmMerit::CombinedResidual => 0.0,
+        },
         _ => 0.0,
     }
 }

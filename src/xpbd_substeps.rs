@@ -27,10 +27,27 @@
 //! converges to the exact motion as $`h \to 0`$ at first order, like the symplectic Euler it is
 //! built on.
 //!
-//! What differs from the paper: nothing in the substep itself; collisions (the paper collects
-//! them once per step) do not arise on the rope. [`XpbdSubstepsParams::iterations_per_substep`]
-//! (1 in Algorithm 1) is kept as a parameter because the paper weighs substeps against
-//! iterations; with more than one, each substep is Algorithm 2 with that many iterations.
+//! Two options of the paper, off by default (the report's runs use the defaults, and say so):
+//! - **Constraint damping** (§4.1, Eq. 8, [`XpbdSubstepsParams::constraint_damping`]
+//!   $`\beta_j`$, N·s/m): with $`\tilde\beta = \Delta t_s^2\beta`$ and
+//!   $`\gamma = \tilde\alpha\tilde\beta/\Delta t_s`$, each multiplier increment becomes
+//!   $`\Delta\lambda = (-C - \tilde\alpha\lambda - \gamma\nabla C(x - x^n)) /
+//!   ((1 + \gamma)\nabla C M^{-1}\nabla C^\top + \tilde\alpha)`$ ([`damped_delta_lambda`];
+//!   the $`\tilde\alpha\lambda`$ term is 0 with one iteration, which is Eq. 8 as printed).
+//!   It is the XPBD form of the dissipation $`\frac12\beta\dot C^2`$: a spring force
+//!   $`-(kC + \beta\dot C)\nabla C`$, tested on a free spring against the damped
+//!   oscillator's closed form.
+//! - **The sweep** ([`Sweep`]): Gauss-Seidel over the springs in index order, the thesis's
+//!   (default), or a Jacobi sweep, every spring's correction computed from the same positions
+//!   and then added (the paper's 3D runs use a parallel Jacobi iteration; it names
+//!   Gauss-Seidel as working too).
+//!
+//! With either option a substep is computed here ([`XpbdSubsteps::step`]), with the thesis's
+//! equations of [`crate::xpbd`]; without them through [`Xpbd`] itself. Collisions (the paper
+//! collects them once per step) do not arise on the rope.
+//! [`XpbdSubstepsParams::iterations_per_substep`] (1 in Algorithm 1) is kept as a parameter
+//! because the paper weighs substeps against iterations; with more than one, each substep is
+//! Algorithm 2 with that many iterations.
 //!
 //! # What XPBD with substeps converges to (measured, `tests/newer_solvers.rs`)
 //! Not the Backward Euler step: each substep is an XPBD step, whose fixed point is not the
@@ -51,29 +68,71 @@
 //!   second order in $`h`$: 8.4e-6 m at 64 substeps, 1.3e-7 m at 512; with 500 iterations per
 //!   substep it is 4e-19 m.
 
-use crate::error::{require_positive, Error, Result};
+use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::solver::TimeStepper;
-use crate::system::{MassSpringSystem, State};
-use crate::xpbd::Xpbd;
+use crate::spring;
+use crate::system::{MassSpringSystem, State, Vec3};
+use crate::xpbd::{delta_x, generalized_inverse_mass, Xpbd};
+
+/// The order of a constraint pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Sweep {
+    /// One spring after the other, in index order, each seeing its predecessors' corrections.
+    #[default]
+    GaussSeidel,
+    /// Every spring's correction from the same positions, added after the pass.
+    Jacobi,
+}
+
+impl Sweep {
+    /// Both sweeps.
+    pub const ALL: [Sweep; 2] = [Sweep::GaussSeidel, Sweep::Jacobi];
+
+    /// The name on the command line.
+    pub fn key(self) -> &'static str {
+        match self {
+            Sweep::GaussSeidel => "gauss-seidel",
+            Sweep::Jacobi => "jacobi",
+        }
+    }
+}
+
+impl std::str::FromStr for Sweep {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        Sweep::ALL
+            .into_iter()
+            .find(|w| w.key() == s)
+            .ok_or_else(|| Error::invalid("sweep", s, "gauss-seidel or jacobi"))
+    }
+}
 
 /// The parameters of Macklin et al. 2019 besides the substep count.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct XpbdSubstepsParams {
     /// Constraint-solver iterations per substep, >= 1 (Algorithm 1 of the paper: 1).
     pub iterations_per_substep: usize,
+    /// The constraint damping $`\beta`$ of §4.1, N·s/m, >= 0 (0: none).
+    pub constraint_damping: f64,
+    /// The order of each constraint pass.
+    pub sweep: Sweep,
 }
 
 impl Default for XpbdSubstepsParams {
-    /// The paper's Algorithm 1: one iteration per substep.
+    /// The paper's Algorithm 1: one iteration per substep, no damping, and the thesis's
+    /// Gauss-Seidel sweep.
     fn default() -> Self {
         Self {
             iterations_per_substep: 1,
+            constraint_damping: 0.0,
+            sweep: Sweep::GaussSeidel,
         }
     }
 }
 
 impl XpbdSubstepsParams {
-    /// Rejects a zero iteration count.
+    /// Rejects a zero iteration count and a negative or non-finite damping.
     pub fn validate(&self) -> Result<()> {
         if self.iterations_per_substep == 0 {
             return Err(Error::invalid(
@@ -82,7 +141,42 @@ impl XpbdSubstepsParams {
                 "an integer >= 1",
             ));
         }
+        require_non_negative("constraint_damping", self.constraint_damping)?;
+        if !self.constraint_damping.is_finite() {
+            return Err(Error::invalid(
+                "constraint_damping",
+                self.constraint_damping,
+                "a finite number >= 0",
+            ));
+        }
         Ok(())
+    }
+
+    /// Whether a substep is the thesis's XPBD step (no option of the paper's in use).
+    fn is_plain(&self) -> bool {
+        self.constraint_damping == 0.0 && self.sweep == Sweep::GaussSeidel
+    }
+}
+
+/// [Macklin 2019, Eq. 8] The damped multiplier increment of one constraint:
+/// $`\Delta\lambda = (-C - \tilde\alpha\lambda - \gamma\,\nabla C(x - x^n)) /
+/// ((1 + \gamma)\,w + \tilde\alpha)`$, given its value `c`, `alpha_tilde`, its multiplier
+/// `lambda`, `w` $`= \nabla C M^{-1}\nabla C^\top`$, $`\gamma`$ and `c_change`
+/// $`= \nabla C(x - x^n)`$. With $`\gamma = 0`$ it is Eq 18 ([`crate::xpbd::delta_lambda`]);
+/// a constraint nothing can move and without compliance gets 0.
+pub fn damped_delta_lambda(
+    c: f64,
+    alpha_tilde: f64,
+    lambda: f64,
+    w: f64,
+    gamma: f64,
+    c_change: f64,
+) -> f64 {
+    let denominator = (1.0 + gamma) * w + alpha_tilde;
+    if denominator > 0.0 {
+        (-c - alpha_tilde * lambda - gamma * c_change) / denominator
+    } else {
+        0.0
     }
 }
 
@@ -94,6 +188,15 @@ pub struct XpbdSubsteps {
     params: XpbdSubstepsParams,
     /// The thesis's XPBD at the substep's time step $`h = dt/n`$.
     substep: Xpbd,
+    /// $`\gamma_j = \tilde\alpha_j\tilde\beta/h`$ per spring.
+    gamma: Vec<f64>,
+    /// $`w_i = 1/m_i`$ (0 for a fixed node).
+    w: Vec<f64>,
+    // Per-substep buffers of the optioned substep: x^n, the multipliers and a Jacobi pass's
+    // corrections.
+    x_n: Vec<Vec3>,
+    lambda: Vec<f64>,
+    corrections: Vec<Vec3>,
 }
 
 impl XpbdSubsteps {
@@ -110,12 +213,25 @@ impl XpbdSubsteps {
             return Err(Error::invalid("substeps", 0, "an integer >= 1"));
         }
         require_positive("dt", dt)?;
-        let substep = Xpbd::new(system, dt / substeps as f64, params.iterations_per_substep)?;
+        let h = dt / substeps as f64;
+        let substep = Xpbd::new(system, h, params.iterations_per_substep)?;
+        let beta_tilde = h * h * params.constraint_damping;
+        let gamma = substep
+            .alpha_tilde()
+            .iter()
+            .map(|alpha_tilde| alpha_tilde * beta_tilde / h)
+            .collect();
+        let (n, s) = (system.len(), system.springs().len());
         Ok(Self {
             dt,
             substeps,
             params,
             substep,
+            gamma,
+            w: system.inverse_masses(),
+            x_n: vec![Vec3::zeros(); n],
+            lambda: vec![0.0; s],
+            corrections: vec![Vec3::zeros(); n],
         })
     }
 
@@ -124,18 +240,79 @@ impl XpbdSubsteps {
         self.substeps
     }
 
-    /// The XPBD solver of one substep: its $`\tilde\alpha`$, and after a step the multipliers
-    /// and prediction of the last substep (for [`crate::xpbd::residuals`]).
+    /// The XPBD solver of one substep: its $`\tilde\alpha`$, and after a step of the default
+    /// options the multipliers and prediction of the last substep (for
+    /// [`crate::xpbd::residuals`]).
     pub fn substep_solver(&self) -> &Xpbd {
         &self.substep
+    }
+
+    /// One substep of `h` with the paper's options (module doc): the prediction (Algorithm 1
+    /// line 4), $`\lambda = 0`$, the passes of [`damped_delta_lambda`] in the chosen order
+    /// (lines 5-10), and $`v = (x - x^n)/h`$ (line 11).
+    fn optioned_substep(&mut self, state: &mut State) {
+        let h = self.dt / self.substeps as f64;
+        let system = self.substep.system();
+        let g = system.gravity();
+        self.x_n.copy_from_slice(&state.x);
+        for ((x, v), &w) in state.x.iter_mut().zip(&state.v).zip(&self.w) {
+            if w > 0.0 {
+                *x += h * (v + h * g);
+            }
+        }
+        self.lambda.fill(0.0);
+        let alpha_tilde = self.substep.alpha_tilde();
+        for _ in 0..self.params.iterations_per_substep {
+            self.corrections.fill(Vec3::zeros());
+            for (j, s) in system.springs().iter().enumerate() {
+                let x = &state.x;
+                let (w1, w2) = (self.w[s.a], self.w[s.b]);
+                let c = spring::constraint(&x[s.a], &x[s.b], s.rest_length);
+                let grad = spring::constraint_gradient(&x[s.a], &x[s.b]);
+                let c_change = grad.dot(&((x[s.a] - self.x_n[s.a]) - (x[s.b] - self.x_n[s.b])));
+                let delta_lambda = damped_delta_lambda(
+                    c,
+                    alpha_tilde[j],
+                    self.lambda[j],
+                    generalized_inverse_mass(w1, w2),
+                    self.gamma[j],
+                    c_change,
+                );
+                let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, delta_lambda);
+                self.lambda[j] += delta_lambda;
+                let moved = match self.params.sweep {
+                    Sweep::GaussSeidel => &mut state.x,
+                    Sweep::Jacobi => &mut self.corrections,
+                };
+                moved[s.a] += delta_x1;
+                moved[s.b] += delta_x2;
+            }
+            if self.params.sweep == Sweep::Jacobi {
+                for (x, d) in state.x.iter_mut().zip(&self.corrections) {
+                    *x += d;
+                }
+            }
+        }
+        for ((v, x), x_n) in state.v.iter_mut().zip(&state.x).zip(&self.x_n) {
+            *v = (x - x_n) / h;
+        }
     }
 }
 
 impl TimeStepper for XpbdSubsteps {
     fn name(&self) -> String {
         format!(
-            "XPBD substeps ({} substeps, {} iteration(s) per substep)",
-            self.substeps, self.params.iterations_per_substep
+            "XPBD substeps ({} substeps, {} iteration(s) per substep{}{})",
+            self.substeps,
+            self.params.iterations_per_substep,
+            match self.params.constraint_damping {
+                0.0 => String::new(),
+                beta => format!(", constraint damping {beta} N·s/m"),
+            },
+            match self.params.sweep {
+                Sweep::GaussSeidel => "",
+                Sweep::Jacobi => ", Jacobi sweep",
+            }
         )
     }
 
@@ -152,7 +329,11 @@ impl TimeStepper for XpbdSubsteps {
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
         for _ in 0..self.substeps {
-            self.substep.step(state)?;
+            if self.params.is_plain() {
+                self.substep.step(state)?;
+            } else {
+                self.optioned_substep(state);
+            }
         }
         if !state.is_finite() {
             return Err(Error::NotConverged {

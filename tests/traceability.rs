@@ -73,3 +73,51 @@ fn every_newer_solver_cites_its_paper() {
     assert_eq!(parse_paper_tag("[`link`] text"), None);
     assert_eq!(parse_tag("[Wang 2015, Eq. 12] ω"), None);
 }
+
+/// Every `[Author Year, …]` tag is in the paper table, says how it was checked, and only the
+/// works whose body could not be read have unverified tags; the snapshot keeps each tag (paper,
+/// what, verification, item), so that a renumbered or dropped tag shows in review. What would
+/// fail it: a tag of an unread paper whose doc line names no reference code, "unverified" on a
+/// tag of a read text, or a tag of a work on neither list.
+#[test]
+fn every_paper_tag_says_how_it_was_verified() {
+    use mass_spring_solvers::report::traceability::{
+        paper_summary, paper_table, scan_papers, verification, Verified,
+    };
+    let tags = scan_papers(&crate_root()).expect("src/ reads");
+    let table = paper_table(&tags).render();
+    for tag in &tags {
+        assert!(
+            tag.verified.is_some(),
+            "{}:{} [{}, {}]: the doc line does not say how it was checked",
+            tag.file,
+            tag.line,
+            tag.paper,
+            tag.reference
+        );
+        assert!(table.contains(&format!("`{}:{}`", tag.file, tag.line)));
+    }
+    assert_eq!(
+        verification("Wang 2015", "[Wang 2015, Eq. 14] ω"),
+        Some(Verified::Text)
+    );
+    assert_eq!(
+        verification("Wang 2015", "[Wang 2015, Eq. 14] (unverified) ω"),
+        None
+    );
+    assert_eq!(verification("Peng 2018", "[Peng 2018, Eq. 4] mixing"), None);
+    assert_eq!(
+        verification(
+            "Peng 2018",
+            "[Peng 2018, x] checked against bldeng/AASolver"
+        ),
+        Some(Verified::ReferenceCode)
+    );
+    assert_eq!(
+        verification("Smith 2020", "[Smith 2020, x] checked against y"),
+        None
+    );
+    insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!("paper_tags", paper_summary(&tags));
+    });
+}

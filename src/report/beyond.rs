@@ -2,13 +2,17 @@
 //! rope, with the thesis's metrics and ground truth ([`crate::beyond`]): the grid of Tables
 //! 2-7 for each, and every solver's convergence toward the converged Backward Euler step.
 
+use crate::backward_euler::{converged_step, ConvergedStepOptions};
 use crate::beyond::GridRow;
 use crate::beyond::{
-    convergence_curves, grid_rows, grid_settings, grid_solvers, iterations_to, run_grid,
-    setting_label, ConvergenceCurve, GridResult, GridScene, Start, CONVERGENCE_ITERATIONS,
-    GRID_DTS, GRID_MAX_TIME, STEP10_DT,
+    convergence_curves, from_comparison_start, grid_rows, grid_settings, grid_solvers,
+    iterations_to, own_first_iterate, own_start_effects, rho_scan, run_grid, setting_label,
+    ConvergenceCurve, GridResult, GridScene, RhoPoint, Start, StartEffect, COMPARISON_START,
+    CONVERGENCE_ITERATIONS, GRID_DTS, GRID_MAX_TIME, STEP10_DT,
 };
+use crate::chebyshev::{spectral_radius, ChebyshevParams};
 use crate::error::Result;
+use crate::local_global::Base;
 use crate::registry::{SolverId, SolverSpec};
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, full_opt, percent, sig4, MarkdownTable};
@@ -128,6 +132,71 @@ pub struct BeyondChapter {
     pub grid: Vec<GridResult>,
     pub curves: Vec<ConvergenceCurve>,
     pub acceleration: Vec<Acceleration>,
+    /// What each solver's own start changes (from step10).
+    pub starts: Vec<StartEffect>,
+    /// Chebyshev-Liu's iterations against rho, and the asymptotic-rate rho the tables use.
+    pub rho_scan: Vec<RhoPoint>,
+    pub rho_default: f64,
+}
+
+/// The ratios of the acceleration table before issue 22, when Liu 2013 and its accelerations
+/// started each step at x_n and the others at the inertial prediction (report of commit
+/// 818181e): solver, base, ratio.
+pub const RATIOS_BEFORE_ONE_START: [(SolverId, SolverId, f64); 5] = [
+    (SolverId::ChebyshevLiu, SolverId::FastMassSpring, 13.41),
+    (SolverId::ChebyshevAdmm, SolverId::AdmmPd, 17.92),
+    (SolverId::AndersonLiu, SolverId::FastMassSpring, 93.06),
+    (SolverId::AndersonAdmm, SolverId::AdmmPd, 63.03),
+    (SolverId::Lbfgs, SolverId::FastMassSpring, 17.20),
+];
+
+/// The values of rho scanned, besides the asymptotic rate and Wang's gradient ratio.
+pub const RHO_SCAN: [f64; 6] = [0.99, 0.993, 0.996, 0.997, 0.998, 0.999];
+
+/// The most iterations the rho scan searches.
+pub const RHO_SCAN_MAX: usize = 2000;
+
+/// The state one converged step of [`STEP10_DT`] before step10 (step9), for the solvers whose
+/// start uses the previous step.
+fn step9(system: &crate::system::MassSpringSystem) -> Result<crate::system::State> {
+    let mut state = system.initial_state();
+    for _ in 0..9 {
+        state = converged_step(system, &state, STEP10_DT, ConvergedStepOptions::default())?;
+    }
+    Ok(state)
+}
+
+/// What each solver's own start changes, the rho scan and the default rho, at the figure's
+/// setting from step10.
+pub fn starts_and_rho() -> Result<(Vec<StartEffect>, Vec<RhoPoint>, f64)> {
+    let system = thesis_rope(CONVERGENCE_STIFFNESS)?;
+    let state = Start::Step10.state(&system)?;
+    let starts = own_start_effects(
+        &system,
+        &step9(&system)?,
+        &state,
+        CONVERGENCE_DT,
+        GAP_TOLERANCE,
+        ACCELERATION_MAX_ITERATIONS,
+    )?;
+    let params = ChebyshevParams {
+        first_iterate: COMPARISON_START,
+        ..ChebyshevParams::default()
+    };
+    let rho_default = spectral_radius(&system, CONVERGENCE_DT, 1, &params)?;
+    let mut rhos = RHO_SCAN.to_vec();
+    rhos.push(rho_default);
+    rhos.sort_by(f64::total_cmp);
+    let scan = rho_scan(
+        &system,
+        &state,
+        CONVERGENCE_DT,
+        &rhos,
+        GAP_TOLERANCE,
+        RHO_SCAN_MAX,
+    )?;
+    debug_assert_eq!(params.base, Base::Liu);
+    Ok((starts, scan, rho_default))
 }
 
 /// Iterations to [`GAP_TOLERANCE`] for every accelerated solver and its base, from step10 at
@@ -137,7 +206,7 @@ pub fn accelerations() -> Result<Vec<Acceleration>> {
     let state = Start::Step10.state(&system)?;
     let count = |id: SolverId| {
         iterations_to(
-            &SolverSpec::new(id, 1),
+            &from_comparison_start(SolverSpec::new(id, 1)),
             &system,
             &state,
             CONVERGENCE_DT,
@@ -170,10 +239,14 @@ impl BeyondChapter {
         rows: &[GridRow],
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<Self> {
+        let (starts, rho_scan, rho_default) = starts_and_rho()?;
         Ok(Self {
             grid: run_grid(rows, progress)?,
             curves: convergence_curves(progress)?,
             acceleration: accelerations()?,
+            starts,
+            rho_scan,
+            rho_default,
         })
     }
 
@@ -363,19 +436,26 @@ impl BeyondChapter {
             "One step of dt = {} s at k = {} N/m, from the rope at rest and from `step10` (after \
              ten converged Backward Euler steps of {} s from rest, a moving state), with m = 1 to \
              {CONVERGENCE_ITERATIONS} iterations, each m a fresh solver; the gap is the largest \
-             node distance to the step solved by Newton to round-off. The XPBD family and PBD \
+             node distance to the step solved by Newton to round-off. **One start for every \
+             solver:** each step starts from the inertial prediction y = x_n + h v_n + h² M⁻¹ \
+             f_ext (the option `first_iterate = {}`; PBD, XPBD and XPBD's substeps start there by \
+             construction), so that the curves and the tables below compare solvers, not starts; \
+             what each solver's own start changes is measured after them. Chebyshev's ρ is the \
+             plain iteration's asymptotic rate (this crate's rule, `rho_rule = asymptotic-rate`), \
+             and Anderson-ADMM uses Zhang et al. 2019's primal-residual safeguard. The XPBD family and PBD \
              converge to their own constraint solution, not to this step: their curves level off \
              at what they miss it by. All curves (both stiffnesses, dt = 1e-2 and 1e-3 s) are in \
              `data/convergence.csv`.\n\n",
             full(CONVERGENCE_DT),
             stiffness_label(CONVERGENCE_STIFFNESS),
             full(STEP10_DT),
+            COMPARISON_START.key(),
         );
         if let Some(f) = figures.iter().find(|f| f.stem == "beyond_convergence") {
             md += &format!(
                 "![beyond_convergence](figures/{s}.svg)\n\n*Figure B1. Gap to the converged \
-                 step against the iterations of one step (dt = {} s, k = {} N/m), (a) from rest, \
-                 (b) from step10; gaps below {} m drawn at it.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
+                 step against the iterations of one step (dt = {} s, k = {} N/m), every solver \
+                 starting from the inertial prediction, (a) from rest, (b) from step10; gaps below {} m drawn at it.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
                 full(CONVERGENCE_DT),
                 stiffness_label(CONVERGENCE_STIFFNESS),
                 full(GAP_FLOOR),
@@ -457,6 +537,127 @@ impl BeyondChapter {
                 chebyshev.join("; ")
             );
         }
+        let moved: Vec<String> = RATIOS_BEFORE_ONE_START
+            .iter()
+            .filter_map(|&(solver, base, before)| {
+                let now = self
+                    .acceleration
+                    .iter()
+                    .find(|a| a.solver == solver && a.base == base)?
+                    .ratio()?;
+                Some(format!("`{solver}` on `{base}` {before}× → {}×", sig4(now)))
+            })
+            .collect();
+        md += &format!(
+            "**What the one start moved.** Before issue 22 Liu 2013 and its two accelerations \
+             started each step at x_n and the others at the inertial prediction, so the ratios \
+             compared starts as well as solvers; from one start they are {}. ADMM's \
+             accelerations now extrapolate (x, ū), Zhang et al. 2019's variable, instead of \
+             (z, ū).\n\n",
+            moved.join("; ")
+        );
+        md += &self.starts_section(number);
+        md
+    }
+
+    /// What each solver's own start changes, and the scan of Chebyshev's rho.
+    fn starts_section(&self, number: u32) -> String {
+        let mut md = format!("### {number}.4 Each solver's own start, and Chebyshev's ρ\n\n");
+        md += &format!(
+            "The same step (dt = {} s, k = {} N/m, from step10, a gap below {} m): the iterations \
+             from each solver's own first iterate, where it is not the inertial prediction, and \
+             from the inertial prediction. VBD's adaptive guess (d) uses the previous step's \
+             acceleration: its solvers first take the step before step10 (step9 to step10's \
+             start), so that its own start is a running solver's; a fresh solver's (d) is (c).\n\n",
+            full(CONVERGENCE_DT),
+            stiffness_label(CONVERGENCE_STIFFNESS),
+            full(GAP_TOLERANCE),
+        );
+        let mut t = MarkdownTable::new(&[
+            "solver",
+            "own start",
+            "iterations from it",
+            "from the inertial prediction",
+        ]);
+        let count = |n: Option<usize>| {
+            n.map_or(format!("> {ACCELERATION_MAX_ITERATIONS}"), |n| {
+                n.to_string()
+            })
+        };
+        for e in &self.starts {
+            t.row(vec![
+                format!("`{}`", e.spec.id),
+                own_first_iterate(e.spec.id).map_or(
+                    "x̂ = (x̃ + αh x_n)/(1 + αh), its damped prediction".into(),
+                    |f| f.formula().to_string(),
+                ),
+                count(e.own),
+                count(e.shared),
+            ]);
+        }
+        md += &t.render();
+        md += "\n";
+        md += &format!(
+            "**ρ.** The tables above use ρ = {} for `chebyshev_liu`, the plain iteration's \
+             asymptotic rate on the rope's start (`rho_rule = asymptotic-rate`, this crate's \
+             rule, one ρ for every iteration count). Wang 2015 (§5.1) starts instead from the \
+             ratio of the objective's gradient norms at the last two of the K iterations used \
+             (`rho_rule = gradient-ratio`, ρ depending on K) and then tunes by hand. The scan: \
+             iterations of `chebyshev_liu` to {} m at the same step against ρ, searched up to \
+             {RHO_SCAN_MAX}.\n\n",
+            sig4(self.rho_default),
+            full(GAP_TOLERANCE),
+        );
+        let mut t = MarkdownTable::new(&["ρ", "iterations to 1e-6 m"]);
+        for p in &self.rho_scan {
+            let rho = match p.rho {
+                Some(rho) if rho == self.rho_default => {
+                    format!("{} (asymptotic rate, the default)", sig4(rho))
+                }
+                Some(rho) => full(rho),
+                None => "Wang's gradient ratio at each K".to_string(),
+            };
+            t.row(vec![
+                rho,
+                p.iterations
+                    .map_or(format!("> {RHO_SCAN_MAX}"), |n| n.to_string()),
+            ]);
+        }
+        md += &t.render();
+        md += "\n";
+        let best = self
+            .rho_scan
+            .iter()
+            .filter_map(|p| Some((p.rho?, p.iterations?)))
+            .min_by_key(|&(_, n)| n);
+        let wang = self.rho_scan.iter().find(|p| p.rho.is_none());
+        if let (Some((rho, n)), Some(wang)) = (best, wang) {
+            md +=
+                &format!(
+                "The fewest iterations of the scan, {n}, are at ρ = {}, {} the asymptotic rate; \
+                 the rate itself needs {}, Wang's gradient ratio {}. Iterations to 1e-6 m depend \
+                 on ρ by a factor of {} over the scan, so the tables' counts for Chebyshev are \
+                 those of this crate's rule, not of a hand-tuned ρ.\n\n",
+                sig4(rho),
+                if rho > self.rho_default { "above" } else { "at or below" },
+                self.rho_scan
+                    .iter()
+                    .find(|p| p.rho == Some(self.rho_default))
+                    .and_then(|p| p.iterations)
+                    .map_or("-".into(), |n| n.to_string()),
+                wang.iterations.map_or(format!("> {RHO_SCAN_MAX}"), |n| n.to_string()),
+                self.rho_scan
+                    .iter()
+                    .filter_map(|p| p.iterations)
+                    .max()
+                    .map_or("-".into(), |worst| sig4(worst as f64 / n as f64)),
+            );
+        }
+        md += "`xpbd_substeps` runs here, in the grid and in the curves with Gauss-Seidel sweeps \
+               and without constraint damping, its defaults; Macklin 2019's constraint damping \
+               (§4.1, Eq. 8) and its Jacobi sweep are options (`constraint_damping`, `sweep`), \
+               tested in `tests/newer_solvers.rs`. VBD runs with the exact local Hessian, the \
+               paper's; the projection is the option `hessian = projected`.\n\n";
         md
     }
 }

@@ -485,7 +485,11 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
 
     md += "### 14.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
            implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
-           cannot mistake for a thesis equation. Built at report time from those tags.\n\n";
+           cannot mistake for a thesis equation. Built at report time from those tags. The column \
+           \"verified against\" says how each tag was checked (`docs/papers.md`): against the paper's text \
+           (Macklin 2019, Wang 2015, Chen 2024), against the authors' reference code that the tag's doc line \
+           names, or unverified, where the paper's body could not be read (the doc line then names the \
+           code checked, or says that none was found).\n\n";
     md += &traceability::paper_table(&data.sources.paper_tags).render();
     md += "\n";
 

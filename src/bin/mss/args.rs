@@ -199,10 +199,39 @@ pub(crate) struct Cli {
     )]
     pub(crate) history: Option<f64>,
 
-    /// vbd: the initial guess of each step: previous-position, previous-velocity, inertia or
-    /// adaptive [default: adaptive]
-    #[arg(long, value_name = "GUESS", help_heading = "Solver")]
-    pub(crate) initialization: Option<String>,
+    /// Every solver iterating on the incremental potential: the first iterate of each step,
+    /// previous-position, inertia, inertia-and-acceleration (the inertial prediction) or
+    /// adaptive, Chen 2024's (a)-(d) [default: the solver's own, `--list-solvers`]
+    #[arg(long, value_name = "RULE", help_heading = "Solver")]
+    pub(crate) first_iterate: Option<String>,
+
+    /// chebyshev_*: how rho is found when --spectral-radius is not given: asymptotic-rate
+    /// (of the plain iteration, ours) or gradient-ratio (Wang 2015's start) [default:
+    /// asymptotic-rate]
+    #[arg(long, value_name = "RULE", help_heading = "Solver")]
+    pub(crate) rho_rule: Option<String>,
+
+    /// anderson_admm: the safeguard's merit, primal-residual (Zhang 2019's) or
+    /// combined-residual [default: primal-residual]
+    #[arg(long, value_name = "MERIT", help_heading = "Solver")]
+    pub(crate) safeguard: Option<String>,
+
+    /// vbd: the local Hessian, exact (the paper's) or projected [default: exact]
+    #[arg(long, value_name = "RULE", help_heading = "Solver")]
+    pub(crate) hessian: Option<String>,
+
+    /// xpbd_substeps: Macklin 2019's constraint damping beta >= 0, in N·s/m [default: 0]
+    #[arg(
+        long,
+        value_name = "N_S_PER_M",
+        allow_hyphen_values = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) constraint_damping: Option<f64>,
+
+    /// xpbd_substeps: the constraint pass, gauss-seidel or jacobi [default: gauss-seidel]
+    #[arg(long, value_name = "SWEEP", help_heading = "Solver")]
+    pub(crate) sweep: Option<String>,
 
     /// Built-in scene
     #[arg(long, value_enum, default_value_t = SceneArg::Thesis, help_heading = "Scene")]
@@ -410,7 +439,7 @@ impl TypedValueParser for SolverParser {
 }
 
 /// The solver options given on the command line, by their registry name.
-fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 10] {
+fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 15] {
     let text = |x: Option<f64>| x.map(|x| x.to_string());
     [
         ("tolerance", text(cli.tolerance)),
@@ -422,7 +451,12 @@ fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 10] {
         ("alpha", text(cli.alpha)),
         ("beta", text(cli.beta)),
         ("history", text(cli.history)),
-        ("initialization", cli.initialization.clone()),
+        ("first_iterate", cli.first_iterate.clone()),
+        ("rho_rule", cli.rho_rule.clone()),
+        ("safeguard", cli.safeguard.clone()),
+        ("hessian", cli.hessian.clone()),
+        ("constraint_damping", text(cli.constraint_damping)),
+        ("sweep", cli.sweep.clone()),
     ]
 }
 
