@@ -262,3 +262,110 @@ fn link_into_place(file: &File, dest: &Path) -> std::io::Result<()> {
         let _ = fs::remove_file(&temporary);
     })
 }
+
+/// The mount points of this process's mount namespace, from `/proc/self/mountinfo` (field 5,
+/// its octal escapes decoded); `None` where it cannot be read (not Linux, `/proc` not mounted).
+pub fn mount_points() -> Option<Vec<PathBuf>> {
+    let text = fs::read_to_string("/proc/self/mountinfo").ok()?;
+    Some(
+        text.lines()
+            .filter_map(|line| line.split(' ').nth(4))
+            .map(unescape_mount_path)
+            .collect(),
+    )
+}
+
+/// `\040` (space), `\011` (tab), `\012` (newline) and `\134` (backslash) as the kernel writes
+/// them in `mountinfo`.
+fn unescape_mount_path(field: &str) -> PathBuf {
+    let bytes = field.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let octal = bytes
+            .get(i + 1..i + 4)
+            .filter(|d| bytes[i] == b'\\' && d.iter().all(|c| (b'0'..=b'7').contains(c)));
+        match octal {
+            Some(d) => {
+                out.push((d[0] - b'0') * 64 + (d[1] - b'0') * 8 + (d[2] - b'0'));
+                i += 4;
+            }
+            None => {
+                out.push(bytes[i]);
+                i += 1;
+            }
+        }
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStringExt;
+        PathBuf::from(std::ffi::OsString::from_vec(out))
+    }
+    #[cfg(not(unix))]
+    PathBuf::from(String::from_utf8_lossy(&out).into_owned())
+}
+
+/// The device of the file system holding `path` itself (a link not followed).
+#[cfg(unix)]
+pub fn device_of(path: &Path) -> std::io::Result<u64> {
+    use std::os::unix::fs::MetadataExt;
+    fs::symlink_metadata(path).map(|m| m.dev())
+}
+
+#[cfg(not(unix))]
+pub fn device_of(path: &Path) -> std::io::Result<u64> {
+    fs::symlink_metadata(path).map(|_| 0)
+}
+
+/// Whether `path` (absolute, links resolved) is a mount point: listed in `mountinfo` (which
+/// also finds a bind mount of the same file system), or on another device than its directory.
+pub fn is_mount_point(path: &Path, mounts: Option<&[PathBuf]>) -> bool {
+    if mounts.is_some_and(|m| m.iter().any(|p| p == path)) {
+        return true;
+    }
+    let parent = path.parent().unwrap_or(path);
+    matches!((device_of(path), device_of(parent)), (Ok(a), Ok(b)) if a != b)
+}
+
+/// What a file that is not a regular file is, for messages: "a directory", "a named pipe", ...
+pub fn describe_file_type(kind: &fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "a named pipe";
+        }
+        if kind.is_char_device() {
+            return "a character device";
+        }
+        if kind.is_block_device() {
+            return "a block device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if kind.is_dir() {
+        "a directory"
+    } else if kind.is_symlink() {
+        "a symbolic link"
+    } else if kind.is_file() {
+        "a regular file"
+    } else {
+        "not a regular file"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mountinfo_escapes_are_decoded() {
+        assert_eq!(
+            unescape_mount_path(r"/mnt/a\040b\134c"),
+            PathBuf::from(r"/mnt/a b\c")
+        );
+        assert_eq!(unescape_mount_path(r"/x\04"), PathBuf::from(r"/x\04"));
+    }
+}

@@ -2,10 +2,15 @@
 //! report wrote is replaced.
 //!
 //! [`ReportTarget::open`] runs before the experiments: it takes a lock beside the output
-//! directory (`.report.lock` for `report/`), cleans or recovers what a crashed run left
-//! (`.report.tmp-*`, `.report.old-*`), reads the directory's [`MANIFEST`] and refuses a
-//! directory it may not replace, and creates the staging directory beside it (which also proves
-//! that the parent is writable). [`ReportTarget::publish`] writes the new report and its
+//! directory (`.report.lock` for `report/`, opened `O_NOFOLLOW | O_NONBLOCK` and refused unless
+//! it is a regular file), cleans or recovers what a crashed run left (`.report.tmp-<pid>-<ns>`,
+//! `.report.old-<pid>-<ns>`: only names of exactly that shape, and only directories), reads the
+//! directory's [`MANIFEST`] and refuses a directory it may not replace, and creates the staging
+//! directory beside it (which also proves that the parent is writable). The directory is the
+//! report's only when its `MANIFEST` is the one this module writes: its header, its sorted
+//! relative paths, itself listed, and every listed entry a regular file inside it. A mount point
+//! as the output or inside it is refused there too: the swap renames directories and the
+//! clean-up removes them, and neither may cross into another file system. [`ReportTarget::publish`] writes the new report and its
 //! manifest into the staging directory, carries every entry the previous report did not write
 //! into it (hard links, or copies), and swaps the two directories:
 //!
@@ -18,9 +23,15 @@
 //!
 //! A directory that exists, is not empty and has no manifest is refused, unless it is a report
 //! written before manifests existed (its `REPORT.md` starts with [`REPORT_TITLE`]): then
-//! `REPORT.md`, `run-info.md`, `data/*.csv` and `figures/*.svg` count as the report's.
+//! `REPORT.md`, `run-info.md`, `data/*.csv` and `figures/*.svg` count as the report's. A
+//! directory whose `MANIFEST` is not the report's is refused likewise. Every refusal comes
+//! before anything is written, so its "nothing was changed" is true.
+//!
+//! Clean-up ([`remove_tree`]) never follows a symbolic link and never crosses into another file
+//! system: what holds a mount point is left in place, with a message.
 
 use crate::error::{Error, Result};
+use crate::output_file::{describe_file_type, device_of, is_mount_point, mount_points};
 use crate::report::output::OutputFile;
 use std::collections::BTreeSet;
 use std::ffi::{OsStr, OsString};
@@ -151,12 +162,7 @@ struct Lock {
 
 impl Lock {
     fn acquire(path: &Path, dir: &Path) -> Result<Self> {
-        let file = fs::OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(path)
-            .map_err(|e| io_error("creating the lock file", path, e))?;
+        let file = open_lock_file(path)?;
         // A lock is held a moment longer than its run by a child forked meanwhile (until it
         // execs), so a busy lock is retried briefly before it is reported.
         let deadline = Instant::now() + LOCK_PATIENCE;
@@ -181,6 +187,63 @@ impl Lock {
     }
 }
 
+/// Opens the lock file for reading (enough for `flock`, so that a lock file another user left
+/// does not stop a run), creating it if it is missing; never through a symbolic link
+/// (`O_NOFOLLOW`), never waiting for a writer of a FIFO (`O_NONBLOCK`), and only a regular file.
+#[cfg(unix)]
+fn open_lock_file(path: &Path) -> Result<File> {
+    use rustix::fs::{openat, Mode, OFlags, CWD};
+    use rustix::io::Errno;
+    let not_regular = |what: &str| {
+        Error::Input(format!(
+            "the lock file {} is not a regular file ({what}); nothing was changed. Remove it \
+             if no report run is using it, and run again",
+            path.display()
+        ))
+    };
+    let flags = OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::NONBLOCK | OFlags::CLOEXEC;
+    // A few attempts: another run may create the file between the two opens.
+    let mut opened = Err(Errno::NOENT);
+    for _ in 0..3 {
+        opened = openat(CWD, path, flags, Mode::empty()).or_else(|e| match e {
+            Errno::NOENT => openat(
+                CWD,
+                path,
+                flags | OFlags::CREATE | OFlags::EXCL,
+                Mode::from_raw_mode(0o644),
+            ),
+            e => Err(e),
+        });
+        if !matches!(opened, Err(Errno::EXIST)) {
+            break;
+        }
+    }
+    let file = match opened {
+        Ok(fd) => File::from(fd),
+        // O_NOFOLLOW on a symbolic link (or O_EXCL on a dangling one, then again).
+        Err(Errno::LOOP) | Err(Errno::EXIST) => return Err(not_regular("a symbolic link")),
+        Err(e) => return Err(io_error("opening the lock file", path, e.into())),
+    };
+    let kind = file
+        .metadata()
+        .map_err(|e| io_error("reading the lock file", path, e))?
+        .file_type();
+    if !kind.is_file() {
+        return Err(not_regular(describe_file_type(&kind)));
+    }
+    Ok(file)
+}
+
+#[cfg(not(unix))]
+fn open_lock_file(path: &Path) -> Result<File> {
+    fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(path)
+        .map_err(|e| io_error("creating the lock file", path, e))
+}
+
 #[cfg(unix)]
 fn try_lock(file: &File) -> std::io::Result<()> {
     rustix::fs::flock(file, rustix::fs::FlockOperation::NonBlockingLockExclusive)
@@ -193,11 +256,38 @@ fn try_lock(_file: &File) -> std::io::Result<()> {
     Ok(())
 }
 
+/// Digits of the nanoseconds in a journal name: the time since 1970 has 19 until 2286.
+const NANOS_DIGITS: usize = 19;
+
+/// `<pid>-<nanoseconds>`, the nanoseconds in exactly [`NANOS_DIGITS`] digits.
 fn unique_suffix() -> String {
     let nanos = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_nanos());
-    format!("{}-{nanos}", std::process::id())
+    format!(
+        "{}-{nanos:0width$}",
+        std::process::id(),
+        width = NANOS_DIGITS
+    )
+}
+
+/// Whether `name` is `prefix` followed by a [`unique_suffix`]: the exact shape the journal
+/// writes, so that a user's `.report.old-2024-backup` is never taken for it.
+fn is_journal_name(name: &OsStr, prefix: &OsStr) -> bool {
+    let Some(rest) = name
+        .as_encoded_bytes()
+        .strip_prefix(prefix.as_encoded_bytes())
+    else {
+        return false;
+    };
+    let digits = |s: &[u8]| !s.is_empty() && s.iter().all(u8::is_ascii_digit);
+    match rest.iter().position(|&b| b == b'-') {
+        Some(dash) => {
+            let (pid, nanos) = (&rest[..dash], &rest[dash + 1..]);
+            digits(pid) && pid.len() <= 10 && digits(nanos) && nanos.len() == NANOS_DIGITS
+        }
+        None => false,
+    }
 }
 
 /// `.<name>.<kind>` beside `dir`.
@@ -223,24 +313,47 @@ fn sorted_entries(dir: &Path) -> Result<Vec<OsString>> {
 /// Removes a tree this module made (a staging directory, or a previous report after the swap),
 /// first making its directories writable: the previous report may hold a directory a user made
 /// read-only, and its files are still linked from the new report, so only the directories are
-/// touched.
+/// touched. A symbolic link is removed, never followed; a directory on another device or listed
+/// as a mount point is not entered: it is an error, and it and what holds it are left.
 fn remove_tree(path: &Path) -> Result<()> {
     let meta = match fs::symlink_metadata(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
         other => other.map_err(|e| io_error("reading", path, e))?,
     };
-    if meta.is_dir() {
-        open_up(path, meta.permissions()).map_err(|e| io_error("unlocking", path, e))?;
-        for name in sorted_entries(path)? {
-            let child = path.join(&name);
-            if fs::symlink_metadata(&child).is_ok_and(|m| m.is_dir()) {
-                remove_tree(&child)?;
-            }
-        }
-        fs::remove_dir_all(path).map_err(|e| io_error("removing", path, e))
-    } else {
-        fs::remove_file(path).map_err(|e| io_error("removing", path, e))
+    if !meta.is_dir() {
+        return fs::remove_file(path).map_err(|e| io_error("removing", path, e));
     }
+    let device = device_of(path).map_err(|e| io_error("reading", path, e))?;
+    remove_directory(path, &meta, device, mount_points().as_deref())
+}
+
+fn remove_directory(
+    path: &Path,
+    meta: &fs::Metadata,
+    device: u64,
+    mounts: Option<&[PathBuf]>,
+) -> Result<()> {
+    open_up(path, meta.permissions()).map_err(|e| io_error("unlocking", path, e))?;
+    for name in sorted_entries(path)? {
+        let child = path.join(&name);
+        let child_meta =
+            fs::symlink_metadata(&child).map_err(|e| io_error("reading", &child, e))?;
+        if child_meta.is_dir() {
+            let crossing = device_of(&child).map_or(true, |d| d != device)
+                || mounts.is_some_and(|m| m.iter().any(|p| *p == child));
+            if crossing {
+                return Err(Error::Input(format!(
+                    "{} is a mount point (another file system): it is not entered, and it and \
+                     the directories holding it are left in place",
+                    child.display()
+                )));
+            }
+            remove_directory(&child, &child_meta, device, mounts)?;
+        } else {
+            fs::remove_file(&child).map_err(|e| io_error("removing", &child, e))?;
+        }
+    }
+    fs::remove_dir(path).map_err(|e| io_error("removing", path, e))
 }
 
 /// Gives the owner read, write and search permission on a directory.
@@ -278,22 +391,87 @@ fn relative_inside(path: &Path, what: &str) -> Result<()> {
     }
 }
 
-fn read_manifest(dir: &Path) -> Result<Option<BTreeSet<PathBuf>>> {
+/// What a directory's `MANIFEST` says.
+#[derive(Debug)]
+enum Manifest {
+    Missing,
+    /// The one [`manifest_text`] writes, with the files it lists.
+    Ours(BTreeSet<PathBuf>),
+    /// Another program's file of that name, and why it is not the report's.
+    Foreign(String),
+}
+
+/// Reads `dir`'s manifest: the report's only in the exact format [`manifest_text`] writes (its
+/// header, then relative paths inside the directory, sorted, one a line, itself among them).
+fn read_manifest(dir: &Path) -> Result<Manifest> {
     let path = dir.join(MANIFEST);
-    let text = match fs::read_to_string(&path) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        other => other.map_err(|e| io_error("reading", &path, e))?,
-    };
-    let mut files = BTreeSet::new();
-    for (n, line) in text.lines().enumerate() {
-        if line.is_empty() || line.starts_with('#') {
-            continue;
+    match fs::symlink_metadata(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Manifest::Missing),
+        Err(e) => return Err(io_error("reading", &path, e)),
+        Ok(m) if !m.is_file() => {
+            return Ok(Manifest::Foreign(format!(
+                "its {MANIFEST} is not a regular file"
+            )))
         }
+        Ok(_) => {}
+    }
+    let bytes = fs::read(&path).map_err(|e| io_error("reading", &path, e))?;
+    let Some(body) = String::from_utf8(bytes)
+        .ok()
+        .and_then(|text| text.strip_prefix(MANIFEST_HEADER).map(str::to_string))
+    else {
+        return Ok(Manifest::Foreign(format!(
+            "its {MANIFEST} does not start with the header report writes"
+        )));
+    };
+    let header_lines = MANIFEST_HEADER.lines().count();
+    let mut files = BTreeSet::new();
+    let mut previous: Option<PathBuf> = None;
+    for (n, line) in body.lines().enumerate() {
         let file = PathBuf::from(line);
-        relative_inside(&file, &format!("{}, line {}:", path.display(), n + 1))?;
+        let in_order = previous.as_ref().is_none_or(|p| *p < file);
+        if line.is_empty() || relative_inside(&file, "").is_err() || !in_order {
+            return Ok(Manifest::Foreign(format!(
+                "line {} of its {MANIFEST} ({line:?}) is not an entry of the sorted list of \
+                 relative paths report writes",
+                n + 1 + header_lines
+            )));
+        }
+        previous = Some(file.clone());
         files.insert(file);
     }
-    Ok(Some(files))
+    if !body.is_empty() && !body.ends_with('\n') || !files.contains(Path::new(MANIFEST)) {
+        return Ok(Manifest::Foreign(format!(
+            "its {MANIFEST} is not in the format report writes (it ends without a newline or \
+             does not list itself)"
+        )));
+    }
+    Ok(Manifest::Ours(files))
+}
+
+/// Why a listed entry is not the report's: a listed path must be a regular file (or missing)
+/// reached through real directories inside `dir`, never through a symbolic link.
+fn listed_entry_problem(dir: &Path, rel: &Path) -> Option<String> {
+    let mut path = dir.to_path_buf();
+    let parts: Vec<_> = rel.components().collect();
+    for (i, part) in parts.iter().enumerate() {
+        path.push(part);
+        let last = i + 1 == parts.len();
+        match fs::symlink_metadata(&path) {
+            Err(_) => return None,
+            Ok(m) if last && m.is_file() => return None,
+            Ok(m) if !last && m.is_dir() => {}
+            Ok(m) => {
+                return Some(format!(
+                    "its {MANIFEST} lists {}, which is not a regular file inside it ({} is {})",
+                    rel.display(),
+                    path.display(),
+                    describe_file_type(&m.file_type())
+                ))
+            }
+        }
+    }
+    None
 }
 
 /// The manifest of `files`: one relative path a line, sorted, after a header.
@@ -306,10 +484,26 @@ fn manifest_text(files: &BTreeSet<PathBuf>) -> String {
     text
 }
 
+/// The refusal of a directory that is not the report's.
+fn not_ours(dir: &Path, why: &str) -> Error {
+    Error::Input(format!(
+        "the output directory {} is not a report this program wrote: {why}; nothing was \
+         changed. Give --out an empty or new directory, or the report directory itself",
+        dir.display()
+    ))
+}
+
 /// Whose the existing directory `dir` is; refuses one the report may not replace.
 fn ownership(dir: &Path) -> Result<Ownership> {
-    if let Some(files) = read_manifest(dir)? {
-        return Ok(Ownership::Listed(files));
+    match read_manifest(dir)? {
+        Manifest::Ours(files) => {
+            if let Some(why) = files.iter().find_map(|f| listed_entry_problem(dir, f)) {
+                return Err(not_ours(dir, &why));
+            }
+            return Ok(Ownership::Listed(files));
+        }
+        Manifest::Foreign(why) => return Err(not_ours(dir, &why)),
+        Manifest::Missing => {}
     }
     if sorted_entries(dir)?.is_empty() {
         return Ok(Ownership::Listed(BTreeSet::new()));
@@ -337,7 +531,9 @@ fn existing_ownership(dir: &Path) -> Result<Ownership> {
             "the output path {} exists and is not a directory; nothing was changed",
             dir.display()
         ))),
-        Ok(_) => {
+        Ok(meta) => {
+            refuse_mounts(dir)?;
+            check_replaceable(dir, &meta)?;
             let ownership = ownership(dir)?;
             let reserved: BTreeSet<PathBuf> = REPORT_ENTRIES
                 .iter()
@@ -347,6 +543,67 @@ fn existing_ownership(dir: &Path) -> Result<Ownership> {
             Ok(ownership)
         }
     }
+}
+
+/// Refuses an output directory that is a mount point or holds one: the swap renames it and the
+/// clean-up removes the previous report, and neither may reach into another file system.
+fn refuse_mounts(dir: &Path) -> Result<()> {
+    let mounts = mount_points();
+    if is_mount_point(dir, mounts.as_deref()) {
+        return Err(Error::Input(format!(
+            "the output directory {} is a mount point: report replaces its output by renaming \
+             it, which a mount point refuses; nothing was changed. Give --out a directory inside it",
+            dir.display()
+        )));
+    }
+    if let Some(inside) = mounts
+        .iter()
+        .flatten()
+        .find(|m| m.starts_with(dir) && m.as_path() != dir)
+    {
+        return Err(Error::Input(format!(
+            "{} is a mount point inside the output directory: the new report would hold a copy \
+             of that file system and the previous one could not be removed; nothing was \
+             changed. Unmount it or move it out of {}",
+            inside.display(),
+            dir.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses, before the run, an existing output directory this user could not rename at the end:
+/// one not writable (renaming a directory rewrites its `..`), or another user's in a sticky
+/// directory such as `/tmp`.
+#[cfg(unix)]
+fn check_replaceable(dir: &Path, meta: &fs::Metadata) -> Result<()> {
+    use rustix::fs::{accessat, Access, AtFlags, CWD};
+    use std::os::unix::fs::MetadataExt;
+    let parent = dir.parent().unwrap_or(Path::new("/"));
+    let parent_meta = fs::metadata(parent).map_err(|e| io_error("reading", parent, e))?;
+    let euid = rustix::process::geteuid().as_raw();
+    let sticky = parent_meta.mode() & 0o1000 != 0;
+    if euid != 0 && sticky && meta.uid() != euid && parent_meta.uid() != euid {
+        return Err(Error::Input(format!(
+            "the output directory {} belongs to another user in the sticky directory {}, so \
+             this user cannot replace it; nothing was changed",
+            dir.display(),
+            parent.display()
+        )));
+    }
+    if accessat(CWD, dir, Access::WRITE_OK, AtFlags::EACCESS).is_err() {
+        return Err(Error::Input(format!(
+            "the output directory {} is not writable by this user, so it cannot be replaced; \
+             nothing was changed",
+            dir.display()
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(not(unix))]
+fn check_replaceable(_dir: &Path, _meta: &fs::Metadata) -> Result<()> {
+    Ok(())
 }
 
 /// The entries of the existing report that the previous run did not write, topmost first
@@ -492,14 +749,27 @@ impl ReportTarget {
                 dir.display()
             )));
         }
+        let parent = dir.parent().unwrap_or(Path::new("/"));
+        if !parent.is_dir() {
+            return Err(Error::Input(format!(
+                "the directory {} that would hold the output directory does not exist (or is \
+                 not a directory); nothing was changed. Create it first, or give another --out",
+                parent.display()
+            )));
+        }
         // Checked once before anything is written (so that a refused directory gets not even a
         // lock file beside it), and again under the lock, after the recovery.
         existing_ownership(&dir)?;
-        let parent = dir.parent().unwrap_or(Path::new("/"));
-        fs::create_dir_all(parent).map_err(|e| io_error("creating", parent, e))?;
         let lock = Lock::acquire(&sibling(&dir, "lock"), &dir)?;
         let notes = recover(&dir)?;
-        let ownership = existing_ownership(&dir)?;
+        let ownership = existing_ownership(&dir).map_err(|e| match e {
+            // Say what the recovery did change.
+            Error::Input(m) if !notes.is_empty() => Error::Input(m.replace(
+                "nothing was changed",
+                &format!("nothing else was changed ({})", notes.join("; ")),
+            )),
+            e => e,
+        })?;
         let suffix = unique_suffix();
         let staging = sibling(&dir, &format!("tmp-{suffix}"));
         fs::create_dir(&staging).map_err(|e| {
@@ -664,8 +934,24 @@ impl ReportTarget {
     }
 }
 
+/// Whether `path` holds a previous report set aside by the journal: empty (an empty output
+/// directory was replaced), with the report's manifest, or a report from before manifests.
+fn is_previous_report(path: &Path) -> bool {
+    match read_manifest(path) {
+        Ok(Manifest::Ours(_)) => true,
+        Ok(Manifest::Missing) => {
+            sorted_entries(path).is_ok_and(|e| e.is_empty())
+                || fs::read_to_string(path.join("REPORT.md"))
+                    .is_ok_and(|r| r.starts_with(REPORT_TITLE))
+        }
+        _ => false,
+    }
+}
+
 /// What a crashed run left beside `dir`: the previous report set aside (put back when `dir` is
-/// missing), staging directories and previous reports (removed). Runs under the lock.
+/// missing), staging directories and previous reports (removed). Only directories (not links)
+/// whose names have the journal's exact shape count, and a set-aside report must be one; what
+/// cannot be removed is left with a note. Runs under the lock.
 fn recover(dir: &Path) -> Result<Vec<String>> {
     let parent = dir.parent().unwrap_or(Path::new("/"));
     let prefix = |kind: &str| {
@@ -678,9 +964,11 @@ fn recover(dir: &Path) -> Result<Vec<String>> {
     let mut notes = Vec::new();
     let mut leftovers = Vec::new();
     for name in sorted_entries(parent)? {
-        let bytes = name.as_encoded_bytes();
-        if bytes.starts_with(old.as_encoded_bytes()) {
-            let path = parent.join(&name);
+        let path = parent.join(&name);
+        if !fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir()) {
+            continue;
+        }
+        if is_journal_name(&name, &old) && is_previous_report(&path) {
             if !dir.exists() {
                 fs::rename(&path, dir).map_err(|e| io_error("putting back", &path, e))?;
                 notes.push(format!(
@@ -690,16 +978,18 @@ fn recover(dir: &Path) -> Result<Vec<String>> {
                 continue;
             }
             leftovers.push(path);
-        } else if bytes.starts_with(tmp.as_encoded_bytes()) {
-            leftovers.push(parent.join(&name));
+        } else if is_journal_name(&name, &tmp) {
+            leftovers.push(path);
         }
     }
     for path in leftovers {
-        remove_tree(&path)?;
-        notes.push(format!(
-            "removed {} (left by an interrupted run)",
-            path.display()
-        ));
+        notes.push(match remove_tree(&path) {
+            Ok(()) => format!("removed {} (left by an interrupted run)", path.display()),
+            Err(e) => format!(
+                "left {} (from an interrupted run) in place: {e}; remove it yourself",
+                path.display()
+            ),
+        });
     }
     Ok(notes)
 }
