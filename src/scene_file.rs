@@ -43,6 +43,7 @@
 //! column where the field is written.
 
 use crate::error::{require_non_negative, require_within, Error, Result};
+use crate::output_file::{is_named_pipe, read_named_pipe, FIFO_PATIENCE};
 use crate::particles::{Drag, Ground, ParticleSystem, Particles};
 use crate::system::{MassSpringSystem, Node, Spring, Vec3};
 use serde::Deserialize;
@@ -212,9 +213,21 @@ impl SceneFile {
 pub fn load(path: &Path) -> Result<SceneFile> {
     let fail = |e: String| Error::Input(format!("scene file {}: {e}", path.display()));
     let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-        .map_err(|e| fail(e.to_string()))?;
+    if is_named_pipe(path) {
+        // A pipe nobody writes to is refused after a short wait instead of blocking silently.
+        bytes = read_named_pipe(path, FIFO_PATIENCE, MAX_FILE_BYTES)
+            .map_err(|e| fail(e.to_string()))?
+            .ok_or_else(|| {
+                fail(format!(
+                    "a named pipe with a writer: none opened it within {} s",
+                    FIFO_PATIENCE.as_secs_f64()
+                ))
+            })?;
+    } else {
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(|e| fail(e.to_string()))?;
+    }
     if bytes.len() as u64 > MAX_FILE_BYTES {
         return Err(fail(format!(
             "longer than {} MiB, the limit of a scene file",

@@ -145,9 +145,9 @@ fn run(cli: &Cli) -> Result<(), Failure> {
         .iteration_log()
         .and_then(|log| log.mean_iterations());
 
-    for output in csv.ke.into_iter().chain(csv.positions) {
-        output.finish().map_err(|e| Failure::run(e.to_string()))?;
-    }
+    // Every series written to its end before any replaces its file.
+    OutputFile::finish_all(csv.ke.into_iter().chain(csv.positions).collect())
+        .map_err(|e| Failure::run(e.to_string()))?;
     let report = Report {
         solver: cli.solver.id().to_string(),
         scene: summary,
