@@ -677,3 +677,286 @@ fn a_closed_stdout_exits_0_without_a_panic() {
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+// Issue 27: every budget counted, every size bounded before allocation, option ranges and
+// numbers in short form, a scene's general refusals in scene validation ([n] as above).
+
+/// Exit status 1 (the run stopped), every needle in the message, no panic.
+fn stopped(output: &Output, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    for needle in needles {
+        assert!(err.contains(needle), "{needle:?} not in {err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// No number printed as a long run of digits (1e308 as its 309 digits).
+fn no_long_numbers(output: &Output) {
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert!(!err.contains("0000000000"), "{err}");
+}
+
+fn here(args: &[&str]) -> Output {
+    mss_for(Path::new(env!("CARGO_MANIFEST_DIR")), args, PROMPTLY)
+}
+
+/// [6] rk45's adaptive steps are counted: a stiff run is refused before it starts when its
+/// estimate (the stiffest mode's frequency over Dormand-Prince's stability bound) is over the
+/// budget, and the issue's own commands end at once (a tolerance below round-off, a 1e-9 kg
+/// node on a 1e12 N/m spring, the stiff cloth).
+#[test]
+fn rk45_stiff_runs_are_refused_by_their_adaptive_step_estimate() {
+    let rk45 = ["--solver", "rk45"];
+    for args in [
+        &[
+            "--stiffness",
+            "1e12",
+            "--dt",
+            "0.1",
+            "--max-time",
+            "1",
+            "--max-work",
+            "1e7",
+        ][..],
+        &[
+            "--scene",
+            "rope",
+            "--node-mass",
+            "1e-9",
+            "--stiffness",
+            "1e12",
+        ],
+        &[
+            "--scene",
+            "hanging_cloth",
+            "--stiffness",
+            "1e12",
+            "--dt",
+            "0.01",
+            "--max-time",
+            "0.2",
+            "--max-work",
+            "1e8",
+        ],
+    ] {
+        let out = here(&[&rk45[..], args].concat());
+        refused(&out, &["--max-work", "adaptive steps"]);
+    }
+    let out = here(&[
+        "--solver",
+        "rk45",
+        "--tolerance",
+        "1e-16",
+        "--stiffness",
+        "1e12",
+        "--max-time",
+        "1e-3",
+    ]);
+    refused(&out, &["--tolerance", "1e-16", "1e-12"]);
+}
+
+/// [6] Past the estimate, a hard stop: the adaptive steps a tight tolerance takes are capped
+/// by the same budget, and the run stops saying when and why (exit 1).
+#[test]
+fn rk45_adaptive_steps_past_the_budget_stop_the_run() {
+    let out = here(&[
+        "--solver",
+        "rk45",
+        "--stiffness",
+        "1e3",
+        "--tolerance",
+        "1e-10",
+        "--dt",
+        "0.1",
+        "--max-time",
+        "10",
+        "--max-work",
+        "1e5",
+    ]);
+    stopped(&out, &["work budget", "--max-work", "t = "]);
+}
+
+/// [6] `--compare-reference` counts the reference at its own length (the thesis's stopping
+/// rule, up to 3000 s at dt = 1e-3 s), not at this run's `--max-time`.
+#[test]
+fn compare_reference_counts_the_reference_at_its_own_length() {
+    let out = here(&[
+        "--scene",
+        "sheet",
+        "--solver",
+        "xpbd",
+        "--max-time",
+        "0.001",
+        "--compare-reference",
+        "--max-work",
+        "1e9",
+    ]);
+    refused(&out, &["--max-work", "reference"]);
+}
+
+/// [7] `--history` has a named range, checked before L-BFGS reserves anything (4294967295
+/// once asked for 275 GB and aborted).
+#[test]
+fn lbfgs_history_is_bounded_before_any_allocation() {
+    for history in ["4294967295", "100000000", "101"] {
+        let out = here(&[
+            "--solver",
+            "lbfgs",
+            "--history",
+            history,
+            "--max-time",
+            "0.05",
+        ]);
+        refused(&out, &["--history", "from 1 to 100"]);
+    }
+}
+
+/// [7] Backward Euler on a 1000 × 1000 sheet needs some 10 GB (its factor grows as N log N):
+/// under a 4 GiB address-space limit its memory estimate refuses it at once, where it used
+/// to abort after half a minute; an explicit `--max-memory` is honoured the same way.
+#[test]
+fn backward_euler_on_a_large_sheet_is_refused_by_its_memory_estimate() {
+    let args = ["--scene", "sheet", "--n", "1000", "--max-time", "0.001"];
+    if let Some(mut command) = sandbox::under_address_limit(env!("CARGO_BIN_EXE_mss"), &args) {
+        let out = run_within(&mut command, PROMPTLY, "mss on a large sheet");
+        refused(&out, &["--max-memory", "backward_euler", "estimate"]);
+    }
+    let out = here(&["--scene", "sheet", "--n", "300", "--max-memory", "1e8"]);
+    refused(&out, &["--max-memory", "backward_euler", "estimate"]);
+    no_long_numbers(&out);
+}
+
+/// [14] `--n` far past its range is refused with the range, not as a saturated node count.
+#[test]
+fn n_at_i64_max_is_refused_with_its_range() {
+    let out = here(&["--scene", "sheet", "--n", "9223372036854775807"]);
+    refused(&out, &["--n", "from 3 to"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("18446744073709551615"), "{err}");
+}
+
+/// [10] [11] Rayleigh damping has upper bounds, the same for both damped solvers, named with
+/// their option and printed in short form.
+#[test]
+fn rayleigh_damping_is_bounded_and_printed_in_short_form() {
+    for solver in ["damped_admm", "damped_backward_euler"] {
+        for option in ["--alpha", "--beta"] {
+            let out = here(&["--solver", solver, option, "1e308"]);
+            refused(&out, &[option, "1e308", "from 0 to"]);
+            no_long_numbers(&out);
+        }
+    }
+}
+
+/// [11] A value far out of range is printed in short scientific form.
+#[test]
+fn huge_values_print_in_short_scientific_form() {
+    let out = here(&["--dt", "1e300"]);
+    refused(&out, &["--dt", "1e300"]);
+    no_long_numbers(&out);
+    let out = here(&["--max-time", "-1e300"]);
+    refused(&out, &["--max-time", "-1e300"]);
+    no_long_numbers(&out);
+}
+
+/// [11] rk45's tolerance has a range: below 1e-12 it cannot be met in double precision, above
+/// 0.1 it is no error control.
+#[test]
+fn rk45_tolerance_is_bounded() {
+    for tolerance in ["1e308", "1e-16", "5e-324"] {
+        let out = here(&["--solver", "rk45", "--tolerance", tolerance]);
+        refused(&out, &["--tolerance", "from 1e-12 to"]);
+        no_long_numbers(&out);
+    }
+}
+
+/// [11] `--initialization` reads `_` as `-`, as `--solver` does.
+#[test]
+fn vbd_initialization_accepts_underscores() {
+    let out = here(&[
+        "--solver",
+        "vbd",
+        "--initialization",
+        "previous_position",
+        "--max-time",
+        "0.05",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// [12] A spring of stiffness 0 is refused by the scene file's validation, with the file, the
+/// line and the field, for every solver (six refused it by themselves, without the file).
+#[test]
+fn zero_stiffness_in_a_scene_file_is_refused_with_file_line_and_field() {
+    let dir = scratch("zero-stiffness");
+    std::fs::write(
+        dir.join("s.toml"),
+        rope_with("stiffness = 1e6", "stiffness = 0"),
+    )
+    .unwrap();
+    for solver in ["xpbd", "explicit_euler", "backward_euler"] {
+        let out = mss_for(
+            &dir,
+            &["--scene-file", "s.toml", "--solver", solver],
+            PROMPTLY,
+        );
+        refused(&out, &["s.toml", "line", "springs[0].stiffness"]);
+    }
+}
+
+const COINCIDENT: &str = "gravity = [0.0, -9.81, 0.0]
+[[nodes]]
+mass = 1.0
+position = [0.0, 0.0, 0.0]
+fixed = true
+[[nodes]]
+mass = 1.0
+position = [0.0, 0.0, 0.0]
+[[springs]]
+a = 0
+b = 1
+rest_length = 1.0
+stiffness = 1e6
+";
+
+/// [12] Two nodes at one point joined by a spring of rest length 1 m: the spring has no
+/// direction, refused by the scene's validation (file, line, field) instead of a Cholesky or
+/// spectral-radius failure inside three solvers.
+#[test]
+fn coincident_nodes_are_refused_by_scene_validation() {
+    let dir = scratch("coincident");
+    std::fs::write(dir.join("coincident_rest1.toml"), COINCIDENT).unwrap();
+    for solver in ["backward_euler", "chebyshev_admm", "xpbd"] {
+        let out = mss_for(
+            &dir,
+            &["--scene-file", "coincident_rest1.toml", "--solver", solver],
+            PROMPTLY,
+        );
+        refused(&out, &["coincident_rest1.toml", "line 9", "springs[0]"]);
+    }
+}
+
+/// [12] A span that crushes every spring of the rope to nothing is refused, naming `--span`.
+#[test]
+fn a_span_that_crushes_the_rope_is_refused() {
+    for span in ["1e-300", "1e-9"] {
+        let out = here(&["--scene", "rope", "--span", span]);
+        refused(&out, &["--span", span]);
+    }
+}
+
+/// [12] A scene file with no nodes says so, not "all fixed".
+#[test]
+fn a_scene_file_without_nodes_is_refused_naming_nodes() {
+    let dir = scratch("no-nodes");
+    std::fs::write(dir.join("s.toml"), "gravity = [0.0, -9.81, 0.0]\n").unwrap();
+    let out = mss_for(&dir, &["--scene-file", "s.toml"], PROMPTLY);
+    refused(&out, &["s.toml", "nodes", "no nodes"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("nodes[*].fixed"), "{err}");
+}
