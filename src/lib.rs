@@ -15,6 +15,7 @@ pub mod anderson;
 pub mod backward_euler;
 pub mod beyond;
 pub mod boundary;
+pub mod budget;
 pub mod catenary;
 pub mod chebyshev;
 pub mod damped_admm;
