@@ -676,3 +676,41 @@ fn an_output_whose_parent_is_missing_is_refused_and_creates_nothing() {
     assert!(e.contains("a/b/c") && e.contains("does not exist"), "{e}");
     assert_eq!(tree(&base), before);
 }
+
+/// The README's promises about files each name their test: every test named in its section
+/// "What the tools promise about files" exists, and the section names at least the tests of
+/// this cases.
+#[test]
+fn every_promise_about_files_in_the_readme_names_a_test_that_exists() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let start = readme
+        .find("## What the tools promise about files")
+        .expect("the README has the section");
+    let section = &readme[start..];
+    let section = &section[..section[3..].find("\n## ").map_or(section.len(), |e| e + 3)];
+    let mut sources = String::new();
+    for entry in std::fs::read_dir(root.join("tests")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "rs") {
+            sources += &std::fs::read_to_string(path).unwrap();
+        }
+    }
+    let named: Vec<&str> = section
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|w| {
+            w.matches('_').count() >= 3
+                && w.chars()
+                    .all(|c| c.is_ascii_lowercase() || c == '_' || c.is_ascii_digit())
+        })
+        .collect();
+    assert!(named.len() >= 30, "{named:?}");
+    for test in named {
+        assert!(
+            sources.contains(&format!("fn {test}()")),
+            "the README names {test}, which is no test"
+        );
+    }
+}
