@@ -123,7 +123,9 @@ pub fn check_geometry(system: &MassSpringSystem) -> Result<()> {
     let nodes = system.nodes();
     for (j, s) in system.springs().iter().enumerate() {
         let length = (nodes[s.a].position - nodes[s.b].position).norm();
-        if !(length >= MIN_START_LENGTH_RATIO * s.rest_length) {
+        // NaN (a non-finite position) is degenerate too.
+        let long_enough = length >= MIN_START_LENGTH_RATIO * s.rest_length;
+        if !long_enough {
             return Err(Error::invalid(
                 format!("springs[{j}]"),
                 format!(

@@ -609,7 +609,7 @@ fn a_lock_that_is_a_fifo_is_refused_at_once() {
     let base = out.parent().unwrap().to_path_buf();
     mknodat(
         CWD,
-        &base.join(".out.lock"),
+        base.join(".out.lock"),
         FileType::Fifo,
         Mode::from_raw_mode(0o600),
         0,

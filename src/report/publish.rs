@@ -340,7 +340,7 @@ fn remove_directory(
             fs::symlink_metadata(&child).map_err(|e| io_error("reading", &child, e))?;
         if child_meta.is_dir() {
             let crossing = device_of(&child).map_or(true, |d| d != device)
-                || mounts.is_some_and(|m| m.iter().any(|p| *p == child));
+                || mounts.is_some_and(|m| m.contains(&child));
             if crossing {
                 return Err(Error::Input(format!(
                     "{} is a mount point (another file system): it is not entered, and it and \
