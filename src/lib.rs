@@ -29,6 +29,7 @@ pub mod local_global;
 pub mod metrics;
 pub mod output_file;
 pub mod particles;
+pub mod paths;
 pub mod pbd;
 pub mod projective;
 pub mod quasi_newton;

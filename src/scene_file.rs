@@ -45,8 +45,8 @@
 //! column where the field is written.
 
 use crate::error::{require_non_negative, require_within, Error, Result};
-use crate::output_file::{is_named_pipe, read_named_pipe, FIFO_PATIENCE};
 use crate::particles::{Drag, Ground, ParticleSystem, Particles};
+use crate::paths::{is_named_pipe, read_named_pipe, FIFO_PATIENCE};
 use crate::scene::check_geometry;
 use crate::system::{MassSpringSystem, Node, Spring, Vec3};
 use serde::Deserialize;

@@ -31,7 +31,7 @@
 //! system: what holds a mount point is left in place, with a message.
 
 use crate::error::{Error, Result};
-use crate::output_file::{describe_file_type, device_of, is_mount_point, mount_points};
+use crate::paths::{describe_file_type, device_of, is_mount_point, mount_points};
 use crate::report::output::OutputFile;
 use std::collections::BTreeSet;
 use std::ffi::{OsStr, OsString};
