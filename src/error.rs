@@ -51,12 +51,22 @@ impl Error {
 /// The crate's result type.
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// A number as a message shows it: as written from 1e-4 to 1e6, else in short scientific
+/// form (`1e308`, not its 309 digits; `1e-320`, not its 320 decimals).
+pub fn shown(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&x.abs()) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// Checks that `value` is finite and strictly positive.
 pub fn require_positive(field: impl Into<String>, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "a finite number > 0"))
+        Err(Error::invalid(field, shown(value), "a finite number > 0"))
     }
 }
 
@@ -65,7 +75,7 @@ pub fn require_non_negative(field: impl Into<String>, value: f64) -> Result<f64>
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "a finite number >= 0"))
+        Err(Error::invalid(field, shown(value), "a finite number >= 0"))
     }
 }
 
@@ -87,15 +97,9 @@ pub fn require_within(
     if (min..=max).contains(&value) {
         Ok(value)
     } else {
-        // 1e300 as 1e300, not as its 301 digits; 1e-320 likewise.
-        let shown = if value.is_finite() && value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
-            bound(value)
-        } else {
-            value.to_string()
-        };
         Err(Error::invalid(
             field,
-            shown,
+            shown(value),
             &format!("a number from {} to {}, in {unit}", bound(min), bound(max)),
         ))
     }
@@ -106,7 +110,7 @@ pub fn require_finite(field: impl Into<String>, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "a finite number"))
+        Err(Error::invalid(field, shown(value), "a finite number"))
     }
 }
 

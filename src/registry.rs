@@ -17,7 +17,7 @@ use crate::backward_euler::{damped_converged_step, BackwardEuler, ConvergedStepO
 use crate::chebyshev::{spectral_radius, Chebyshev, ChebyshevParams, RhoRule};
 use crate::damped_admm::DampedAdmm;
 use crate::damping::RayleighDamping;
-use crate::error::{require_positive, Error, Result};
+use crate::error::{require_within, shown, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
 use crate::first_iterate::FirstIterate;
 use crate::local_global::{AdmmMerit, Base};
@@ -341,7 +341,7 @@ impl SolverId {
                 options: &[
                     OptionInfo {
                         name: "history",
-                        help: "L-BFGS window m, past pairs kept, an integer >= 1 [default: 5]",
+                        help: "L-BFGS window m, past pairs kept, an integer from 1 to 100 [default: 5]",
                     },
                     FIRST_ITERATE_PREDICTION,
                 ],
@@ -411,17 +411,16 @@ impl SolverId {
                 iteration: None,
                 options: &[OptionInfo {
                     name: "tolerance",
-                    help: "error tolerance (> 0) of each adaptive step, relative to \
-                           1 + |component|",
+                    help: "error tolerance of each adaptive step, from 1e-12 to 0.1, relative \
+                           to 1 + |component|",
                 }],
                 relative_cost: 1.0,
                 accelerates: None,
                 builder: Builder::Particles(|particles, dt, spec| {
-                    Ok(Box::new(AdaptiveStepper::new(
-                        particles,
-                        dt,
-                        spec.params.tolerance,
-                    )?))
+                    Ok(Box::new(
+                        AdaptiveStepper::new(particles, dt, spec.params.tolerance)?
+                            .with_attempt_limit(spec.params.adaptive_attempts),
+                    ))
                 }),
             },
         }
@@ -484,11 +483,11 @@ impl std::str::FromStr for SolverId {
 /// The options of the Rayleigh-damped solvers.
 const RAYLEIGH_ALPHA: OptionInfo = OptionInfo {
     name: "alpha",
-    help: "mass-proportional Rayleigh damping alpha >= 0, in 1/s [default: 0]",
+    help: "mass-proportional Rayleigh damping alpha from 0 to 1e6, in 1/s [default: 0]",
 };
 const RAYLEIGH_BETA: OptionInfo = OptionInfo {
     name: "beta",
-    help: "stiffness-proportional Rayleigh damping beta >= 0, in s [default: 0]",
+    help: "stiffness-proportional Rayleigh damping beta from 0 to 1e3, in s [default: 0]",
 };
 
 /// The first-iterate option of a solver that starts at $`x_n`$ by default.
@@ -681,6 +680,9 @@ pub struct SolverParams {
     pub constraint_damping: f64,
     /// XPBD substeps: the constraint pass.
     pub sweep: Sweep,
+    /// rk45: the most adaptive steps (accepted or rejected) a run may attempt, a work budget;
+    /// None: no limit.
+    pub adaptive_attempts: Option<u64>,
 }
 
 impl SolverParams {
@@ -719,14 +721,16 @@ impl SolverParams {
             "stiffness_factor" => {
                 self.stiffness_factor = crate::pbd::require_factor(name, number()?)?;
             }
-            "tolerance" => self.tolerance = require_positive(name, number()?)?,
+            "tolerance" => {
+                self.tolerance = require_within(name, number()?, 1e-12, 0.1, TOLERANCE_UNIT)?
+            }
             "spectral_radius" => self.spectral_radius = Some(number()?),
             "gamma" => self.gamma = number()?,
             "warmup" => self.warmup = require_integer(name, number()?, 0)?,
             "window" => self.window = require_integer(name, number()?, 1)?,
-            "alpha" => self.damping.alpha = number()?,
-            "beta" => self.damping.beta = number()?,
-            "history" => self.history = require_integer(name, number()?, 1)?,
+            "alpha" => self.damping.alpha = require_within(name, number()?, 0.0, 1e6, "1/s")?,
+            "beta" => self.damping.beta = require_within(name, number()?, 0.0, 1e3, "s")?,
+            "history" => self.history = require_count_within(name, number()?, 1, MAX_HISTORY)?,
             "first_iterate" => self.first_iterate = Some(value.parse()?),
             "rho_rule" => self.rho_rule = value.parse()?,
             "safeguard" => self.safeguard = value.parse()?,
@@ -808,6 +812,12 @@ impl SolverParams {
     }
 }
 
+/// The largest L-BFGS window the command line takes (Liu 2017 keeps 5 pairs).
+pub const MAX_HISTORY: usize = 100;
+
+/// What rk45's tolerance is relative to.
+const TOLERANCE_UNIT: &str = "m and m/s, relative to 1 + |component|";
+
 /// `value` as a count: a whole number at least `min`.
 fn require_integer(field: &str, value: f64, min: usize) -> Result<usize> {
     if value.is_finite() && value.fract() == 0.0 && value >= min as f64 && value <= u32::MAX as f64
@@ -816,8 +826,21 @@ fn require_integer(field: &str, value: f64, min: usize) -> Result<usize> {
     } else {
         Err(Error::invalid(
             field,
-            value,
+            shown(value),
             &format!("an integer >= {min}"),
+        ))
+    }
+}
+
+/// `value` as a count from `min` to `max`.
+fn require_count_within(field: &str, value: f64, min: usize, max: usize) -> Result<usize> {
+    if value.is_finite() && value.fract() == 0.0 && (min as f64..=max as f64).contains(&value) {
+        Ok(value as usize)
+    } else {
+        Err(Error::invalid(
+            field,
+            shown(value),
+            &format!("an integer from {min} to {max}"),
         ))
     }
 }
@@ -840,6 +863,7 @@ impl Default for SolverParams {
             hessian: VbdParams::default().hessian,
             constraint_damping: XpbdSubstepsParams::default().constraint_damping,
             sweep: XpbdSubstepsParams::default().sweep,
+            adaptive_attempts: None,
         }
     }
 }

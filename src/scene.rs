@@ -7,7 +7,7 @@
 //! of the project's scene specification): anchors 9 m apart, rest length equal to the initial
 //! spacing, a straight start at rest, and g = 9.81 m/s².
 
-use crate::error::{require_finite, require_positive, Error, Result};
+use crate::error::{require_finite, require_positive, shown, Error, Result};
 use crate::system::{MassSpringSystem, Node, Spring, Vec3};
 
 /// Number of nodes of the thesis rope (§3.1).
@@ -113,12 +113,37 @@ pub const SHEET_BYTES_PER_NODE: u64 =
 /// The memory assumed available where the system does not say (`/proc/meminfo`), in bytes.
 const ASSUMED_MEMORY: u64 = 1 << 32;
 
-/// The memory available to a new allocation, in bytes (`MemAvailable` on Linux).
-fn available_memory() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    kib.checked_mul(1024)
+/// The shortest start of a spring, as a fraction of its rest length: shorter, its direction
+/// is lost (two nodes at one point have none) and the implicit solvers' matrices are indefinite.
+pub const MIN_START_LENGTH_RATIO: f64 = 1e-6;
+
+/// Refuses degenerate geometry, whatever the solver: a spring whose nodes start less than
+/// [`MIN_START_LENGTH_RATIO`] of its rest length apart (`springs[j]`).
+pub fn check_geometry(system: &MassSpringSystem) -> Result<()> {
+    let nodes = system.nodes();
+    for (j, s) in system.springs().iter().enumerate() {
+        let length = (nodes[s.a].position - nodes[s.b].position).norm();
+        // NaN (a non-finite position) is degenerate too.
+        let long_enough = length >= MIN_START_LENGTH_RATIO * s.rest_length;
+        if !long_enough {
+            return Err(Error::invalid(
+                format!("springs[{j}]"),
+                format!(
+                    "nodes {} and {} start {} m apart, rest length {} m",
+                    s.a,
+                    s.b,
+                    shown(length),
+                    shown(s.rest_length)
+                ),
+                &format!(
+                    "a spring that starts at least {} of its rest length long (at length 0 it \
+                     has no direction)",
+                    shown(MIN_START_LENGTH_RATIO)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The largest n whose sheet fits in `bytes` at [`SHEET_BYTES_PER_NODE`].
@@ -203,7 +228,7 @@ impl SheetParams {
                  no node is free)",
             ));
         }
-        let limit = available_memory().unwrap_or(ASSUMED_MEMORY);
+        let limit = crate::budget::available_memory().unwrap_or(ASSUMED_MEMORY);
         match self.estimated_bytes() {
             Some(bytes) if bytes <= limit => {}
             _ => {

@@ -20,7 +20,7 @@
 //! a = 0                                 # node indices, from 0, in file order
 //! b = 1
 //! rest_length = 1.0                     # m, > 0, optional (default: the initial distance)
-//! stiffness = 1e6                       # N/m, >= 0
+//! stiffness = 1e6                       # N/m, > 0
 //! damping = 0.0                         # N·s/m, >= 0, optional (default 0)
 //!
 //! [forces]                              # optional: the tutorial's extra forces
@@ -29,9 +29,11 @@
 //! ```
 //!
 //! Beyond these signs, every value must be physically plausible ([`LIMITS`]: masses 1e-9 to
-//! 1e9 kg, coordinates and rest lengths within 1e6 m, gravity within 1e4 m/s², stiffness up to
-//! 1e12 N/m, ...), vectors have exactly three components, and a file is at most
-//! [`MAX_FILE_BYTES`] long.
+//! 1e9 kg, coordinates and rest lengths within 1e6 m, gravity within 1e4 m/s², stiffness 1e-9
+//! to 1e12 N/m, ...), vectors have exactly three components, a file is at most
+//! [`MAX_FILE_BYTES`] long, it has nodes, and no spring starts crushed to (nearly) nothing
+//! ([`crate::scene::check_geometry`]). These are refused here, with the line, for every
+//! solver; what only some solvers refuse (spring damping, drag, a ground) is theirs.
 //!
 //! Nodes and springs may equally be written as arrays of inline tables
 //! (`nodes = [{ mass = 1.0, position = [0, 0, 0], fixed = true }, ...]`).
@@ -44,6 +46,8 @@
 
 use crate::error::{require_non_negative, require_within, Error, Result};
 use crate::particles::{Drag, Ground, ParticleSystem, Particles};
+use crate::paths::{is_named_pipe, read_named_pipe, FIFO_PATIENCE};
+use crate::scene::check_geometry;
 use crate::system::{MassSpringSystem, Node, Spring, Vec3};
 use serde::Deserialize;
 use std::io::Read;
@@ -114,8 +118,9 @@ pub const LIMITS: Limits = Limits {
         max: 1e6,
         unit: "m",
     },
+    // A spring of stiffness 0 is no spring: refused here, with its line, for every solver.
     stiffness: Plausible {
-        min: 0.0,
+        min: 1e-9,
         max: 1e12,
         unit: "N/m",
     },
@@ -212,9 +217,21 @@ impl SceneFile {
 pub fn load(path: &Path) -> Result<SceneFile> {
     let fail = |e: String| Error::Input(format!("scene file {}: {e}", path.display()));
     let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-        .map_err(|e| fail(e.to_string()))?;
+    if is_named_pipe(path) {
+        // A pipe nobody writes to is refused after a short wait instead of blocking silently.
+        bytes = read_named_pipe(path, FIFO_PATIENCE, MAX_FILE_BYTES)
+            .map_err(|e| fail(e.to_string()))?
+            .ok_or_else(|| {
+                fail(format!(
+                    "a named pipe with a writer: none opened it within {} s",
+                    FIFO_PATIENCE.as_secs_f64()
+                ))
+            })?;
+    } else {
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(|e| fail(e.to_string()))?;
+    }
     if bytes.len() as u64 > MAX_FILE_BYTES {
         return Err(fail(format!(
             "longer than {} MiB, the limit of a scene file",
@@ -346,6 +363,13 @@ impl RawScene {
 
 /// Checks the values of the file against [`LIMITS`], naming the first one out of range.
 fn check_plausible(raw: &RawScene) -> Result<()> {
+    if raw.nodes.is_empty() {
+        return Err(Error::invalid(
+            "nodes",
+            "no nodes",
+            "at least one [[nodes]] entry that is not fixed",
+        ));
+    }
     check_components("gravity", raw.gravity.get_ref().0, &LIMITS.gravity)?;
     for (i, n) in raw.nodes.iter().enumerate() {
         let n = n.get_ref();
@@ -437,6 +461,7 @@ fn build(raw: &RawScene) -> Result<SceneFile> {
         })
         .collect();
     let system = MassSpringSystem::new(nodes, springs, Vec3::from(raw.gravity.get_ref().0))?;
+    check_geometry(&system)?;
     let forces = match &raw.forces {
         None => Forces::default(),
         Some(f) => {

@@ -241,8 +241,9 @@ fn stale_runs_are_cleaned_and_a_second_writer_is_refused() {
     let out = scratch("lock");
     write_report(&out, &report("one", &["REPORT.md"])).unwrap();
     let parent = out.parent().unwrap();
-    std::fs::create_dir_all(parent.join(".out.tmp-1-2/data")).unwrap();
-    std::fs::create_dir_all(parent.join(".out.old-3-4")).unwrap();
+    // The journal's own names: `tmp-<pid>-<nanoseconds>`, `old-<pid>-<nanoseconds>`.
+    std::fs::create_dir_all(parent.join(".out.tmp-4242-1767225600123456789/data")).unwrap();
+    std::fs::create_dir_all(parent.join(".out.old-4243-1767225600123456790")).unwrap();
     let first = ReportTarget::open(&out).unwrap();
     assert_eq!(first.notes().len(), 2, "{:?}", first.notes());
     let e = ReportTarget::open(&out).unwrap_err().to_string();
@@ -278,7 +279,8 @@ fn report_out_dot_in_the_repository_refuses_and_deletes_nothing() {
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    // Refused before anything runs: bad input, exit 2.
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
         stderr.contains("is not empty and has no MANIFEST"),
         "{stderr}"
@@ -369,4 +371,346 @@ fn an_output_path_that_is_a_file_is_refused_and_kept() {
         .to_string();
     assert!(e.contains("is not a directory"), "{e}");
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "not a report");
+}
+
+// Issue 27: ownership that cannot be forged by accident, journal names in their exact shape,
+// mount points and the lock, each a case of `shared/docs/reliability-cases.md` ([n]).
+
+mod sandbox;
+use sandbox::{as_nobody, in_mount_namespace, quoted, run_within, shared_scratch, tree};
+use std::time::Duration;
+
+/// The fixture runs of the real binary: well under a second each.
+const QUICK_RUN: Duration = Duration::from_secs(20);
+
+fn report_in(dir: &Path, args: &[&str]) -> std::process::Output {
+    run_within(
+        Command::new(env!("CARGO_BIN_EXE_report"))
+            .args(args)
+            .current_dir(dir),
+        QUICK_RUN,
+        &format!("report {args:?}"),
+    )
+}
+
+fn err(output: &std::process::Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// [1] A Perl-style tree whose `MANIFEST` lists its own files: `report --out DIR` and
+/// `report --out .` refuse it before anything runs (exit 2), and the directory and its parent
+/// are byte-identical afterwards (not even a lock file beside it).
+#[test]
+fn a_foreign_manifest_is_refused_and_the_directory_left_byte_identical() {
+    let out = scratch("foreign-manifest");
+    std::fs::create_dir_all(out.join("lib")).unwrap();
+    std::fs::write(out.join(MANIFEST), "README\nMakefile.PL\nlib/Foo.pm\n").unwrap();
+    std::fs::write(out.join("README"), "mine").unwrap();
+    std::fs::write(out.join("Makefile.PL"), "mine").unwrap();
+    std::fs::write(out.join("lib/Foo.pm"), "package Foo;").unwrap();
+    let parent = out.parent().unwrap().to_path_buf();
+    let before = tree(&parent);
+    for (cwd, arg) in [(&parent, out.to_str().unwrap()), (&out, ".")] {
+        let output = report_in(cwd, &["--out", arg, "--fixture", "A"]);
+        let e = err(&output);
+        assert_eq!(output.status.code(), Some(2), "--out {arg}: {e}");
+        assert!(
+            e.contains("not a report this program wrote") && e.contains("nothing was changed"),
+            "{e}"
+        );
+        assert_eq!(tree(&parent), before, "--out {arg}");
+    }
+    // The library refuses it the same way.
+    let e = write_report(&out, &report("x", &["REPORT.md"]))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not a report this program wrote"), "{e}");
+    assert_eq!(tree(&parent), before);
+}
+
+/// [1] A manifest with the report's header owns only regular files inside the directory: one
+/// that lists a directory or a symbolic link is not the report's and is refused untouched.
+#[test]
+fn a_manifest_listing_a_directory_or_a_link_is_refused() {
+    for (name, listed) in [("lists-dir", "lib"), ("lists-link", "link")] {
+        let out = scratch(name);
+        write_report(&out, &report("one", &["REPORT.md"])).unwrap();
+        let manifest = std::fs::read_to_string(out.join(MANIFEST)).unwrap();
+        std::fs::write(out.join(MANIFEST), format!("{manifest}{listed}\n")).unwrap();
+        std::fs::create_dir_all(out.join("lib")).unwrap();
+        std::fs::write(out.join("lib/Foo.pm"), "package Foo;").unwrap();
+        std::os::unix::fs::symlink("lib/Foo.pm", out.join("link")).unwrap();
+        let parent = out.parent().unwrap().to_path_buf();
+        let before = tree(&parent);
+        let e = write_report(&out, &report("two", &["REPORT.md"]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(listed) && e.contains("not a regular file"),
+            "{e}"
+        );
+        assert_eq!(tree(&parent), before, "{name}");
+    }
+}
+
+/// [2] Entries beside the output whose names only start like the journal's (a user's
+/// `.out.old-2024-backup/`, `.out.tmp-notes.txt`, `.out.tmp-1-2`) are left alone by a run.
+#[test]
+fn entries_beside_the_output_named_like_the_journal_are_left_alone() {
+    let out = scratch("journal-names");
+    let parent = out.parent().unwrap().to_path_buf();
+    assert!(report_in(&parent, &["--out", "out", "--fixture", "A"])
+        .status
+        .success());
+    std::fs::create_dir(parent.join(".out.old-2024-backup")).unwrap();
+    std::fs::write(parent.join(".out.old-2024-backup/REPORT.md"), "mine").unwrap();
+    std::fs::write(parent.join(".out.tmp-notes.txt"), "notes").unwrap();
+    std::fs::create_dir(parent.join(".out.tmp-1-2")).unwrap();
+    std::fs::write(parent.join(".out.tmp-1-2/keep"), "mine").unwrap();
+    let users = |parent: &Path| {
+        let mut t = tree(parent);
+        t.retain(|p, _| p.to_string_lossy().starts_with(".out.") && !p.ends_with(".out.lock"));
+        t
+    };
+    let before = users(&parent);
+    let output = report_in(&parent, &["--out", "out", "--fixture", "B"]);
+    assert!(output.status.success(), "{}", err(&output));
+    assert!(!err(&output).contains("removed"), "{}", err(&output));
+    assert_eq!(users(&parent), before);
+    assert_eq!(fixture_tag(&out).as_deref(), Some("B"));
+}
+
+/// [2] With the output missing, a user's `.out.old-mine` is not taken for the previous report:
+/// it stays where it is and a new report is written.
+#[test]
+fn a_user_backup_beside_a_missing_output_is_not_moved_into_place() {
+    let out = scratch("backup-missing-output");
+    let parent = out.parent().unwrap().to_path_buf();
+    std::fs::create_dir_all(parent.join(".out.old-mine/data")).unwrap();
+    std::fs::write(parent.join(".out.old-mine/thesis.tex"), "x").unwrap();
+    let before = tree(&parent.join(".out.old-mine"));
+    let output = report_in(&parent, &["--out", "out", "--fixture", "A"]);
+    assert!(output.status.success(), "{}", err(&output));
+    assert_eq!(tree(&parent.join(".out.old-mine")), before);
+    assert_eq!(fixture_tag(&out).as_deref(), Some("A"));
+}
+
+/// [3] A file system mounted inside the report directory is refused before the run: its files
+/// stay in it and the directory is unchanged (in a private mount namespace).
+#[test]
+fn a_mount_inside_the_report_is_refused_and_its_files_kept() {
+    let out = scratch("mount-inside");
+    let base = out.parent().unwrap().to_path_buf();
+    let ext = base.join("ext");
+    std::fs::create_dir(&ext).unwrap();
+    std::fs::write(ext.join("precious.txt"), "precious").unwrap();
+    assert!(report_in(&base, &["--out", "out", "--fixture", "A"])
+        .status
+        .success());
+    std::fs::create_dir(out.join("ext")).unwrap();
+    let before = tree(&base);
+    let script = format!(
+        "mount --bind {ext} {inside} && exec {report} --out {out} --fixture B",
+        ext = quoted(&ext),
+        inside = quoted(&out.join("ext")),
+        report = quoted(Path::new(env!("CARGO_BIN_EXE_report"))),
+        out = quoted(&out),
+    );
+    let Some(mut command) = in_mount_namespace(&script) else {
+        return;
+    };
+    let output = run_within(&mut command, QUICK_RUN, "report with a mount inside");
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(e.contains("mount point") && e.contains("ext"), "{e}");
+    assert_eq!(tree(&base), before);
+}
+
+/// [8] The output directory itself a mount point is refused before the run, not after it.
+#[test]
+fn the_output_directory_as_a_mount_point_is_refused_before_the_run() {
+    let out = scratch("mount-output");
+    let base = out.parent().unwrap().to_path_buf();
+    assert!(report_in(&base, &["--out", "out", "--fixture", "A"])
+        .status
+        .success());
+    let before = tree(&base);
+    let script = format!(
+        "mount --bind {out} {out} && exec {report} --out {out} --fixture B",
+        report = quoted(Path::new(env!("CARGO_BIN_EXE_report"))),
+        out = quoted(&out),
+    );
+    let Some(mut command) = in_mount_namespace(&script) else {
+        return;
+    };
+    let output = run_within(&mut command, QUICK_RUN, "report --out a mount point");
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(e.contains("mount point"), "{e}");
+    assert_eq!(tree(&base), before);
+}
+
+/// [3] The clean-up of a crashed run's staging directory never crosses into a file system
+/// mounted inside it: the mounted files survive and the run says what it left.
+#[test]
+fn clean_up_never_crosses_into_a_mounted_file_system() {
+    let out = scratch("cleanup-mount");
+    let base = out.parent().unwrap().to_path_buf();
+    let staging = base.join(".out.tmp-4242-1767225600123456789");
+    std::fs::create_dir_all(staging.join("mnt")).unwrap();
+    let script = format!(
+        "mount -t tmpfs none {mnt} && echo precious > {mnt}/p.txt && \
+         {report} --out {out} --fixture B; echo \"status=$?\"; cat {mnt}/p.txt",
+        mnt = quoted(&staging.join("mnt")),
+        report = quoted(Path::new(env!("CARGO_BIN_EXE_report"))),
+        out = quoted(&out),
+    );
+    let Some(mut command) = in_mount_namespace(&script) else {
+        return;
+    };
+    let output = run_within(
+        &mut command,
+        QUICK_RUN,
+        "report with a mount in its leftovers",
+    );
+    let (o, e) = (String::from_utf8_lossy(&output.stdout), err(&output));
+    assert!(
+        o.contains("precious"),
+        "the mounted file was deleted: {o}\n{e}"
+    );
+    assert!(e.contains("mount"), "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+}
+
+/// [5] A symbolic link planted as the lock file is refused (exit 2): nothing is created at its
+/// target.
+#[test]
+fn a_lock_that_is_a_symlink_is_refused_and_its_target_not_created() {
+    let out = scratch("lock-symlink");
+    let base = out.parent().unwrap().to_path_buf();
+    let victim = base.join("victim-created");
+    std::os::unix::fs::symlink(&victim, base.join(".out.lock")).unwrap();
+    let output = report_in(&base, &["--out", "out", "--fixture", "T"]);
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains(".out.lock") && e.contains("not a regular file"),
+        "{e}"
+    );
+    assert!(!victim.exists(), "the lock link's target was created");
+    assert!(!out.exists());
+}
+
+/// [5] A FIFO under the lock's name is refused at once with a named error, not waited on.
+#[test]
+fn a_lock_that_is_a_fifo_is_refused_at_once() {
+    use rustix::fs::{mknodat, FileType, Mode, CWD};
+    let out = scratch("lock-fifo");
+    let base = out.parent().unwrap().to_path_buf();
+    mknodat(
+        CWD,
+        base.join(".out.lock"),
+        FileType::Fifo,
+        Mode::from_raw_mode(0o600),
+        0,
+    )
+    .unwrap();
+    let output = report_in(&base, &["--out", "out", "--fixture", "T"]);
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains(".out.lock") && e.contains("not a regular file"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
+/// [14] A lock file left by root does not stop another user: the lock is taken on a descriptor
+/// opened for reading (run as nobody in a sticky, world-writable directory).
+#[test]
+fn a_lock_left_by_root_does_not_stop_another_user() {
+    use std::os::unix::fs::PermissionsExt;
+    let base = shared_scratch("lock-root");
+    let lock = base.join(".out.lock");
+    std::fs::write(&lock, "").unwrap();
+    std::fs::set_permissions(&lock, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let out = base.join("out");
+    let Some(mut command) = as_nobody(
+        env!("CARGO_BIN_EXE_report"),
+        &["--out", out.to_str().unwrap(), "--fixture", "A"],
+    ) else {
+        return;
+    };
+    let output = run_within(&mut command, QUICK_RUN, "report as nobody");
+    assert!(output.status.success(), "{}", err(&output));
+    assert_eq!(fixture_tag(&out).as_deref(), Some("A"));
+    std::fs::remove_dir_all(&base).unwrap();
+}
+
+/// [14] `--tables` out of range is bad input, exit 2, as clap's own errors are.
+#[test]
+fn report_tables_out_of_range_exit_2_like_every_bad_option() {
+    let base = scratch("tables");
+    for tables in ["0", "8", "256"] {
+        let output = report_in(
+            base.parent().unwrap(),
+            &["--out", "out", "--tables", tables],
+        );
+        let e = err(&output);
+        assert_eq!(output.status.code(), Some(2), "--tables {tables}: {e}");
+        assert!(e.contains("--tables"), "{e}");
+    }
+    assert!(!base.exists(), "a refused run wrote its output");
+}
+
+/// [14] `--out a/b/c/report` with missing parents is refused, naming the missing directory,
+/// and creates nothing.
+#[test]
+fn an_output_whose_parent_is_missing_is_refused_and_creates_nothing() {
+    let out = scratch("missing-parents");
+    let base = out.parent().unwrap().to_path_buf();
+    let before = tree(&base);
+    let output = report_in(&base, &["--out", "a/b/c/report", "--fixture", "A"]);
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(e.contains("a/b/c") && e.contains("does not exist"), "{e}");
+    assert_eq!(tree(&base), before);
+}
+
+/// The README's promises about files each name their test: every test named in its section
+/// "What the tools promise about files" exists, and the section names at least the tests of
+/// this issue's cases.
+#[test]
+fn every_promise_about_files_in_the_readme_names_a_test_that_exists() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let start = readme
+        .find("## What the tools promise about files")
+        .expect("the README has the section");
+    let section = &readme[start..];
+    let section = &section[..section[3..].find("\n## ").map_or(section.len(), |e| e + 3)];
+    let mut sources = String::new();
+    for entry in std::fs::read_dir(root.join("tests")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "rs") {
+            sources += &std::fs::read_to_string(path).unwrap();
+        }
+    }
+    let named: Vec<&str> = section
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|w| {
+            w.matches('_').count() >= 3
+                && w.chars()
+                    .all(|c| c.is_ascii_lowercase() || c == '_' || c.is_ascii_digit())
+        })
+        .collect();
+    assert!(named.len() >= 30, "{named:?}");
+    for test in named {
+        assert!(
+            sources.contains(&format!("fn {test}()")),
+            "the README names {test}, which is no test"
+        );
+    }
 }

@@ -13,6 +13,7 @@ use mass_spring_solvers::work_precision::{
 use std::process::Command;
 
 mod figure_check;
+mod sandbox;
 
 fn timing(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_timing"))
@@ -37,10 +38,14 @@ fn bad_input_is_named() {
     let (code, _, err) = timing(&["--point", "fast_mass_spring", "ten"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--point N"), "{err}");
-    for n in ["1", "2", "100000000"] {
+    // [13] N has a range: the study's sizes (3000 aborted on a 4 GB limit after 14 s).
+    for n in ["1", "2", "321", "3000", "100000000"] {
         let (code, _, err) = timing(&["--point", "fast_mass_spring", n]);
         assert_eq!(code, 2, "{err}");
-        assert!(err.contains("sheet.nodes_per_side"), "{err}");
+        assert!(
+            err.contains("--point N") && err.contains("from 3 to 320"),
+            "{err}"
+        );
     }
     let dir = std::env::temp_dir().join(format!("timing-cli-{}", std::process::id()));
     let (code, _, err) = timing(&["--max-side", "5", "--out", dir.to_str().unwrap()]);
@@ -273,4 +278,115 @@ fn a_quick_run_writes_the_wall_time_figure_and_tables() {
         "--quick runs no scaling study"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+// Issue 27, `shared/docs/reliability-cases.md` [13]: `--out` settled before the measurements,
+// the files written atomically and all or none, never through a symbolic link.
+
+use sandbox::{in_mount_namespace, quoted, run_within};
+use std::path::Path;
+use std::time::Duration;
+
+/// A quick run takes about a second.
+const QUICK_RUN: Duration = Duration::from_secs(60);
+
+/// What `timing` prints while it measures: absent when it refused before measuring.
+const MEASURING: &str = "work-precision errors";
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("timing-i27-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// [13] A read-only `--out` (a read-only bind mount, in a private mount namespace) is refused
+/// before anything is measured (exit 2).
+#[test]
+fn a_read_only_out_is_refused_before_measuring() {
+    let dir = scratch("read-only");
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let script = format!(
+        "mount --bind {out} {out} && mount -o remount,bind,ro {out} && exec {timing} --quick \
+         --out {out}",
+        out = quoted(&out),
+        timing = quoted(Path::new(env!("CARGO_BIN_EXE_timing"))),
+    );
+    let Some(mut command) = in_mount_namespace(&script) else {
+        return;
+    };
+    let output = run_within(&mut command, QUICK_RUN, "timing on a read-only --out");
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{err}");
+    assert!(err.contains("--out") && err.contains("out"), "{err}");
+    assert!(!err.contains(MEASURING), "it measured first: {err}");
+}
+
+/// [13] A full disk (a 12 KiB tmpfs) fails the run (exit 1, an I/O failure, not bad input)
+/// and leaves the previous output whole: no file replaced, none truncated, nothing beside them.
+#[test]
+fn a_full_disk_leaves_the_previous_output_whole() {
+    let dir = scratch("full-disk");
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let script = format!(
+        "mount -t tmpfs -o size=12k none {out} && echo old > {out}/TIMING.md && \
+         echo old > {out}/work_precision_wall.csv && {timing} --quick --out {out}; \
+         echo \"status=$?\"; for f in {out}/* {out}/.[!.]*; do [ -e \"$f\" ] && \
+         echo \"== $(basename \"$f\"): $(cat \"$f\")\"; done",
+        out = quoted(&out),
+        timing = quoted(Path::new(env!("CARGO_BIN_EXE_timing"))),
+    );
+    let Some(mut command) = in_mount_namespace(&script) else {
+        return;
+    };
+    let output = run_within(&mut command, QUICK_RUN, "timing on a full disk");
+    let (o, err) = (
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr),
+    );
+    assert!(o.contains("status=1"), "{o}\n{err}");
+    assert!(err.contains("No space left on device"), "{err}");
+    let listing: Vec<&str> = o.lines().filter(|l| l.starts_with("== ")).collect();
+    assert_eq!(
+        listing,
+        ["== TIMING.md: old", "== work_precision_wall.csv: old"],
+        "{o}"
+    );
+}
+
+/// [13] A symbolic link named `TIMING.md` inside `--out` is refused before the measurements
+/// (exit 2) and the file it points to is kept.
+#[test]
+fn a_symlinked_output_file_is_refused_and_its_target_kept() {
+    let dir = scratch("symlink");
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(dir.join("notes.txt"), "my notes").unwrap();
+    std::os::unix::fs::symlink("../notes.txt", out.join("TIMING.md")).unwrap();
+    let output = run_within(
+        Command::new(env!("CARGO_BIN_EXE_timing")).args([
+            "--quick",
+            "--out",
+            out.to_str().unwrap(),
+        ]),
+        QUICK_RUN,
+        "timing with a symlinked TIMING.md",
+    );
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("TIMING.md") && err.contains("symbolic link"),
+        "{err}"
+    );
+    assert!(!err.contains(MEASURING), "it measured first: {err}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("notes.txt")).unwrap(),
+        "my notes"
+    );
+    assert!(std::fs::symlink_metadata(out.join("TIMING.md"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
 }

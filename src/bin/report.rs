@@ -20,7 +20,7 @@ use mass_spring_solvers::report::sheet::SheetChapter;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
 use mass_spring_solvers::report::work_precision::WorkPrecisionChapter;
 use mass_spring_solvers::report::{crate_root, render, repository_containing, ReportData, Sources};
-use mass_spring_solvers::{Error, Result};
+use mass_spring_solvers::Error;
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -41,9 +41,13 @@ const FIXTURE_FILES: usize = 400;
 /// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) and the tutorial's chapter
 /// into `report/`.
 ///
-/// The output directory is replaced as a whole and atomically; it must be new, empty, or a
-/// report this program wrote (it has a MANIFEST). Files in it that the report did not write
-/// are kept. One run at a time per directory (a lock file beside it).
+/// The output directory is replaced as a whole and atomically; it must be new (in an existing
+/// directory), empty, or a report this program wrote (its MANIFEST is the one report writes),
+/// and neither a mount point nor holding one. Files in it that the report did not write are
+/// kept. One run at a time per directory (a lock file beside it).
+///
+/// Exit status: 0 success; 1 the run failed; 2 bad input (an option, or an output directory
+/// refused before anything runs, and then nothing was changed).
 #[derive(Parser, Debug)]
 #[command(version)]
 struct Args {
@@ -52,7 +56,7 @@ struct Args {
     out: Option<PathBuf>,
     /// Run only the rows of these tables (comma-separated, 1-7) for a quick partial report;
     /// the report then says which solvers were not run. Default: all 56 rows.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u8).range(1..=7))]
     tables: Vec<u8>,
     /// Tests only: write a synthetic report whose files name TAG instead of running anything.
     #[arg(long, value_name = "TAG", hide = true)]
@@ -73,12 +77,21 @@ fn progress(label: &'static str) -> impl Fn(usize, usize) + Sync {
     }
 }
 
-fn run(args: Args) -> Result<String> {
+/// Why `report` stops: bad input, found before anything runs (exit 2), or a failed run (1).
+enum Failure {
+    Input(Error),
+    Run(Error),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Run(e)
+    }
+}
+
+fn run(args: Args) -> Result<String, Failure> {
     let start = Instant::now();
     let root = crate_root();
-    if let Some(bad) = args.tables.iter().find(|t| !(1..=7).contains(*t)) {
-        return Err(Error::invalid("--tables", bad, "table numbers 1 to 7"));
-    }
     let out = match args.out {
         Some(out) => out,
         None => {
@@ -86,15 +99,15 @@ fn run(args: Args) -> Result<String> {
                 .map_err(|e| Error::Input(format!("reading the current directory: {e}")))?;
             repository_containing(&cwd)
                 .ok_or_else(|| {
-                    Error::Input(format!(
+                    Failure::Input(Error::Input(format!(
                         "{} is not inside the mass-spring-solvers repository: give --out DIR",
                         cwd.display()
-                    ))
+                    )))
                 })?
                 .join("report")
         }
     };
-    let target = ReportTarget::open(&out)?;
+    let target = ReportTarget::open(&out).map_err(Failure::Input)?;
     let out = target.dir().to_path_buf();
     for note in target.notes() {
         eprintln!("report: {note}");
@@ -191,7 +204,11 @@ fn main() -> ExitCode {
             println!("{summary}");
             ExitCode::SUCCESS
         }
-        Err(e) => {
+        Err(Failure::Input(e)) => {
+            eprintln!("report: {e}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Run(e)) => {
             eprintln!("report: {e}");
             ExitCode::FAILURE
         }

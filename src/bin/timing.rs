@@ -24,7 +24,11 @@
 //!
 //! Writes `report/timing/` (or `--out DIR`): `TIMING.md`, `scaling.csv`, `bandwidth.csv`,
 //! `scaling.svg`, `work_precision_wall.csv`, `work_precision_<case>.svg` and `.csv`, with the
-//! machine, the toolchain and the commit. Outside the byte-identical report: times differ from
+//! machine, the toolchain and the commit. Every output file is checked and opened before the
+//! measurements ([`OutputFile`]: a symbolic link among them is refused, a directory this user
+//! may not write too) and replaced atomically after them, all or none: a full disk leaves the
+//! previous files whole. Exit status 2 for bad input (found before anything is measured), 1
+//! for a failure after. Outside the byte-identical report: times differ from
 //! run to run. `--quick` skips the scaling study and times the work-precision configurations
 //! of the first case at its two largest time steps only (a second; for the tests).
 
@@ -35,9 +39,11 @@ use mass_spring_solvers::beyond::kendall_tau;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
+use mass_spring_solvers::output_file::{Links, OutputFile};
 use mass_spring_solvers::registry::{Builder, SolverId, SolverSpec};
 use mass_spring_solvers::report::figures::{colour, solver_line};
 use mass_spring_solvers::report::plot::{self, Axis, Chart, LegendPlace, Marker, Panel, Series};
+use mass_spring_solvers::report::work_precision::stem;
 use mass_spring_solvers::report::work_precision_wall::{
     self as wall_figures, case_section, rows_of, Timed,
 };
@@ -631,38 +637,26 @@ fn run_child(exe: &Path, solver: &Solver, n: usize) -> Result<Point> {
     })
 }
 
-fn run(args: Args) -> Result<String> {
-    if let Some(point) = args.point {
-        let all = solvers();
-        let solver = all.iter().find(|s| s.id.id() == point[0]).ok_or_else(|| {
-            let ids: Vec<&str> = all.iter().map(|s| s.id.id()).collect();
-            Error::invalid("--point SOLVER", &point[0], &ids.join(", "))
-        })?;
-        let n: usize = point[1]
-            .parse()
-            .map_err(|_| Error::invalid("--point N", &point[1], "an integer >= 3"))?;
-        return Ok(csv_row(&measure(solver, n)?));
+/// Why `timing` stops: bad input, found before anything is measured (exit 2), or a failure of
+/// the measurements or of writing their files (exit 1).
+enum Failure {
+    Input(Error),
+    Run(Error),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Run(e)
     }
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let out = args.out.unwrap_or_else(|| root.join("report/timing"));
-    let sides: Vec<usize> = SIDES.into_iter().filter(|&n| n <= args.max_side).collect();
-    if sides.is_empty() {
-        return Err(Error::invalid(
-            "--max-side",
-            args.max_side,
-            "an integer >= 10",
-        ));
-    }
-    std::fs::create_dir_all(&out)
-        .map_err(|e| Error::Input(format!("cannot create {}: {e}", out.display())))?;
-    let started = Instant::now();
-    let load_before = load_average();
-    let scaling = if args.quick {
-        None
-    } else {
-        Some(scaling_study(&sides)?)
-    };
-    let (configurations, batch_seconds) = if args.quick {
+}
+
+/// The largest n of the study, and of `--point`'s N.
+const MAX_SIDE: usize = SIDES[SIDES.len() - 1];
+
+/// The work-precision configurations to time, and the least length of a timed batch, s:
+/// `--quick`, the first case at its two largest time steps in batches of 1 ms.
+fn configurations(quick: bool) -> (Vec<Configuration>, f64) {
+    if quick {
         let case = Case::ALL[0];
         let dts = &case.dts()[..2];
         let points = sweep_points(case)
@@ -675,6 +669,76 @@ fn run(args: Args) -> Result<String> {
         // interruption by the scheduler would be the measurement: batches, as the scaling's.
         let points = Case::ALL.into_iter().flat_map(sweep_points).collect();
         (points, BATCH_SECONDS)
+    }
+}
+
+/// Opens every file of the output directory before the measurements (see the module
+/// documentation), creating the directory if it is missing.
+fn open_outputs(out: &Path, names: &[String]) -> Result<Vec<(String, OutputFile)>> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| Error::Input(format!("cannot create {}: {e}", out.display())))?;
+    names
+        .iter()
+        .map(|name| {
+            Ok((
+                name.clone(),
+                OutputFile::open("--out", &out.join(name), Links::Refuse)?,
+            ))
+        })
+        .collect()
+}
+
+fn run(args: Args) -> std::result::Result<String, Failure> {
+    if let Some(point) = args.point {
+        let all = solvers();
+        let solver = all.iter().find(|s| s.id.id() == point[0]).ok_or_else(|| {
+            let ids: Vec<&str> = all.iter().map(|s| s.id.id()).collect();
+            Failure::Input(Error::invalid("--point SOLVER", &point[0], &ids.join(", ")))
+        })?;
+        let n: usize = point[1]
+            .parse()
+            .ok()
+            .filter(|n| (3..=MAX_SIDE).contains(n))
+            .ok_or_else(|| {
+                Failure::Input(Error::invalid(
+                    "--point N",
+                    &point[1],
+                    &format!("an integer from 3 to {MAX_SIDE}, the study's sizes"),
+                ))
+            })?;
+        return Ok(csv_row(&measure(solver, n)?));
+    }
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let out = args.out.unwrap_or_else(|| root.join("report/timing"));
+    let sides: Vec<usize> = SIDES.into_iter().filter(|&n| n <= args.max_side).collect();
+    if sides.is_empty() {
+        return Err(Failure::Input(Error::invalid(
+            "--max-side",
+            args.max_side,
+            "an integer >= 10",
+        )));
+    }
+    let (configurations, batch_seconds) = configurations(args.quick);
+    let mut names = vec![
+        "TIMING.md".to_string(),
+        "work_precision_wall.csv".to_string(),
+    ];
+    for case in Case::ALL {
+        if configurations.iter().any(|p| p.case == case) {
+            names.push(format!("{}.svg", stem(case)));
+            names.push(format!("{}.csv", stem(case)));
+        }
+    }
+    if !args.quick {
+        names.extend(["scaling.csv", "bandwidth.csv", "scaling.svg"].map(String::from));
+    }
+    let mut outputs = open_outputs(&out, &names).map_err(Failure::Input)?;
+    let started = Instant::now();
+    let load_before = load_average();
+    let scaling = if args.quick {
+        None
+    } else {
+        Some(scaling_study(&sides)?)
     };
     let (timed, diverged) = work_precision_wall(&configurations, batch_seconds)?;
     let load_after = load_average();
@@ -740,11 +804,20 @@ fn run(args: Args) -> Result<String> {
         files.push(("bandwidth.csv".into(), bw_csv));
         files.push(("scaling.svg".into(), figure(&study.points)?));
     }
+    // A file opened for a case none of whose configurations finished is not written: its
+    // previous version stays.
+    let mut written = Vec::new();
     for (name, text) in &files {
-        let path = out.join(name);
-        std::fs::write(&path, text)
-            .map_err(|e| Error::Input(format!("cannot write {}: {e}", path.display())))?;
+        let at = outputs.iter().position(|(n, _)| n == name).ok_or_else(|| {
+            Error::Input(format!("{name} was not opened before the measurements"))
+        })?;
+        let (_, mut file) = outputs.swap_remove(at);
+        file.writer()
+            .write_all(text.as_bytes())
+            .map_err(|e| Error::Input(format!("--out {}: {e}", out.join(name).display())))?;
+        written.push(file);
     }
+    OutputFile::finish_all(written)?;
     let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
     Ok(format!(
         "wrote {} to {} in {:.0} s",
@@ -1196,9 +1269,13 @@ fn main() -> ExitCode {
             println!("{message}");
             ExitCode::SUCCESS
         }
-        Err(e) => {
+        Err(Failure::Input(e)) => {
             eprintln!("timing: {e}");
             ExitCode::from(2)
+        }
+        Err(Failure::Run(e)) => {
+            eprintln!("timing: {e}");
+            ExitCode::FAILURE
         }
     }
 }

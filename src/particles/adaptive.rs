@@ -110,6 +110,8 @@ pub struct AdaptiveStepper {
     stage: State,
     trial: State,
     stats: AdaptiveStats,
+    /// The most steps (accepted or rejected) the stepper may attempt: a work budget.
+    attempt_limit: Option<u64>,
 }
 
 impl AdaptiveStepper {
@@ -131,7 +133,16 @@ impl AdaptiveStepper {
             stage: zeros.clone(),
             trial: zeros,
             stats: AdaptiveStats::default(),
+            attempt_limit: None,
         })
+    }
+
+    /// This stepper failing, when it would attempt more than `limit` steps in all, with an error
+    /// saying when (a work budget: the caller's estimate of the steps can be passed at will
+    /// by a tolerance the scene makes expensive); `None`: no limit.
+    pub fn with_attempt_limit(mut self, limit: Option<u64>) -> Self {
+        self.attempt_limit = limit;
+        self
     }
 
     /// The particle system being advanced.
@@ -261,6 +272,17 @@ impl AdaptiveStepper {
                         self.tolerance
                     ),
                 });
+            }
+            if let Some(limit) = self.attempt_limit {
+                let s = &self.stats;
+                if s.accepted + s.rejected_error + s.rejected_contact >= limit {
+                    return Err(Error::Input(format!(
+                        "the adaptive steps reached their work budget of {limit} attempted \
+                         steps (accepted {}, rejected {}, the last of {h:e} s)",
+                        s.accepted,
+                        s.rejected_error + s.rejected_contact
+                    )));
+                }
             }
             let err = self.attempt(state, h);
             // A NaN estimate (a non-finite state) is rejected like a too-large one.

@@ -1,13 +1,17 @@
 //! The command line: the options, their checks and the limits of a run.
 
-use crate::scene::scene_name;
+use crate::scene::{scene_name, Model};
 use crate::Failure;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, ValueEnum};
 use mass_spring_solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
-use mass_spring_solvers::error::Error;
+use mass_spring_solvers::budget::{
+    adaptive_steps, available_memory, fastest_rate, memory_bytes, Shape, BASE_BYTES,
+    DOPRI_EVALUATIONS, DOPRI_STABILITY,
+};
+use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::metrics::{StoppingRule, MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::registry::{SolverId, SolverParams, SolverSpec};
 use mass_spring_solvers::scene::THESIS_STIFFNESSES;
 use mass_spring_solvers::scene_file::LIMITS;
 use mass_spring_solvers::solver::{Recording, RunOptions};
@@ -23,11 +27,12 @@ pub(crate) const DEFAULT_ROPE_STIFFNESS: f64 = THESIS_STIFFNESSES[1];
 /// Spring updates (steps × iterations × springs) a run may need unless `--max-work` says
 /// more: about a quarter of an hour of the slowest solver on this machine's kind.
 pub(crate) const DEFAULT_MAX_WORK: f64 = 1e11;
-/// Memory a node may need at most, in bytes, in any scene and solver: the bound of `--nodes`
-/// and of a scene file's node count against the memory available.
-pub(crate) const BYTES_PER_NODE: u64 = 4096;
 /// The memory assumed available where the system does not say (`/proc/meminfo`), in bytes.
-pub(crate) const ASSUMED_MEMORY: u64 = 1 << 32;
+pub(crate) const ASSUMED_MEMORY: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
+/// The largest `--n`: a sheet of 4e6 nodes (the memory estimate may allow fewer).
+pub(crate) const MAX_SHEET_SIDE: i64 = 2000;
+/// The largest `--nodes` (the memory estimate may allow fewer).
+pub(crate) const MAX_ROPE_NODES: i64 = 10_000_000;
 
 pub(crate) const AFTER_HELP: &str = "\
 Output: the number of kinetic-energy peaks (a peak is a step whose KE is above the previous
@@ -50,18 +55,24 @@ Examples:
   mss --scene pendulum --solver rk4 --dt 1e-4 --max-time 10 --positions-csv pendulum.csv
   mss --scene-file scenes/hanging-cloth.toml --solver admm_pd --iterations 20 --ke-csv ke.csv
 
-Output files (--ke-csv, --positions-csv) are checked before the run: a directory, a read-only
-file, a path whose directory is missing or not writable, the scene file, or one file given to
-both options is bad input (exit 2). A new or existing regular file (links followed) is replaced
-only when the run succeeds, and an interrupted run leaves nothing beside it; a path under /dev
-or any other file that is not a regular file (a device, a named pipe) is written in place.
+Output files (--ke-csv, --positions-csv) are checked before the run, by what the path is
+after resolving it: a new path or an existing regular file (links followed), wherever it is,
+is replaced only when the run succeeds, and an interrupted run leaves nothing beside it; a
+descriptor (/dev/stdout, /dev/fd/N) is written through, so `>> log.csv` appends; a character
+device (/dev/null) is written in place, and so is a named pipe once a reader opens it within
+1 s. Bad input (exit 2): a directory or a path ending in /, a name over 255 bytes, a read-only
+file, a path whose directory is missing or not writable, a dangling symbolic link, another
+user's file in a sticky directory, a mounted-over file, a named pipe no reader opens within
+1 s, the scene file, or one file given to both options (a device aside).
 
 Limits (bad input, exit 2, before the run): a run needing more than --max-work spring updates
-(steps × iterations × springs, the reference run's included); more nodes than the available
-memory holds at 4 KiB a node; --dt longer than --max-time; a scene file over 16 MiB; values
-outside the plausible ranges: masses 1e-9 to 1e9 kg, coordinates and rest lengths within 1e6 m,
-velocities within 1e6 m/s, gravity within 1e4 m/s², stiffness up to 1e12 N/m, damping and drag
-up to 1e9 N·s/m.
+(steps × iterations × springs; rk45's adaptive steps estimated from the scene's fastest rate,
+and capped by the same budget while it runs; the reference run's at its own length); a memory
+estimate over --max-memory; --dt longer than --max-time; a scene file over 16 MiB, or a named
+pipe no writer opens within 1 s; values outside the plausible ranges: masses 1e-9 to 1e9 kg,
+coordinates and rest lengths within 1e6 m, velocities within 1e6 m/s, gravity within 1e4 m/s²,
+stiffness 1e-9 to 1e12 N/m, damping and drag up to 1e9 N·s/m; a spring that starts shorter
+than 1e-6 of its rest length.
 
 Exit status: 0 success; 1 the run failed (diverged or a step failed); 2 bad input.";
 
@@ -114,8 +125,9 @@ pub(crate) struct Cli {
     )]
     pub(crate) stop_tolerance: Option<f64>,
 
-    /// rk45 only: error tolerance T (> 0) of each adaptive step, relative to 1 + |component| of
-    /// every position (m) and velocity (m/s); a bounce is located to within T m [default: 1e-6]
+    /// rk45 only: error tolerance T, from 1e-12 to 0.1, of each adaptive step, relative to 1 +
+    /// |component| of every position (m) and velocity (m/s); a bounce is located to within T m
+    /// [default: 1e-6]
     #[arg(
         long,
         value_name = "T",
@@ -172,7 +184,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) window: Option<f64>,
 
-    /// damped_*: mass-proportional Rayleigh damping alpha >= 0, in 1/s [default: 0]
+    /// damped_*: mass-proportional Rayleigh damping alpha, from 0 to 1e6, in 1/s [default: 0]
     #[arg(
         long,
         value_name = "PER_S",
@@ -181,7 +193,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) alpha: Option<f64>,
 
-    /// damped_*: stiffness-proportional Rayleigh damping beta >= 0, in s [default: 0]
+    /// damped_*: stiffness-proportional Rayleigh damping beta, from 0 to 1e3, in s [default: 0]
     #[arg(
         long,
         value_name = "S",
@@ -190,7 +202,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) beta: Option<f64>,
 
-    /// lbfgs: the window m, past (s, y) pairs kept, an integer >= 1 [default: 5]
+    /// lbfgs: the window m, past (s, y) pairs kept, an integer from 1 to 100 [default: 5]
     #[arg(
         long,
         value_name = "M",
@@ -267,7 +279,8 @@ pub(crate) struct Cli {
     )]
     pub(crate) gravity: Option<f64>,
 
-    /// rope: number of nodes, an integer >= 3 (the first and last are fixed) [default: 10]
+    /// rope: number of nodes, an integer from 3 to 10000000 (the first and last are fixed; the
+    /// memory estimate may allow fewer) [default: 10]
     #[arg(
         long,
         value_name = "N",
@@ -276,8 +289,8 @@ pub(crate) struct Cli {
     )]
     pub(crate) nodes: Option<i64>,
 
-    /// sheet: nodes per side n, an integer >= 3 (n² nodes; the four corners are fixed)
-    /// [default: 10]
+    /// sheet: nodes per side n, an integer from 3 to 2000 (n² nodes; the four corners are fixed;
+    /// the memory estimate may allow fewer) [default: 10]
     #[arg(
         long,
         value_name = "N",
@@ -364,6 +377,18 @@ pub(crate) struct Cli {
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_WORK, help_heading = "Limits")]
     pub(crate) max_work: f64,
 
+    /// Refuse, before it starts, a run whose memory estimate is over this many bytes (>= 1e6):
+    /// the solver's peak memory per node, measured on the rope and the sheet (src/budget.rs),
+    /// with a margin [default: the memory available: the least of MemAvailable, the
+    /// address-space limit and the control group's limit]
+    #[arg(
+        long,
+        value_name = "BYTES",
+        allow_hyphen_values = true,
+        help_heading = "Limits"
+    )]
+    pub(crate) max_memory: Option<f64>,
+
     /// With --positions-csv: write the positions every N steps, an integer >= 1 [default: 10]
     #[arg(
         long,
@@ -441,6 +466,8 @@ impl TypedValueParser for SolverParser {
 /// The solver options given on the command line, by their registry name.
 fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 15] {
     let text = |x: Option<f64>| x.map(|x| x.to_string());
+    // As `--solver` reads `-` as `_`, `--first-iterate` reads `_` as `-`.
+    let first_iterate = cli.first_iterate.as_ref().map(|i| i.replace('_', "-"));
     [
         ("tolerance", text(cli.tolerance)),
         ("stiffness_factor", text(cli.stiffness_factor)),
@@ -451,7 +478,7 @@ fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 15] {
         ("alpha", text(cli.alpha)),
         ("beta", text(cli.beta)),
         ("history", text(cli.history)),
-        ("first_iterate", cli.first_iterate.clone()),
+        ("first_iterate", first_iterate),
         ("rho_rule", cli.rho_rule.clone()),
         ("safeguard", cli.safeguard.clone()),
         ("hessian", cli.hessian.clone()),
@@ -559,8 +586,27 @@ pub(crate) fn check(option: &str, value: f64, ok: bool, allowed: &str) -> Result
     if value.is_finite() && ok {
         Ok(value)
     } else {
-        Err(Error::invalid(option, value, allowed).into())
+        Err(Error::invalid(option, shown(value), allowed).into())
     }
+}
+
+/// Rejects an integer outside `min..=max`, naming the option (a size option: bounded before
+/// anything is allocated).
+pub(crate) fn check_range(option: &str, value: i64, min: i64, max: i64) -> Result<usize, Failure> {
+    usize::try_from(value)
+        .ok()
+        .filter(|_| (min..=max).contains(&value))
+        .ok_or_else(|| {
+            Error::invalid(
+                option,
+                value,
+                &format!(
+                    "an integer from {min} to {max}; the memory estimate of the solver may allow \
+                     fewer"
+                ),
+            )
+            .into()
+        })
 }
 
 /// Rejects an integer below `min`, naming the option.
@@ -571,51 +617,98 @@ pub(crate) fn check_count(option: &str, value: i64, min: i64) -> Result<usize, F
         .ok_or_else(|| Error::invalid(option, value, &format!("an integer >= {min}")).into())
 }
 
-/// The memory available to a new process, in bytes (`MemAvailable` on Linux).
-pub(crate) fn available_memory() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
-}
-
-/// Refuses more nodes than the available memory holds at [`BYTES_PER_NODE`], naming `option`.
-pub(crate) fn check_memory(option: &str, nodes: usize) -> Result<(), Failure> {
-    let memory = available_memory().unwrap_or(ASSUMED_MEMORY);
-    let max_nodes = memory / BYTES_PER_NODE;
-    if nodes as u64 <= max_nodes {
+/// Refuses, before it starts, a run whose memory estimate ([`memory_bytes`], the reference
+/// run's added) is over `--max-memory`, or over the memory available when it is not given.
+pub(crate) fn check_memory(cli: &Cli, settings: &Settings, shape: Shape) -> Result<(), Failure> {
+    let id = settings.spec.id;
+    let mut estimate = memory_bytes(id, &settings.spec.params, shape);
+    let mut reference = String::new();
+    if cli.compare_reference {
+        let params = SolverParams::default();
+        estimate += memory_bytes(SolverId::BackwardEuler, &params, shape) - BASE_BYTES;
+        reference = ", with the Backward Euler reference beside it".into();
+    }
+    let (limit, whence) = match cli.max_memory {
+        Some(limit) => (limit, String::new()),
+        None => (
+            available_memory().map_or(ASSUMED_MEMORY, |b| b as f64),
+            " (the default: the memory available to this process)".into(),
+        ),
+    };
+    if estimate <= limit {
         return Ok(());
     }
     Err(Failure::input(format!(
-        "invalid {option}: {nodes} nodes (allowed: at most {max_nodes}, what the {} MiB of \
-         memory available hold at {BYTES_PER_NODE} bytes a node)",
-        memory >> 20
+        "invalid --max-memory: {} bytes{whence} (allowed: at least this run's estimate of \
+         {estimate:.3e} bytes, {:.1} GiB: {id} on {} nodes and {} springs{reference}, at the \
+         peak memory a node measured for it, src/budget.rs); take a smaller scene or a leaner \
+         solver, or raise --max-memory",
+        shown(limit),
+        estimate / (1u64 << 30) as f64,
+        shape.nodes,
+        shape.springs
     )))
 }
 
-/// Refuses, before it starts, a run that needs more than `--max-work` spring updates.
-pub(crate) fn check_work(cli: &Cli, settings: &Settings, springs: usize) -> Result<(), Failure> {
+/// Refuses, before it starts, a run that needs more than `--max-work` spring updates: every
+/// step of the run (rk45's adaptive steps estimated from the scene's fastest rate) and the
+/// reference run of `--compare-reference` at its own stopping rule. Returns the cap on rk45's
+/// attempted steps, the budget left for it, which stops it if the estimate was short.
+pub(crate) fn check_work(
+    cli: &Cli,
+    settings: &Settings,
+    model: &Model,
+) -> Result<Option<u64>, Failure> {
     let max_time = settings.options.stop.max_time;
-    let springs = springs.max(1) as f64;
-    let steps = (max_time / cli.dt).ceil();
-    let mut work = steps * settings.spec.iterations as f64 * springs;
-    let mut parts = format!(
-        "{steps:.3e} steps (--max-time / --dt) × {} iterations × {springs} springs",
-        settings.spec.iterations
-    );
+    let system = model.system();
+    let springs = system.springs().len().max(1) as f64;
+    let rk45 = settings.spec.id == SolverId::Rk45;
+    let (steps, per_step, mut parts) = if rk45 {
+        let steps = adaptive_steps(system, model.drag(), max_time, cli.dt);
+        let parts = format!(
+            "{steps:.3e} adaptive steps (estimated: the scene's fastest rate, {:.3e} 1/s, over \
+             Dormand-Prince's stability bound {DOPRI_STABILITY}, at least one per --dt) × \
+             {DOPRI_EVALUATIONS} force evaluations × {springs} springs",
+            fastest_rate(system, model.drag())
+        );
+        (steps, DOPRI_EVALUATIONS, parts)
+    } else {
+        let steps = (max_time / cli.dt).ceil();
+        let iterations = settings.spec.iterations as f64;
+        let parts = format!(
+            "{steps:.3e} steps (--max-time / --dt) × {iterations} iterations × {springs} springs"
+        );
+        (steps, iterations, parts)
+    };
+    let mut work = steps * per_step * springs;
+    let mut reference_work = 0.0;
     if cli.compare_reference {
-        let reference_steps = (max_time / REFERENCE_DT).ceil();
-        work += reference_steps * REFERENCE_NEWTON_ITERATIONS as f64 * springs;
-        parts += ", and the reference run's";
+        // The reference stops by the thesis's rule: at 3000 s at the latest.
+        let reference_time = RunOptions::default().stop.max_time;
+        let reference_steps = (reference_time / REFERENCE_DT).ceil();
+        reference_work = reference_steps * REFERENCE_NEWTON_ITERATIONS as f64 * springs;
+        work += reference_work;
+        parts += &format!(
+            ", and the reference run's {reference_steps:.3e} steps (up to {} s at dt = {} s) × \
+             {REFERENCE_NEWTON_ITERATIONS} iterations × {springs} springs",
+            shown(reference_time),
+            shown(REFERENCE_DT)
+        );
     }
     if work <= cli.max_work {
-        return Ok(());
+        let attempts = (cli.max_work - reference_work) / (DOPRI_EVALUATIONS * springs);
+        return Ok(rk45.then_some(attempts.floor() as u64));
     }
+    let advice = if rk45 {
+        "rk45's steps are bound by the stiffest spring on the lightest node, whatever its \
+         tolerance: take a softer or heavier scene or a shorter --max-time"
+    } else {
+        "take a larger --dt, a shorter --max-time or fewer --iterations"
+    };
     Err(Failure::input(format!(
         "invalid --max-work: the run needs about {work:.3e} spring updates ({parts}), more than \
-         the budget of {:e}; take a larger --dt, a shorter --max-time or fewer --iterations, or \
-         raise --max-work",
-        cli.max_work
+         the budget of {}; {advice}, or raise --max-work",
+        shown(cli.max_work)
     )))
 }
 
@@ -642,6 +735,9 @@ pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
         cli.max_work >= 1.0,
         "a number >= 1, in spring updates",
     )?;
+    if let Some(m) = cli.max_memory {
+        check("--max-memory", m, m >= 1e6, "a number >= 1e6, in bytes")?;
+    }
     let rope_only = [
         ("--nodes", cli.nodes.is_some()),
         ("--rest-length", cli.rest_length.is_some()),
@@ -677,8 +773,11 @@ pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
     if cli.dt > max_time {
         return Err(Error::invalid(
             "--dt",
-            cli.dt,
-            &format!("at most --max-time ({max_time} s): a longer step is never taken"),
+            shown(cli.dt),
+            &format!(
+                "at most --max-time ({} s): a longer step is never taken",
+                shown(max_time)
+            ),
         )
         .into());
     }

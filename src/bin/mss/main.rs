@@ -16,7 +16,8 @@ use clap::Parser;
 use mass_spring_solvers::backward_euler::{
     BackwardEuler, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS,
 };
-use mass_spring_solvers::error::Error;
+use mass_spring_solvers::budget::DOPRI_EVALUATIONS;
+use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::experiments::reproduces;
 use mass_spring_solvers::output_file::OutputFile;
 use mass_spring_solvers::registry::SolverId;
@@ -75,10 +76,10 @@ impl From<Error> for Failure {
 }
 
 fn run(cli: &Cli) -> Result<(), Failure> {
-    let settings = settings(cli)?;
+    let mut settings = settings(cli)?;
     let scene = scene_name(cli);
-    let model = build_scene(cli)?;
-    check_work(cli, &settings, model.system().springs().len())?;
+    let model = build_scene(cli, &settings)?;
+    settings.spec.params.adaptive_attempts = check_work(cli, &settings, &model)?;
     let mut summary = SceneSummary::new(scene.clone(), model.system());
     let published = published_row(cli, &settings, model.system());
     let reference_system = if cli.compare_reference {
@@ -111,6 +112,19 @@ fn run(cli: &Cli) -> Result<(), Failure> {
         .map_err(|e| match e {
             // The files' fault, not the input's.
             Error::Input(message) if csv.failed => Failure::run(message),
+            // rk45 stopped by its cap: say which budget and what to change.
+            e @ Error::StepFailed { .. } if settings.spec.params.adaptive_attempts.is_some() => {
+                let mut failure = Failure::from(e);
+                if failure.message.contains("work budget") {
+                    failure.message += &format!(
+                        "; --max-work {} allows that many steps of {DOPRI_EVALUATIONS} force \
+                         evaluations over the springs: raise --max-work, loosen --tolerance or \
+                         shorten --max-time",
+                        shown(cli.max_work)
+                    );
+                }
+                failure
+            }
             e => Failure::from(e),
         })
         .and_then(|run| {
@@ -145,9 +159,9 @@ fn run(cli: &Cli) -> Result<(), Failure> {
         .iteration_log()
         .and_then(|log| log.mean_iterations());
 
-    for output in csv.ke.into_iter().chain(csv.positions) {
-        output.finish().map_err(|e| Failure::run(e.to_string()))?;
-    }
+    // Every series written to its end before any replaces its file.
+    OutputFile::finish_all(csv.ke.into_iter().chain(csv.positions).collect())
+        .map_err(|e| Failure::run(e.to_string()))?;
     let report = Report {
         solver: cli.solver.id().to_string(),
         scene: summary,

@@ -1,13 +1,19 @@
 //! The scene of a run and its time stepper.
 
-use crate::args::{check, check_count, check_memory, Cli, SceneArg, DEFAULT_ROPE_STIFFNESS};
+use crate::args::{
+    check, check_memory, check_range, Cli, SceneArg, Settings, DEFAULT_ROPE_STIFFNESS,
+    MAX_ROPE_NODES, MAX_SHEET_SIDE,
+};
 use crate::output::{AppliedForces, GroundSummary};
 use crate::Failure;
+use mass_spring_solvers::budget::Shape;
+use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
 use mass_spring_solvers::particles::ParticleSystem;
 use mass_spring_solvers::registry::{Builder, SolverSpec};
 use mass_spring_solvers::scene::{
-    RopeParams, SheetParams, SHEET_NODES_PER_SIDE, THESIS_GRAVITY, THESIS_NODES,
+    check_geometry, RopeParams, SheetParams, MIN_START_LENGTH_RATIO, SHEET_NODES_PER_SIDE,
+    THESIS_GRAVITY, THESIS_NODES,
 };
 use mass_spring_solvers::scene_file::{self, SceneFile, LIMITS};
 use mass_spring_solvers::solver::TimeStepper;
@@ -28,6 +34,15 @@ impl Model {
             Model::Springs(system) => system,
             Model::File(file) => &file.system,
             Model::Particles(particles) => particles.system(),
+        }
+    }
+
+    /// The viscous drag of a scene file, N·s/m (the built-in scenes' drag is the tutorial's
+    /// force objects', small beside their springs: not counted).
+    pub(crate) fn drag(&self) -> f64 {
+        match self {
+            Model::File(file) => file.forces.drag,
+            _ => 0.0,
         }
     }
 
@@ -68,12 +83,19 @@ pub(crate) fn scene_name(cli: &Cli) -> String {
     }
 }
 
-/// Builds the scene with the stiffness and gravity overrides.
-pub(crate) fn build_scene(cli: &Cli) -> Result<Model, Failure> {
+/// Builds the scene with the stiffness and gravity overrides, once its memory estimate for the
+/// solver is known to fit (from the counts alone for the rope and the sheet, before anything of
+/// their size is allocated).
+pub(crate) fn build_scene(cli: &Cli, settings: &Settings) -> Result<Model, Failure> {
+    let model = build_model(cli, settings)?;
+    check_memory(cli, settings, Shape::of(model.system()))?;
+    Ok(model)
+}
+
+fn build_model(cli: &Cli, settings: &Settings) -> Result<Model, Failure> {
     let g = cli.gravity;
     if let Some(path) = &cli.scene_file {
         let mut file = scene_file::load(path)?;
-        check_memory("--scene-file", file.system.len())?;
         if let Some(k) = cli.stiffness {
             file.system = file.system.with_stiffness(k)?;
         }
@@ -91,10 +113,17 @@ pub(crate) fn build_scene(cli: &Cli) -> Result<Model, Failure> {
         }
         SceneArg::Sheet => {
             let n = match cli.n {
-                Some(n) => check_count("--n", n, 3)?,
+                Some(n) => check_range("--n", n, 3, MAX_SHEET_SIDE)?,
                 None => SHEET_NODES_PER_SIDE,
             };
-            check_memory("--n", n.saturating_mul(n))?;
+            let (nodes, cells) = ((n * n) as u64, ((n - 1) * (n - 1)) as u64);
+            let shape = Shape {
+                nodes,
+                springs: 2 * (nodes - n as u64) + 2 * cells,
+                // Node (i, j) is joined to (i + 1, j + 1): n + 1 apart.
+                chain: n < 12,
+            };
+            check_memory(cli, settings, shape)?;
             let mut sheet = SheetParams::spec(n, k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
             sheet.gravity = g.unwrap_or(THESIS_GRAVITY);
             Model::Springs(sheet.build()?)
@@ -102,10 +131,15 @@ pub(crate) fn build_scene(cli: &Cli) -> Result<Model, Failure> {
         SceneArg::Rope => {
             let mut rope = RopeParams::thesis(k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
             rope.nodes = match cli.nodes {
-                Some(n) => check_count("--nodes", n, 3)?,
+                Some(n) => check_range("--nodes", n, 3, MAX_ROPE_NODES)?,
                 None => THESIS_NODES,
             };
-            check_memory("--nodes", rope.nodes)?;
+            let shape = Shape {
+                nodes: rope.nodes as u64,
+                springs: rope.nodes as u64 - 1,
+                chain: true,
+            };
+            check_memory(cli, settings, shape)?;
             if let Some(l) = cli.rest_length {
                 rope.rest_length = LIMITS.rest_length.check("--rest-length", l)?;
             }
@@ -121,7 +155,19 @@ pub(crate) fn build_scene(cli: &Cli) -> Result<Model, Failure> {
             };
             rope.anchor_right = rope.anchor_left + Vec3::new(span, 0.0, 0.0);
             rope.gravity = g.unwrap_or(THESIS_GRAVITY);
-            Model::Springs(rope.build()?)
+            let system = rope.build()?;
+            check_geometry(&system).map_err(|_| {
+                Error::invalid(
+                    "--span",
+                    shown(span),
+                    &format!(
+                        "a span of at least {} of (nodes - 1) × the rest length: shorter, every \
+                         spring starts crushed to nothing",
+                        shown(MIN_START_LENGTH_RATIO)
+                    ),
+                )
+            })?;
+            Model::Springs(system)
         }
         SceneArg::HangingCloth => {
             let defaults = ClothParams::default();

@@ -2,10 +2,15 @@
 //! report wrote is replaced.
 //!
 //! [`ReportTarget::open`] runs before the experiments: it takes a lock beside the output
-//! directory (`.report.lock` for `report/`), cleans or recovers what a crashed run left
-//! (`.report.tmp-*`, `.report.old-*`), reads the directory's [`MANIFEST`] and refuses a
-//! directory it may not replace, and creates the staging directory beside it (which also proves
-//! that the parent is writable). [`ReportTarget::publish`] writes the new report and its
+//! directory (`.report.lock` for `report/`, opened `O_NOFOLLOW | O_NONBLOCK` and refused unless
+//! it is a regular file), cleans or recovers what a crashed run left (`.report.tmp-<pid>-<ns>`,
+//! `.report.old-<pid>-<ns>`: only names of exactly that shape, and only directories), reads the
+//! directory's [`MANIFEST`] and refuses a directory it may not replace, and creates the staging
+//! directory beside it (which also proves that the parent is writable). The directory is the
+//! report's only when its `MANIFEST` is the one this module writes: its header, its sorted
+//! relative paths, itself listed, and every listed entry a regular file inside it. A mount point
+//! as the output or inside it is refused there too: the swap renames directories and the
+//! clean-up removes them, and neither may cross into another file system. [`ReportTarget::publish`] writes the new report and its
 //! manifest into the staging directory, carries every entry the previous report did not write
 //! into it (hard links, or copies), and swaps the two directories:
 //!
@@ -18,14 +23,26 @@
 //!
 //! A directory that exists, is not empty and has no manifest is refused, unless it is a report
 //! written before manifests existed (its `REPORT.md` starts with [`REPORT_TITLE`]): then
-//! `REPORT.md`, `run-info.md`, `data/*.csv` and `figures/*.svg` count as the report's.
+//! `REPORT.md`, `run-info.md`, `data/*.csv` and `figures/*.svg` count as the report's. A
+//! directory whose `MANIFEST` is not the report's is refused likewise. Every refusal comes
+//! before anything is written, so its "nothing was changed" is true.
+//!
+//! Clean-up ([`remove_tree`]) never follows a symbolic link and never crosses into another file
+//! system: what holds a mount point is left in place, with a message.
+
+mod ownership;
 
 use crate::error::{Error, Result};
+use crate::paths::{describe_file_type, device_of, mount_points};
 use crate::report::output::OutputFile;
+use ownership::{
+    existing_ownership, foreign_entries, manifest_text, read_manifest, relative_inside, Manifest,
+    Ownership,
+};
 use std::collections::BTreeSet;
 use std::ffi::{OsStr, OsString};
 use std::fs::{self, File};
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 /// The file, inside the output directory, listing the files the report wrote.
@@ -39,15 +56,8 @@ const MANIFEST_HEADER: &str = "\
 # anything else in this directory is carried over untouched.
 ";
 
-/// The top-level entries the report writes: a foreign entry under one of these names is
-/// refused before the experiments run.
-const REPORT_ENTRIES: [&str; 4] = ["REPORT.md", "run-info.md", "data", "figures"];
-
 /// How long [`ReportTarget::open`] waits for a busy lock.
 const LOCK_PATIENCE: Duration = Duration::from_millis(500);
-
-/// Temporary directories of the writer before this module, inside the output directory.
-const LEGACY_STAGING_PREFIX: &str = ".tmp-";
 
 fn io_error(what: &str, path: &Path, e: std::io::Error) -> Error {
     Error::Input(format!("{what} {}: {e}", path.display()))
@@ -78,42 +88,6 @@ impl Swap {
             Swap::Exchange
         } else {
             Swap::Journal
-        }
-    }
-}
-
-/// Which entries of the existing output directory the previous run wrote.
-#[derive(Debug, Clone, PartialEq, Eq)]
-enum Ownership {
-    /// The files listed in the manifest.
-    Listed(BTreeSet<PathBuf>),
-    /// A report written before manifests existed.
-    Legacy,
-}
-
-impl Ownership {
-    fn owns_file(&self, rel: &Path) -> bool {
-        match self {
-            Ownership::Listed(files) => files.contains(rel),
-            Ownership::Legacy => {
-                let parts: Vec<&OsStr> = rel.iter().collect();
-                let ext = rel.extension().and_then(OsStr::to_str);
-                match parts.as_slice() {
-                    [one] => *one == "REPORT.md" || *one == "run-info.md",
-                    [dir, _] => {
-                        (*dir == "data" && ext == Some("csv"))
-                            || (*dir == "figures" && ext == Some("svg"))
-                    }
-                    _ => false,
-                }
-            }
-        }
-    }
-
-    fn owns_something_under(&self, dir: &Path) -> bool {
-        match self {
-            Ownership::Listed(files) => files.iter().any(|f| f.starts_with(dir) && f != dir),
-            Ownership::Legacy => dir == Path::new("data") || dir == Path::new("figures"),
         }
     }
 }
@@ -151,12 +125,7 @@ struct Lock {
 
 impl Lock {
     fn acquire(path: &Path, dir: &Path) -> Result<Self> {
-        let file = fs::OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(path)
-            .map_err(|e| io_error("creating the lock file", path, e))?;
+        let file = open_lock_file(path)?;
         // A lock is held a moment longer than its run by a child forked meanwhile (until it
         // execs), so a busy lock is retried briefly before it is reported.
         let deadline = Instant::now() + LOCK_PATIENCE;
@@ -181,6 +150,63 @@ impl Lock {
     }
 }
 
+/// Opens the lock file for reading (enough for `flock`, so that a lock file another user left
+/// does not stop a run), creating it if it is missing; never through a symbolic link
+/// (`O_NOFOLLOW`), never waiting for a writer of a FIFO (`O_NONBLOCK`), and only a regular file.
+#[cfg(unix)]
+fn open_lock_file(path: &Path) -> Result<File> {
+    use rustix::fs::{openat, Mode, OFlags, CWD};
+    use rustix::io::Errno;
+    let not_regular = |what: &str| {
+        Error::Input(format!(
+            "the lock file {} is not a regular file ({what}); nothing was changed. Remove it \
+             if no report run is using it, and run again",
+            path.display()
+        ))
+    };
+    let flags = OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::NONBLOCK | OFlags::CLOEXEC;
+    // A few attempts: another run may create the file between the two opens.
+    let mut opened = Err(Errno::NOENT);
+    for _ in 0..3 {
+        opened = openat(CWD, path, flags, Mode::empty()).or_else(|e| match e {
+            Errno::NOENT => openat(
+                CWD,
+                path,
+                flags | OFlags::CREATE | OFlags::EXCL,
+                Mode::from_raw_mode(0o644),
+            ),
+            e => Err(e),
+        });
+        if !matches!(opened, Err(Errno::EXIST)) {
+            break;
+        }
+    }
+    let file = match opened {
+        Ok(fd) => File::from(fd),
+        // O_NOFOLLOW on a symbolic link (or O_EXCL on a dangling one, then again).
+        Err(Errno::LOOP) | Err(Errno::EXIST) => return Err(not_regular("a symbolic link")),
+        Err(e) => return Err(io_error("opening the lock file", path, e.into())),
+    };
+    let kind = file
+        .metadata()
+        .map_err(|e| io_error("reading the lock file", path, e))?
+        .file_type();
+    if !kind.is_file() {
+        return Err(not_regular(describe_file_type(&kind)));
+    }
+    Ok(file)
+}
+
+#[cfg(not(unix))]
+fn open_lock_file(path: &Path) -> Result<File> {
+    fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(path)
+        .map_err(|e| io_error("creating the lock file", path, e))
+}
+
 #[cfg(unix)]
 fn try_lock(file: &File) -> std::io::Result<()> {
     rustix::fs::flock(file, rustix::fs::FlockOperation::NonBlockingLockExclusive)
@@ -193,11 +219,38 @@ fn try_lock(_file: &File) -> std::io::Result<()> {
     Ok(())
 }
 
+/// Digits of the nanoseconds in a journal name: the time since 1970 has 19 until 2286.
+const NANOS_DIGITS: usize = 19;
+
+/// `<pid>-<nanoseconds>`, the nanoseconds in exactly [`NANOS_DIGITS`] digits.
 fn unique_suffix() -> String {
     let nanos = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_nanos());
-    format!("{}-{nanos}", std::process::id())
+    format!(
+        "{}-{nanos:0width$}",
+        std::process::id(),
+        width = NANOS_DIGITS
+    )
+}
+
+/// Whether `name` is `prefix` followed by a [`unique_suffix`]: the exact shape the journal
+/// writes, so that a user's `.report.old-2024-backup` is never taken for it.
+fn is_journal_name(name: &OsStr, prefix: &OsStr) -> bool {
+    let Some(rest) = name
+        .as_encoded_bytes()
+        .strip_prefix(prefix.as_encoded_bytes())
+    else {
+        return false;
+    };
+    let digits = |s: &[u8]| !s.is_empty() && s.iter().all(u8::is_ascii_digit);
+    match rest.iter().position(|&b| b == b'-') {
+        Some(dash) => {
+            let (pid, nanos) = (&rest[..dash], &rest[dash + 1..]);
+            digits(pid) && pid.len() <= 10 && digits(nanos) && nanos.len() == NANOS_DIGITS
+        }
+        None => false,
+    }
 }
 
 /// `.<name>.<kind>` beside `dir`.
@@ -223,24 +276,47 @@ fn sorted_entries(dir: &Path) -> Result<Vec<OsString>> {
 /// Removes a tree this module made (a staging directory, or a previous report after the swap),
 /// first making its directories writable: the previous report may hold a directory a user made
 /// read-only, and its files are still linked from the new report, so only the directories are
-/// touched.
+/// touched. A symbolic link is removed, never followed; a directory on another device or listed
+/// as a mount point is not entered: it is an error, and it and what holds it are left.
 fn remove_tree(path: &Path) -> Result<()> {
     let meta = match fs::symlink_metadata(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
         other => other.map_err(|e| io_error("reading", path, e))?,
     };
-    if meta.is_dir() {
-        open_up(path, meta.permissions()).map_err(|e| io_error("unlocking", path, e))?;
-        for name in sorted_entries(path)? {
-            let child = path.join(&name);
-            if fs::symlink_metadata(&child).is_ok_and(|m| m.is_dir()) {
-                remove_tree(&child)?;
-            }
-        }
-        fs::remove_dir_all(path).map_err(|e| io_error("removing", path, e))
-    } else {
-        fs::remove_file(path).map_err(|e| io_error("removing", path, e))
+    if !meta.is_dir() {
+        return fs::remove_file(path).map_err(|e| io_error("removing", path, e));
     }
+    let device = device_of(path).map_err(|e| io_error("reading", path, e))?;
+    remove_directory(path, &meta, device, mount_points().as_deref())
+}
+
+fn remove_directory(
+    path: &Path,
+    meta: &fs::Metadata,
+    device: u64,
+    mounts: Option<&[PathBuf]>,
+) -> Result<()> {
+    open_up(path, meta.permissions()).map_err(|e| io_error("unlocking", path, e))?;
+    for name in sorted_entries(path)? {
+        let child = path.join(&name);
+        let child_meta =
+            fs::symlink_metadata(&child).map_err(|e| io_error("reading", &child, e))?;
+        if child_meta.is_dir() {
+            let crossing = device_of(&child).map_or(true, |d| d != device)
+                || mounts.is_some_and(|m| m.contains(&child));
+            if crossing {
+                return Err(Error::Input(format!(
+                    "{} is a mount point (another file system): it is not entered, and it and \
+                     the directories holding it are left in place",
+                    child.display()
+                )));
+            }
+            remove_directory(&child, &child_meta, device, mounts)?;
+        } else {
+            fs::remove_file(&child).map_err(|e| io_error("removing", &child, e))?;
+        }
+    }
+    fs::remove_dir(path).map_err(|e| io_error("removing", path, e))
 }
 
 /// Gives the owner read, write and search permission on a directory.
@@ -262,139 +338,6 @@ fn open_up(dir: &Path, mut perms: fs::Permissions) -> std::io::Result<()> {
     #[allow(clippy::permissions_set_readonly_false)] // no other users to consider here
     perms.set_readonly(false);
     fs::set_permissions(dir, perms)
-}
-
-/// Checks that a manifest or report path is relative and stays inside the report.
-fn relative_inside(path: &Path, what: &str) -> Result<()> {
-    let ok = path.components().count() > 0
-        && path.components().all(|c| matches!(c, Component::Normal(_)));
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::Input(format!(
-            "{what} {} must be a relative path inside the report",
-            path.display()
-        )))
-    }
-}
-
-fn read_manifest(dir: &Path) -> Result<Option<BTreeSet<PathBuf>>> {
-    let path = dir.join(MANIFEST);
-    let text = match fs::read_to_string(&path) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        other => other.map_err(|e| io_error("reading", &path, e))?,
-    };
-    let mut files = BTreeSet::new();
-    for (n, line) in text.lines().enumerate() {
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let file = PathBuf::from(line);
-        relative_inside(&file, &format!("{}, line {}:", path.display(), n + 1))?;
-        files.insert(file);
-    }
-    Ok(Some(files))
-}
-
-/// The manifest of `files`: one relative path a line, sorted, after a header.
-fn manifest_text(files: &BTreeSet<PathBuf>) -> String {
-    let mut text = MANIFEST_HEADER.to_string();
-    for f in files {
-        text += &f.to_string_lossy().replace('\\', "/");
-        text.push('\n');
-    }
-    text
-}
-
-/// Whose the existing directory `dir` is; refuses one the report may not replace.
-fn ownership(dir: &Path) -> Result<Ownership> {
-    if let Some(files) = read_manifest(dir)? {
-        return Ok(Ownership::Listed(files));
-    }
-    if sorted_entries(dir)?.is_empty() {
-        return Ok(Ownership::Listed(BTreeSet::new()));
-    }
-    let report = fs::read_to_string(dir.join("REPORT.md")).unwrap_or_default();
-    if report.starts_with(REPORT_TITLE) {
-        return Ok(Ownership::Legacy);
-    }
-    Err(Error::Input(format!(
-        "the output directory {} is not empty and has no {MANIFEST}, so it is not a report \
-         this program wrote; nothing was changed. Give --out an empty or new directory, or the \
-         report directory itself",
-        dir.display()
-    )))
-}
-
-/// Whose the entries at `dir` are, if it exists; refuses what the report may not replace.
-fn existing_ownership(dir: &Path) -> Result<Ownership> {
-    match fs::symlink_metadata(dir) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            Ok(Ownership::Listed(BTreeSet::new()))
-        }
-        Err(e) => Err(io_error("reading", dir, e)),
-        Ok(m) if !m.is_dir() => Err(Error::Input(format!(
-            "the output path {} exists and is not a directory; nothing was changed",
-            dir.display()
-        ))),
-        Ok(_) => {
-            let ownership = ownership(dir)?;
-            let reserved: BTreeSet<PathBuf> = REPORT_ENTRIES
-                .iter()
-                .map(|e| Path::new(e).join("?"))
-                .collect();
-            foreign_entries(dir, &ownership, &reserved)?;
-            Ok(ownership)
-        }
-    }
-}
-
-/// The entries of the existing report that the previous run did not write, topmost first
-/// (a foreign directory is one entry). A foreign entry at a path `new_files` needs is an error.
-fn foreign_entries(
-    dir: &Path,
-    ownership: &Ownership,
-    new_files: &BTreeSet<PathBuf>,
-) -> Result<Vec<PathBuf>> {
-    fn walk(
-        dir: &Path,
-        rel_dir: &Path,
-        ownership: &Ownership,
-        new_files: &BTreeSet<PathBuf>,
-        out: &mut Vec<PathBuf>,
-    ) -> Result<()> {
-        for name in sorted_entries(&dir.join(rel_dir))? {
-            let rel = rel_dir.join(&name);
-            let at_top = rel_dir.as_os_str().is_empty();
-            if at_top
-                && (name == MANIFEST || name.to_string_lossy().starts_with(LEGACY_STAGING_PREFIX))
-            {
-                continue;
-            }
-            let path = dir.join(&rel);
-            let is_dir = fs::symlink_metadata(&path)
-                .map_err(|e| io_error("reading", &path, e))?
-                .is_dir();
-            let new_under = new_files.iter().any(|f| f.starts_with(&rel) && *f != rel);
-            if is_dir && (ownership.owns_something_under(&rel) || new_under) {
-                walk(dir, &rel, ownership, new_files, out)?;
-            } else if is_dir || !ownership.owns_file(&rel) {
-                if new_under || new_files.contains(&rel) {
-                    return Err(Error::Input(format!(
-                        "{} was not written by the report (it is not in {}) but the new \
-                         report needs that path; nothing was changed. Move it away and run again",
-                        path.display(),
-                        dir.join(MANIFEST).display()
-                    )));
-                }
-                out.push(rel);
-            }
-        }
-        Ok(())
-    }
-    let mut out = Vec::new();
-    walk(dir, Path::new(""), ownership, new_files, &mut out)?;
-    Ok(out)
 }
 
 /// Recreates `src` at `dst`: directories anew, files as hard links (copies where links are
@@ -492,14 +435,27 @@ impl ReportTarget {
                 dir.display()
             )));
         }
+        let parent = dir.parent().unwrap_or(Path::new("/"));
+        if !parent.is_dir() {
+            return Err(Error::Input(format!(
+                "the directory {} that would hold the output directory does not exist (or is \
+                 not a directory); nothing was changed. Create it first, or give another --out",
+                parent.display()
+            )));
+        }
         // Checked once before anything is written (so that a refused directory gets not even a
         // lock file beside it), and again under the lock, after the recovery.
         existing_ownership(&dir)?;
-        let parent = dir.parent().unwrap_or(Path::new("/"));
-        fs::create_dir_all(parent).map_err(|e| io_error("creating", parent, e))?;
         let lock = Lock::acquire(&sibling(&dir, "lock"), &dir)?;
         let notes = recover(&dir)?;
-        let ownership = existing_ownership(&dir)?;
+        let ownership = existing_ownership(&dir).map_err(|e| match e {
+            // Say what the recovery did change.
+            Error::Input(m) if !notes.is_empty() => Error::Input(m.replace(
+                "nothing was changed",
+                &format!("nothing else was changed ({})", notes.join("; ")),
+            )),
+            e => e,
+        })?;
         let suffix = unique_suffix();
         let staging = sibling(&dir, &format!("tmp-{suffix}"));
         fs::create_dir(&staging).map_err(|e| {
@@ -664,8 +620,24 @@ impl ReportTarget {
     }
 }
 
+/// Whether `path` holds a previous report set aside by the journal: empty (an empty output
+/// directory was replaced), with the report's manifest, or a report from before manifests.
+fn is_previous_report(path: &Path) -> bool {
+    match read_manifest(path) {
+        Ok(Manifest::Ours(_)) => true,
+        Ok(Manifest::Missing) => {
+            sorted_entries(path).is_ok_and(|e| e.is_empty())
+                || fs::read_to_string(path.join("REPORT.md"))
+                    .is_ok_and(|r| r.starts_with(REPORT_TITLE))
+        }
+        _ => false,
+    }
+}
+
 /// What a crashed run left beside `dir`: the previous report set aside (put back when `dir` is
-/// missing), staging directories and previous reports (removed). Runs under the lock.
+/// missing), staging directories and previous reports (removed). Only directories (not links)
+/// whose names have the journal's exact shape count, and a set-aside report must be one; what
+/// cannot be removed is left with a note. Runs under the lock.
 fn recover(dir: &Path) -> Result<Vec<String>> {
     let parent = dir.parent().unwrap_or(Path::new("/"));
     let prefix = |kind: &str| {
@@ -678,9 +650,11 @@ fn recover(dir: &Path) -> Result<Vec<String>> {
     let mut notes = Vec::new();
     let mut leftovers = Vec::new();
     for name in sorted_entries(parent)? {
-        let bytes = name.as_encoded_bytes();
-        if bytes.starts_with(old.as_encoded_bytes()) {
-            let path = parent.join(&name);
+        let path = parent.join(&name);
+        if !fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir()) {
+            continue;
+        }
+        if is_journal_name(&name, &old) && is_previous_report(&path) {
             if !dir.exists() {
                 fs::rename(&path, dir).map_err(|e| io_error("putting back", &path, e))?;
                 notes.push(format!(
@@ -690,16 +664,18 @@ fn recover(dir: &Path) -> Result<Vec<String>> {
                 continue;
             }
             leftovers.push(path);
-        } else if bytes.starts_with(tmp.as_encoded_bytes()) {
-            leftovers.push(parent.join(&name));
+        } else if is_journal_name(&name, &tmp) {
+            leftovers.push(path);
         }
     }
     for path in leftovers {
-        remove_tree(&path)?;
-        notes.push(format!(
-            "removed {} (left by an interrupted run)",
-            path.display()
-        ));
+        notes.push(match remove_tree(&path) {
+            Ok(()) => format!("removed {} (left by an interrupted run)", path.display()),
+            Err(e) => format!(
+                "left {} (from an interrupted run) in place: {e}; remove it yourself",
+                path.display()
+            ),
+        });
     }
     Ok(notes)
 }
