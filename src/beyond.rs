@@ -1,12 +1,6 @@
-//! Beyond the thesis (§5, future work): the grid of thesis Tables 2-7 run by the solvers the
-//! thesis did not measure, and every solver's convergence toward the converged Backward Euler
-//! step.
-//!
-//! **The grid.** Each solver of [`grid_settings`] runs the thesis rope from rest at
-//! $`dt \in \{0.1, 0.01, 0.001\}`$ s, in three settings (its iteration counts, substeps or
-//! options) and at both stiffnesses, with the thesis's stopping rule within a window of
-//! [`GRID_MAX_TIME`]; its final state is compared with the Backward Euler reference (thesis
-//! Table 1's method) at the same time and with the exact static equilibrium.
+//! Beyond the thesis (§5, future work): the solvers the thesis did not measure, their settings
+//! (the benchmark of [`crate::benchmark`] runs them), the scenes, and every solver's
+//! convergence toward the converged Backward Euler step.
 //!
 //! **Convergence.** One step of dt from a start state, with $`m = 1 \dots 200`$ iterations
 //! (a fresh solver for each $`m`$), against the step solved to round-off
@@ -16,17 +10,16 @@
 //! $`y = x_n + h v_n + h^2 M^{-1} f_{ext}`$ ([`COMPARISON_START`]), so that the curves compare
 //! solvers, not starts; [`own_start_effects`] measures what each solver's own start changes.
 
-use crate::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions, REFERENCE_DT};
+use crate::backward_euler::{converged_step, ConvergedStepOptions};
 use crate::catenary::ElasticChain;
 use crate::damping::RayleighDamping;
 use crate::error::Result;
 use crate::experiments::run_parallel;
 use crate::first_iterate::FirstIterate;
-use crate::metrics::{rest_error_max, rest_error_sum, StoppingRule};
+use crate::metrics::rest_error_max;
 use crate::registry::{Builder, SolverId, SolverSpec};
 use crate::scene::{thesis_rope, SheetParams, SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
 use crate::sheet_equilibrium::sheet_equilibrium;
-use crate::solver::{simulate, Recording, RunOptions};
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// The time steps of Tables 2-7, s.
@@ -122,14 +115,6 @@ impl GridScene {
         }
     }
 
-    /// The window every run of the scene stops at, at the latest, s.
-    pub fn max_time(self) -> f64 {
-        match self {
-            GridScene::Rope => GRID_MAX_TIME,
-            GridScene::Sheet => SHEET_MAX_TIME,
-        }
-    }
-
     /// The exact static equilibrium at `stiffness`: the discrete elastic chain (rope), the
     /// Newton minimiser of [`crate::sheet_equilibrium`] (sheet).
     pub fn equilibrium(self, stiffness: f64) -> Result<Vec<Vec3>> {
@@ -146,12 +131,6 @@ impl GridScene {
         }
     }
 }
-
-/// The sheet's window, s: one simulated-time cap for every sheet run, the reference's
-/// included, chosen so that the sheet grid fits its budget (60 s of `make report` on 2
-/// cores); the sheet's slowest swing lasts about a second, so the window holds a few of its
-/// kinetic-energy peaks.
-pub const SHEET_MAX_TIME: f64 = 3.0;
 
 /// The solvers of the grid, in registry order.
 pub fn grid_solvers() -> Vec<SolverId> {
@@ -178,190 +157,6 @@ pub fn setting_label(spec: &SolverSpec) -> String {
         }
     }
     label
-}
-
-/// One experiment of the grid.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GridRow {
-    pub scene: GridScene,
-    pub spec: SolverSpec,
-    /// Index of the setting in [`grid_settings`].
-    pub setting: usize,
-    pub dt_s: f64,
-    pub stiffness: f64,
-}
-
-/// Every experiment of the grid: per solver, time step, setting and stiffness, in the order
-/// of Tables 2-7.
-pub fn grid_rows(scene: GridScene) -> Vec<GridRow> {
-    let mut rows = Vec::new();
-    for id in grid_solvers() {
-        let settings = grid_settings(id).expect("grid_solvers has settings");
-        for stiffness in THESIS_STIFFNESSES {
-            for dt_s in GRID_DTS {
-                for (setting, spec) in settings.iter().enumerate() {
-                    rows.push(GridRow {
-                        scene,
-                        spec: *spec,
-                        setting,
-                        dt_s,
-                        stiffness,
-                    });
-                }
-            }
-        }
-    }
-    rows
-}
-
-/// The simulated time every grid run stops at, at the latest, s: the thesis's stopping rule
-/// (the first kinetic-energy peak below 1e-3 J) within this window. The thesis's own runs last
-/// up to 488 s (Table 1, k = 1e3); ten solvers × 18 rows at that length would take many
-/// minutes, so the grid compares every run, the reference's included, over the same window.
-pub const GRID_MAX_TIME: f64 = 10.0;
-
-/// The measurements of Tables 2-7 for one grid experiment, over [`GRID_MAX_TIME`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct GridResult {
-    pub row: GridRow,
-    pub peaks: usize,
-    pub half_period_thesis: Option<f64>,
-    pub half_period_exact: Option<f64>,
-    /// Relative T/2 error (thesis convention) against the reference of the same stiffness over
-    /// the same window.
-    pub period_rel_error: Option<f64>,
-    /// The gap to the reference's state at the end of the run (its time), summed over nodes
-    /// as thesis convention 7, m; the reference runs to the same rule and window.
-    pub reference_gap_sum: f64,
-    /// Its largest node distance, m.
-    pub reference_gap_max: f64,
-    /// The distance to the exact static equilibrium (the discrete elastic chain of
-    /// [`crate::catenary`]) at the end of the run, summed over nodes, m.
-    pub equilibrium_gap_sum: f64,
-    pub steps: u64,
-    pub end_time: f64,
-    /// Whether the run reached [`GRID_MAX_TIME`] before the stopping rule fired.
-    pub hit_time_limit: bool,
-}
-
-/// What a grid run of one stiffness is compared with.
-#[derive(Debug, Clone, PartialEq)]
-pub struct GridReference {
-    pub scene: GridScene,
-    pub stiffness: f64,
-    /// The thesis's reference (Backward Euler, dt = 1e-3 s, 5 Newton iterations) over the
-    /// window: its state every step would be needed for runs that stop early, so the run is
-    /// kept whole and sampled at each run's end.
-    pub trajectory: Vec<Vec<Vec3>>,
-    pub half_period_thesis: Option<f64>,
-    /// The exact static equilibrium.
-    pub equilibrium: Vec<Vec3>,
-}
-
-impl GridReference {
-    /// The thesis reference of `scene` at `stiffness` over the window, and the exact
-    /// equilibrium.
-    pub fn compute(scene: GridScene, stiffness: f64) -> Result<Self> {
-        let system = scene.system(stiffness)?;
-        let mut be = BackwardEuler::reference(&system)?;
-        let options = RunOptions {
-            stop: grid_stop(scene),
-            recording: Recording {
-                kinetic_energy: false,
-                positions_every: Some(1),
-            },
-            ..RunOptions::default()
-        };
-        let run = simulate(&mut be, system.initial_state(), &options)?;
-        let equilibrium = scene.equilibrium(stiffness)?;
-        Ok(Self {
-            scene,
-            stiffness,
-            half_period_thesis: run.half_period_thesis(),
-            trajectory: run.positions.into_iter().map(|(_, s)| s.x).collect(),
-            equilibrium,
-        })
-    }
-
-    /// The reference's positions at time `t` (the nearest of its steps).
-    pub fn at(&self, t: f64) -> &[Vec3] {
-        let i = ((t / REFERENCE_DT).round() as usize).min(self.trajectory.len() - 1);
-        &self.trajectory[i]
-    }
-}
-
-/// The thesis's stopping rule within the scene's window.
-fn grid_stop(scene: GridScene) -> StoppingRule {
-    StoppingRule {
-        max_time: scene.max_time(),
-        ..StoppingRule::default()
-    }
-}
-
-/// Runs `rows` (in parallel, the dearest first) and measures them against the reference and
-/// the equilibrium of their stiffness.
-pub fn run_grid(
-    rows: &[GridRow],
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Vec<GridResult>> {
-    let mut pairs: Vec<(GridScene, f64)> = Vec::new();
-    for row in rows {
-        if !pairs.contains(&(row.scene, row.stiffness)) {
-            pairs.push((row.scene, row.stiffness));
-        }
-    }
-    let references = run_parallel(
-        &pairs,
-        |_| 1.0,
-        |&(scene, k)| GridReference::compute(scene, k),
-        &|_, _| {},
-    )
-    .into_iter()
-    .collect::<Result<Vec<_>>>()?;
-    let cost =
-        |row: &GridRow| row.spec.id.info().relative_cost * row.spec.iterations as f64 / row.dt_s;
-    run_parallel(
-        rows,
-        cost,
-        |row| {
-            let reference = references
-                .iter()
-                .find(|r| r.scene == row.scene && r.stiffness == row.stiffness)
-                .expect("a reference for each scene and stiffness of the rows");
-            run_grid_row(row, reference)
-        },
-        progress,
-    )
-    .into_iter()
-    .collect()
-}
-
-fn run_grid_row(row: &GridRow, reference: &GridReference) -> Result<GridResult> {
-    let system = row.scene.system(row.stiffness)?;
-    let mut solver = row.spec.build_send(&system, row.dt_s)?;
-    let options = RunOptions {
-        stop: grid_stop(row.scene),
-        ..RunOptions::default()
-    };
-    let run = simulate(solver.as_mut(), system.initial_state(), &options)?;
-    let x = &run.final_state.x;
-    let x_ref = reference.at(run.end_time());
-    Ok(GridResult {
-        row: *row,
-        peaks: run.peak_count(),
-        half_period_thesis: run.half_period_thesis(),
-        half_period_exact: run.half_period_exact(),
-        period_rel_error: reference
-            .half_period_thesis
-            .zip(run.half_period_thesis())
-            .map(|(t_ref, t)| crate::metrics::relative_period_error(t, t_ref)),
-        reference_gap_sum: rest_error_sum(x, x_ref),
-        reference_gap_max: rest_error_max(x, x_ref),
-        equilibrium_gap_sum: rest_error_sum(x, &reference.equilibrium),
-        steps: run.steps,
-        end_time: run.end_time(),
-        hit_time_limit: run.hit_time_limit,
-    })
 }
 
 /// The state a convergence curve starts from.
@@ -714,36 +509,6 @@ pub fn iterations_to(
         }
     }
     Ok(Some(hi))
-}
-
-/// The solvers ranked by the gap to the reference each reaches at its best setting, at one
-/// scene, stiffness and time step (smallest first), for the solvers of `solvers` that ran
-/// there. The reference's own method (Backward Euler and its damped form) is left out.
-pub fn ranking(
-    results: &[GridResult],
-    scene: GridScene,
-    stiffness: f64,
-    dt_s: f64,
-    solvers: &[SolverId],
-) -> Vec<(SolverId, f64)> {
-    let mut best: Vec<(SolverId, f64)> = solvers
-        .iter()
-        .filter_map(|&id| {
-            results
-                .iter()
-                .filter(|r| {
-                    r.row.scene == scene
-                        && r.row.stiffness == stiffness
-                        && r.row.dt_s == dt_s
-                        && r.row.spec.id == id
-                })
-                .map(|r| r.reference_gap_sum)
-                .min_by(f64::total_cmp)
-                .map(|gap| (id, gap))
-        })
-        .collect();
-    best.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-    best
 }
 
 /// Kendall's τ between two rankings of the same items (1: the same order, −1: reversed);

@@ -13,6 +13,7 @@
 pub mod admm;
 pub mod anderson;
 pub mod backward_euler;
+pub mod benchmark;
 pub mod beyond;
 pub mod boundary;
 pub mod budget;

@@ -44,6 +44,14 @@ impl Stopping {
         )?))
     }
 
+    /// `count`, or `tolerance 1e-6` (the data files' label).
+    pub fn id(self) -> String {
+        match self {
+            Stopping::Count => "count".into(),
+            Stopping::Tolerance(t) => format!("tolerance {t:e}"),
+        }
+    }
+
     /// The tolerance, m, if any.
     pub fn tolerance_m(self) -> Option<f64> {
         match self {

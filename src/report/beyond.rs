@@ -1,21 +1,19 @@
 //! The chapter after the thesis's: the solvers its future work (§5) points to, on the thesis
-//! rope, with the thesis's metrics and ground truth ([`crate::beyond`]): the grid of Tables
-//! 2-7 for each, and every solver's convergence toward the converged Backward Euler step.
+//! rope ([`crate::beyond`]): the benchmark's view of the rope (section 12's protocol), and
+//! every solver's convergence toward the converged Backward Euler step.
 
 use crate::backward_euler::{converged_step, ConvergedStepOptions};
-use crate::beyond::GridRow;
 use crate::beyond::{
-    convergence_curves, from_comparison_start, grid_rows, grid_settings, grid_solvers,
-    iterations_to, own_first_iterate, own_start_effects, rho_scan, run_grid, setting_label,
-    ConvergenceCurve, GridResult, GridScene, RhoPoint, Start, StartEffect, COMPARISON_START,
-    CONVERGENCE_ITERATIONS, GRID_DTS, GRID_MAX_TIME, STEP10_DT,
+    convergence_curves, from_comparison_start, grid_settings, grid_solvers, iterations_to,
+    own_first_iterate, own_start_effects, rho_scan, setting_label, ConvergenceCurve, GridScene,
+    RhoPoint, Start, StartEffect, COMPARISON_START, CONVERGENCE_ITERATIONS, GRID_DTS, STEP10_DT,
 };
 use crate::chebyshev::{spectral_radius, ChebyshevParams};
 use crate::error::Result;
 use crate::local_global::Base;
 use crate::registry::{SolverId, SolverSpec};
 use crate::report::figures::{colour, solver_line};
-use crate::report::format::{full, full_opt, percent, sig4, MarkdownTable};
+use crate::report::format::{full, full_opt, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
 use crate::report::plot::{Axis, Chart, LegendPlace, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
@@ -65,71 +63,9 @@ impl Acceleration {
 /// The most iterations [`Acceleration`] searches, per solver.
 pub const ACCELERATION_MAX_ITERATIONS: usize = 5000;
 
-/// The grid's CSV (`beyond_results.csv`, `sheet_results.csv`): the columns of `results.csv`
-/// (`table` empty: no thesis table; `error` the gap to the reference at the run's end), then
-/// the configuration (the setting's label), the scene, the run's end, whether the window cut
-/// it, and the gap to the exact equilibrium.
-pub fn grid_csv<'a>(rows: impl Iterator<Item = &'a GridResult>) -> String {
-    let mut out = format!("{BEYOND_HEADER}\n");
-    for r in rows {
-        out += &format!(
-            ",{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            r.row.spec.id,
-            full(r.row.dt_s),
-            r.row.spec.iterations,
-            full(r.row.stiffness),
-            full(r.reference_gap_sum),
-            r.peaks,
-            full_opt(r.half_period_thesis),
-            full_opt(r.period_rel_error),
-            full_opt(r.half_period_exact),
-            setting_label(&r.row.spec),
-            r.row.scene.id(),
-            full(r.end_time),
-            r.hit_time_limit,
-            full(r.equilibrium_gap_sum),
-        );
-    }
-    out
-}
-
-/// One solver's grid in the layout of Tables 2-7, its rows in `rows`' order.
-pub fn grid_table<'a>(rows: impl Iterator<Item = &'a GridResult>) -> MarkdownTable {
-    let mut t = MarkdownTable::new(&[
-        "k (N/m)",
-        "dt (s)",
-        "setting",
-        "nº máx. E_k",
-        "T/2 (s)",
-        "T/2 rel. error",
-        "gap to the reference (m)",
-        "gap to the equilibrium (m)",
-        "note",
-    ]);
-    for r in rows {
-        t.row(vec![
-            stiffness_label(r.row.stiffness),
-            full(r.row.dt_s),
-            setting_label(&r.row.spec),
-            r.peaks.to_string(),
-            r.half_period_thesis.map_or("-".into(), sig4),
-            r.period_rel_error.map_or("-".into(), percent),
-            sig4(r.reference_gap_sum),
-            sig4(r.equilibrium_gap_sum),
-            if r.hit_time_limit {
-                String::new()
-            } else {
-                format!("stopped by the rule at {} s", sig4(r.end_time))
-            },
-        ]);
-    }
-    t
-}
-
 /// Every result of the chapter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BeyondChapter {
-    pub grid: Vec<GridResult>,
     pub curves: Vec<ConvergenceCurve>,
     pub acceleration: Vec<Acceleration>,
     /// What each solver's own start changes (from step10).
@@ -229,19 +165,10 @@ pub fn accelerations() -> Result<Vec<Acceleration>> {
 }
 
 impl BeyondChapter {
-    /// Runs the grid and the convergence curves.
+    /// The convergence curves, the accelerations, the starts and the ρ scan.
     pub fn compute(progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
-        Self::compute_rows(&grid_rows(GridScene::Rope), progress)
-    }
-
-    /// The chapter with only `rows` of the grid run (the tests run a part of it).
-    pub fn compute_rows(
-        rows: &[GridRow],
-        progress: &(dyn Fn(usize, usize) + Sync),
-    ) -> Result<Self> {
         let (starts, rho_scan, rho_default) = starts_and_rho()?;
         Ok(Self {
-            grid: run_grid(rows, progress)?,
             curves: convergence_curves(progress)?,
             acceleration: accelerations()?,
             starts,
@@ -299,28 +226,14 @@ impl BeyondChapter {
         })
     }
 
-    /// The chapter's files: the figure, `data/beyond_results.csv` and `data/convergence.csv`.
+    /// The chapter's files: the figure and `data/convergence.csv`.
     pub fn files(&self, figures: &[ChapterFigure]) -> Vec<OutputFile> {
         let mut files = crate::report::chapter_figure_files(figures);
-        files.push(OutputFile::text(
-            "data/beyond_results.csv",
-            self.results_csv(),
-        ));
         files.push(OutputFile::text(
             "data/convergence.csv",
             self.convergence_csv(),
         ));
         files
-    }
-
-    /// `beyond_results.csv`: one row per grid experiment of the chapter's solvers.
-    pub fn results_csv(&self) -> String {
-        let solvers = chapter_solvers();
-        grid_csv(
-            self.grid
-                .iter()
-                .filter(|r| solvers.contains(&r.row.spec.id)),
-        )
     }
 
     /// `convergence.csv`: one row per curve and iteration; a failed step has no gap.
@@ -367,17 +280,21 @@ impl BeyondChapter {
     }
 
     /// The chapter's section of `REPORT.md`, headed `## {number}.`.
-    pub fn section(&self, number: u32, figures: &[ChapterFigure]) -> String {
+    pub fn section(
+        &self,
+        number: u32,
+        figures: &[ChapterFigure],
+        benchmark: &crate::report::benchmark::BenchmarkChapter,
+    ) -> String {
         let solvers = chapter_solvers();
         let mut md =
             format!("## {number}. Beyond the thesis: newer solvers on the thesis rope (§5)\n\n");
         md += &format!(
             "The thesis ends (§5) by asking for more Projective-Dynamics solvers and for a timing \
-             study. This chapter runs {} solver(s) the thesis did not measure on its rope, with its \
-             metrics and its ground truth: the grid of Tables 2-7 (dt = {} s × three settings × \
-             k = {} N/m, the thesis's stopping rule within a window, the state against the \
-             Table 1 reference and the exact equilibrium), and the convergence of every iterative solver toward the \
-             converged Backward Euler step. Every solver comes from the registry \
+             study. This chapter runs {} solvers the thesis did not measure on its rope, with its \
+             settings: the benchmark of section 12 on the rope (dt = {} s × three settings × \
+             k = {} N/m, errors against the exact motion), and the convergence of every iterative \
+             solver toward the converged Backward Euler step. Every solver comes from the registry \
              (`src/registry.rs`), which `mss --list-solvers` prints.\n\n",
             solvers.len(),
             GRID_DTS.map(full).join(", "),
@@ -410,24 +327,15 @@ impl BeyondChapter {
         md += &t.render();
         md += "\n";
 
-        md += &format!("### {number}.2 The grid of Tables 2-7\n\n");
-        md += &format!(
-            "Columns as in Tables 2-7, over a window: every run, the reference's included, stops \
-             at the thesis's rule (the first kinetic-energy peak below 1e-3 J) or at t = {} s, \
-             whichever comes first (the thesis's runs last up to 488 s; at that length this grid \
-             would take many minutes). The number of kinetic-energy peaks and T/2 (thesis \
-             convention) are those of the window; the T/2 error is against the reference over \
-             the same window. The error columns sum the node distances (thesis convention 7) \
-             at the run's end: to the reference's state at the same time (Backward Euler, \
-             dt = 1e-3 s, 5 Newton iterations), and to the exact static equilibrium (the \
-             discrete elastic chain of section 8). Every run here reached the window's end \
-             unless the note says it stopped.\n\n",
-            full(GRID_MAX_TIME)
-        );
-        for &id in &solvers {
-            md += &format!("**`{}`** ({})\n\n", id.id(), id.info().summary);
-            let t = grid_table(self.grid.iter().filter(|r| r.row.spec.id == id));
-            md += &t.render();
+        md += &format!("### {number}.2 The rope in the benchmark\n\n");
+        md += &benchmark.scene_view_intro(GridScene::Rope, 12);
+        for case in benchmark
+            .cases()
+            .into_iter()
+            .filter(|c| c.scene == GridScene::Rope)
+        {
+            md += &format!("**{}**\n\n", case.label());
+            md += &benchmark.scene_view(case).render();
             md += "\n";
         }
 

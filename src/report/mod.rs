@@ -10,6 +10,7 @@
 //! directory with them atomically. What changes from run to run (commit, machine, timings)
 //! goes to `run-info.md` ([`output::RunInfo`]), which is git-ignored.
 
+pub mod benchmark;
 pub mod beyond;
 pub mod data;
 pub mod errata;
@@ -35,6 +36,7 @@ use crate::experiments::{published_rows, ResultSet, HALF_PERIOD_TOLERANCE};
 use crate::forensics::Forensics;
 use crate::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
 use crate::registry::SolverId;
+use crate::report::benchmark::BenchmarkChapter;
 use crate::report::beyond::BeyondChapter;
 use crate::report::format::{short, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -45,7 +47,6 @@ use crate::report::sheet::SheetChapter;
 use crate::report::traceability::{PaperTag, Quote, Tag};
 use crate::report::tutorial::TutorialChapter;
 use crate::report::versions::Versions;
-use crate::report::work_precision::WorkPrecisionChapter;
 use crate::scene::{
     THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT, THESIS_GRAVITY, THESIS_NODES, THESIS_NODE_MASS,
     THESIS_REST_LENGTH,
@@ -124,7 +125,8 @@ pub struct ReportData {
     /// The sheet: the thesis's experiment one dimension up.
     pub sheet: SheetChapter,
     /// The timing study: accuracy against counted work.
-    pub work_precision: WorkPrecisionChapter,
+    /// The benchmark's chapter (work and precision).
+    pub benchmark: BenchmarkChapter,
     pub sources: Sources,
 }
 
@@ -181,7 +183,7 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let tutorial_figures = data.tutorial.figures()?;
     let beyond_figures = data.beyond.figures()?;
     let sheet_figures = data.sheet.figures()?;
-    let work_precision_figures = data.work_precision.figures()?;
+    let work_precision_figures = data.benchmark.figures()?;
     let chapters = ChapterFigures {
         tutorial: &tutorial_figures,
         beyond: &beyond_figures,
@@ -193,7 +195,7 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
         markdown(data, &figures, &chapters),
     )];
     files.extend(data.sheet.files(&sheet_figures));
-    files.extend(data.work_precision.files(&work_precision_figures));
+    files.extend(data.benchmark.files(&work_precision_figures));
     files.extend(data.tutorial.files(&tutorial_figures));
     files.extend(data.beyond.files(&beyond_figures));
     for f in &figures {
@@ -447,9 +449,9 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += "\n";
 
     md += &data.tutorial.section(9, chapters.tutorial);
-    md += &data.beyond.section(10, chapters.beyond);
-    md += &data.sheet.section(11, chapters.sheet, &data.beyond.grid);
-    md += &data.work_precision.section(12, chapters.work_precision);
+    md += &data.beyond.section(10, chapters.beyond, &data.benchmark);
+    md += &data.sheet.section(11, chapters.sheet, &data.benchmark);
+    md += &data.benchmark.section(12, chapters.work_precision);
 
     md += "## 13. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
@@ -522,8 +524,10 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
          `beyond_results.csv`.\n\
          - [`data/sheet_equilibrium.csv`](data/sheet_equilibrium.csv): `stiffness,n,i,j,x,y,z`, the sheet's exact \
          equilibrium at n = 10 and 20, full precision.\n\
-         - [`data/work_precision.csv`](data/work_precision.csv): every configuration of the work-precision \
-         sweep (section 12), each error kind, with its counted flops.\n\
+         - [`data/benchmark.csv`](data/benchmark.csv): every run of the benchmark (section 12 and the \
+         benchmark views of sections 10-11), one row each with every metric.\n\
+         - [`data/benchmark_truths.csv`](data/benchmark_truths.csv): the benchmark's ground truths per \
+         case.\n\
          - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
          peak count, T/2 and rest-state error (Figure 16).\n\n",
         data::RESULTS_HEADER,

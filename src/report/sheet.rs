@@ -1,15 +1,14 @@
 //! The sheet chapter (the thesis's future work, §5: "a higher dimensionality of the problem"):
-//! the grid of Tables 2-7 on the 10 × 10 sheet of `docs/sheet-scene.md` for every solver, its
-//! exact equilibrium, and the thesis's conclusions revisited: does the ranking of the solvers
-//! on the rope hold one dimension up?
+//! the 10 × 10 sheet of `docs/sheet-scene.md`: its exact equilibrium, the benchmark's view of
+//! it (section 12's protocol), and the thesis's conclusions revisited: does the ranking of the
+//! solvers on the rope hold one dimension up?
 
-use crate::beyond::{
-    grid_rows, grid_solvers, kendall_tau, ranking, run_grid, GridResult, GridRow, GridScene,
-    GRID_DTS, GRID_MAX_TIME, SHEET_MAX_TIME,
-};
+use crate::beyond::GridScene;
 use crate::error::Result;
 use crate::registry::SolverId;
-use crate::report::beyond::{grid_csv, grid_table};
+use crate::report::benchmark::{
+    mean_with_interval, BenchmarkChapter, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD,
+};
 use crate::report::figures::colour;
 use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -20,81 +19,22 @@ use crate::scene::{SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
 use crate::sheet_equilibrium::{equilibrium_csv, report_equilibria, Equilibrium};
 use crate::system::Vec3;
 
-/// A ranking "holds" one dimension up when Kendall's τ between the rope's and the sheet's is
-/// at least this (about four pairs in five in the same order).
-pub const RANKING_HOLDS_TAU: f64 = 0.6;
-
 /// The horizontal coordinate of a view.
 type Projection = fn(&Vec3) -> f64;
-
-/// A gap to the reference below this (summed over nodes, m) counts as converged to its step.
-pub const CLOSE_GAP: f64 = 1e-6;
 
 /// Every result of the chapter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SheetChapter {
-    /// The sheet's grid.
-    pub grid: Vec<GridResult>,
     /// The exact equilibria of `sheet_equilibrium.csv`: (stiffness, n, equilibrium).
     pub equilibria: Vec<(f64, usize, Equilibrium)>,
 }
 
-/// One (stiffness, dt) cell of the rankings' comparison.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RankingCell {
-    pub stiffness: f64,
-    pub dt_s: f64,
-    pub rope: Vec<(SolverId, f64)>,
-    pub sheet: Vec<(SolverId, f64)>,
-    pub tau: Option<f64>,
-}
-
 impl SheetChapter {
-    /// Runs the sheet's grid and solves the exact equilibria.
-    pub fn compute(progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
-        Self::compute_rows(&grid_rows(GridScene::Sheet), progress)
-    }
-
-    /// The chapter with only `rows` of the grid run (the tests run a part of it).
-    pub fn compute_rows(
-        rows: &[GridRow],
-        progress: &(dyn Fn(usize, usize) + Sync),
-    ) -> Result<Self> {
+    /// Solves the exact equilibria.
+    pub fn compute() -> Result<Self> {
         Ok(Self {
-            grid: run_grid(rows, progress)?,
             equilibria: report_equilibria()?,
         })
-    }
-
-    /// The solvers ranked: every grid solver but the reference's method.
-    fn ranked_solvers() -> Vec<SolverId> {
-        grid_solvers()
-            .into_iter()
-            .filter(|id| !matches!(id, SolverId::BackwardEuler | SolverId::DampedBackwardEuler))
-            .collect()
-    }
-
-    /// The rankings on the rope (`rope`: the rope's grid, section 10) and on the sheet, per
-    /// stiffness and time step.
-    pub fn rankings(&self, rope: &[GridResult]) -> Vec<RankingCell> {
-        let solvers = Self::ranked_solvers();
-        let mut cells = Vec::new();
-        for stiffness in THESIS_STIFFNESSES {
-            for dt_s in GRID_DTS {
-                let rope = ranking(rope, GridScene::Rope, stiffness, dt_s, &solvers);
-                let sheet = ranking(&self.grid, GridScene::Sheet, stiffness, dt_s, &solvers);
-                let ids = |r: &[(SolverId, f64)]| r.iter().map(|(id, _)| *id).collect::<Vec<_>>();
-                let tau = kendall_tau(&ids(&rope), &ids(&sheet));
-                cells.push(RankingCell {
-                    stiffness,
-                    dt_s,
-                    rope,
-                    sheet,
-                    tau,
-                });
-            }
-        }
-        cells
     }
 
     /// The chapter's figure: the exact rest states of the 10 × 10 sheet at both stiffnesses,
@@ -143,14 +83,9 @@ impl SheetChapter {
         )?])
     }
 
-    /// The chapter's files: the figure, `data/sheet_results.csv` and
-    /// `data/sheet_equilibrium.csv`.
+    /// The chapter's files: the figure and `data/sheet_equilibrium.csv`.
     pub fn files(&self, figures: &[ChapterFigure]) -> Vec<OutputFile> {
         let mut files = crate::report::chapter_figure_files(figures);
-        files.push(OutputFile::text(
-            "data/sheet_results.csv",
-            grid_csv(self.grid.iter()),
-        ));
         files.push(OutputFile::text(
             "data/sheet_equilibrium.csv",
             equilibrium_csv(&self.equilibria),
@@ -158,9 +93,14 @@ impl SheetChapter {
         files
     }
 
-    /// The chapter's section of `REPORT.md`, headed `## {number}.`; `rope` is the rope's grid
-    /// of section 10, for the rankings.
-    pub fn section(&self, number: u32, figures: &[ChapterFigure], rope: &[GridResult]) -> String {
+    /// The chapter's section of `REPORT.md`, headed `## {number}.`, with the benchmark's views
+    /// of the sheet.
+    pub fn section(
+        &self,
+        number: u32,
+        figures: &[ChapterFigure],
+        benchmark: &BenchmarkChapter,
+    ) -> String {
         let mut md =
             format!("## {number}. The sheet: the thesis's experiment one dimension up (§5)\n\n");
         md += &format!(
@@ -169,16 +109,9 @@ impl SheetChapter {
              `docs/sheet-scene.md` is the rope woven into a {n} × {n} net: 9 m × 9 m, 1 kg a node, \
              structural and both shear springs at rest length, the four corners fixed, flat and \
              taut at rest, g = 9.81 m/s², k = {} N/m. Every solver of the registry that runs \
-             springs and gravity runs it at dt = {} s in the settings of section 10 (the thesis's \
-             four at the counts of Tables 1-7). Every sheet run, the reference's (Backward Euler, \
-             dt = 1e-3 s, 5 Newton iterations) included, stops at the thesis's rule or at \
-             t = {} s, whichever comes first: the thesis's runs last minutes at this size, and this \
-             window fits the chapter in its budget. Peaks and T/2 are those of the window; the \
-             gaps are summed node distances at the run's end, to the reference's state at the same \
-             time and to the exact static equilibrium below.\n\n",
+             springs and gravity runs it in the benchmark of section 12, at the settings of \
+             section 10.\n\n",
             THESIS_STIFFNESSES.map(stiffness_label).join(" and "),
-            GRID_DTS.map(full).join(", "),
-            full(SHEET_MAX_TIME),
             n = SHEET_NODES_PER_SIDE,
         );
 
@@ -219,38 +152,42 @@ impl SheetChapter {
             );
         }
 
-        md += &format!("### {number}.2 The grid of Tables 2-7 on the sheet\n\n");
-        for id in grid_solvers() {
-            md += &format!("**`{}`** ({})\n\n", id.id(), id.info().summary);
-            md += &grid_table(self.grid.iter().filter(|r| r.row.spec.id == id)).render();
+        md += &format!("### {number}.2 The sheet in the benchmark\n\n");
+        md += &benchmark.scene_view_intro(GridScene::Sheet, 12);
+        for case in benchmark
+            .cases()
+            .into_iter()
+            .filter(|c| c.scene == GridScene::Sheet)
+        {
+            md += &format!("**{}**\n\n", case.label());
+            md += &benchmark.scene_view(case).render();
             md += "\n";
         }
 
         md += &format!("### {number}.3 Conclusions revisited: does the ranking hold?\n\n");
+        let cells = benchmark.rankings();
         md += &format!(
-            "For each stiffness and time step, the solvers ranked by the gap to the reference \
-             each reaches at its best setting, on the rope (in its {} s window) and on the sheet \
-             (in its {} s window), Backward Euler left out (it is the reference's method); τ is \
-             Kendall's rank correlation between the two orders (1: the same order). The ranking \
-             holds where τ ≥ {}.\n\n",
-            full(GRID_MAX_TIME),
-            full(SHEET_MAX_TIME),
-            full(RANKING_HOLDS_TAU),
+            "For each stiffness, time step and setting of the thesis's grid, the solvers with three \
+             settings ranked by their relative physical error on the rope and on the sheet; τ is \
+             Kendall's rank correlation between the two orders (1: the same order, 0: unrelated, -1: \
+             reversed). Cells where every solver's error agrees to round-off (a relative spread below \
+             {ROUND_OFF_SPREAD:e}) rank nothing and are left out: {} cells remain. The interval is \
+             the 2.5-97.5 % range of the mean τ over {BOOTSTRAP_RESAMPLES} bootstrap resamples of \
+             the cells.\n\n",
+            cells.len()
         );
-        let cells = self.rankings(rope);
         let mut t = MarkdownTable::new(&[
-            "k (N/m)",
-            "dt (s)",
+            ">k (N/m)",
+            ">dt (s)",
+            ">setting",
             "best three on the rope",
             "best three on the sheet",
-            "within 1e-6 m (rope / sheet)",
-            "τ",
+            ">τ",
         ]);
-        let close = |r: &[(SolverId, f64)]| r.iter().filter(|(_, gap)| *gap < CLOSE_GAP).count();
-        let top = |r: &[(SolverId, f64)]| {
+        let top = |r: &[SolverId]| {
             r.iter()
                 .take(3)
-                .map(|(id, gap)| format!("`{id}` ({})", sig4(*gap)))
+                .map(|id| id.info().abbreviation)
                 .collect::<Vec<_>>()
                 .join(", ")
         };
@@ -258,28 +195,27 @@ impl SheetChapter {
             t.row(vec![
                 stiffness_label(c.stiffness),
                 full(c.dt_s),
+                (c.setting + 1).to_string(),
                 top(&c.rope),
                 top(&c.sheet),
-                format!("{} / {}", close(&c.rope), close(&c.sheet)),
-                c.tau.map_or("-".into(), |tau| format!("{tau:.2}")),
+                c.tau.map_or("–".into(), |tau| format!("{tau:.2}")),
             ]);
         }
         md += &t.render();
         md += "\n";
-        let holds = cells
-            .iter()
-            .filter(|c| c.tau.is_some_and(|t| t >= RANKING_HOLDS_TAU))
-            .count();
         let taus: Vec<f64> = cells.iter().filter_map(|c| c.tau).collect();
-        let mean = taus.iter().sum::<f64>() / taus.len().max(1) as f64;
-        md += &format!(
-            "The rope's ranking holds on the sheet in {holds} of {} cells (mean τ = {mean:.2}). \
-             Where several solvers end within {} m of the reference (they converge to its step: \
-             at dt = 1e-3 s the fixed-point solvers do), their order is that of their leftover \
-             iteration error, not of their physics, and τ there says little.\n\n",
-            cells.len(),
-            full(CLOSE_GAP)
-        );
+        md += &match mean_with_interval(&taus) {
+            Some((mean, lo, hi)) => format!(
+                "Mean τ = {mean:.2}, 95 % bootstrap interval [{lo:.2}, {hi:.2}] over {} cells: {}.\n\n",
+                taus.len(),
+                if lo > 0.0 {
+                    "the rope's ranking carries over to the sheet more than by chance"
+                } else {
+                    "the data cannot tell the rope's ranking from an unrelated one on the sheet"
+                }
+            ),
+            None => "No cell ranks the solvers on both scenes.\n\n".into(),
+        };
         md
     }
 }

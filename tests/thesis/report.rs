@@ -8,9 +8,11 @@
 //! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
 //! accept it with `INSTA_UPDATE=always cargo test --test thesis`.
 
-use mass_spring_solvers::beyond::{grid_rows, GridRow, GridScene};
+use mass_spring_solvers::benchmark::Case;
+use mass_spring_solvers::beyond::GridScene;
 use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
+use mass_spring_solvers::report::benchmark::BenchmarkChapter;
 use mass_spring_solvers::report::beyond::BeyondChapter;
 use mass_spring_solvers::report::output::OutputFile;
 use mass_spring_solvers::report::plot::Layout;
@@ -19,11 +21,9 @@ use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
 use mass_spring_solvers::report::sheet::SheetChapter;
 use mass_spring_solvers::report::tutorial::TutorialChapter;
-use mass_spring_solvers::report::work_precision::WorkPrecisionChapter;
 use mass_spring_solvers::report::{
     crate_root, figures, render, solvers_in, tables, ReportData, Sources,
 };
-use mass_spring_solvers::work_precision::{sweep_points, Case};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -38,28 +38,20 @@ fn data() -> &'static ReportData {
             .expect("the sources read and quote");
         let runs = FigureRuns::compute(&results, &|_, _| {}).expect("the figure runs run");
         let catenary = Catenary::compute().expect("the exact catenary solves");
-        // The chapters beyond the thesis on the grids' dt = 0.1 s rows only: the full grids
-        // cost a minute of CPU (`make report` runs them); their logic is tested in
-        // tests/beyond.rs.
-        let coarse = |scene| -> Vec<GridRow> {
-            grid_rows(scene)
-                .into_iter()
-                .filter(|r| r.dt_s == 0.1)
-                .collect()
-        };
-        let beyond = BeyondChapter::compute_rows(&coarse(GridScene::Rope), &|_, _| {})
-            .expect("the chapter beyond the thesis runs");
-        let sheet = SheetChapter::compute_rows(&coarse(GridScene::Sheet), &|_, _| {})
-            .expect("the sheet chapter runs");
-        // The work-precision sweep on the rope at k = 1e3 and its two coarsest steps only.
-        let work_points: Vec<_> = Case::ALL
-            .into_iter()
-            .filter(|c| c.scene == GridScene::Rope && c.stiffness == 1e3)
-            .flat_map(sweep_points)
-            .filter(|p| p.dt_s >= 0.05)
-            .collect();
-        let work_precision = WorkPrecisionChapter::compute_points(&work_points, &|_, _| {})
-            .expect("the work-precision chapter runs");
+        // The chapters beyond the thesis: the convergence curves in full, the benchmark on the
+        // soft rope only (the whole benchmark costs half a minute of CPU; `make report` runs it,
+        // and tests/benchmark.rs tests its logic).
+        let beyond =
+            BeyondChapter::compute(&|_, _| {}).expect("the chapter beyond the thesis runs");
+        let sheet = SheetChapter::compute().expect("the sheet's equilibria solve");
+        let benchmark = BenchmarkChapter::compute_cases(
+            &[Case {
+                scene: GridScene::Rope,
+                stiffness: 1e3,
+            }],
+            &|_, _| {},
+        )
+        .expect("the benchmark runs");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),
@@ -68,7 +60,7 @@ fn data() -> &'static ReportData {
             tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
             beyond,
             sheet,
-            work_precision,
+            benchmark,
             sources,
         }
     })
@@ -292,7 +284,7 @@ fn every_figure() -> Vec<(String, Layout, String)> {
     assert_eq!(tutorial.len(), 7);
     let beyond = data().beyond.figures().unwrap();
     let sheet = data().sheet.figures().unwrap();
-    let work_precision = data().work_precision.figures().unwrap();
+    let work_precision = data().benchmark.figures().unwrap();
     assert_eq!(beyond.len() + sheet.len(), 2);
     thesis
         .into_iter()

@@ -1,0 +1,201 @@
+//! The benchmark's result set as rows ([`super`], item 8 of its specification): one row per
+//! run with every metric, the content of `report/data/benchmark.csv`, from which the report's
+//! chapters beyond the thesis read everything they show.
+
+use super::run::Outcome;
+use super::statics::StaticsOutcome;
+use super::Benchmark;
+use serde::{Deserialize, Serialize};
+
+/// One run of the benchmark: a dynamics run over its case's window, or a statics run to the
+/// thesis's stopping rule. Empty fields mean "does not apply" (or "not measured").
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    /// `dynamics` or `statics`.
+    pub kind: String,
+    /// `rope` or `sheet`.
+    pub scene: String,
+    pub stiffness_n_per_m: f64,
+    /// The solver's registry id.
+    pub solver: String,
+    /// Iterations per step (the cap in a tolerance mode).
+    pub iterations: usize,
+    /// How each step's iterations stop: `count`, or the tolerance.
+    pub stopping: String,
+    pub dt_s: f64,
+    /// The window of a dynamics run, the statics runs' time cap, s.
+    pub window_s: f64,
+    /// Floating-point operations of the run.
+    pub flops: Option<f64>,
+    /// Iterations a step took, on average.
+    pub iterations_mean: Option<f64>,
+    /// Physical error against the exact motion: RMS over samples and free nodes, largest node
+    /// distance, the RMS over the exact motion's RMS amplitude.
+    pub physical_rms_m: Option<f64>,
+    pub physical_max_m: Option<f64>,
+    pub physical_rel: Option<f64>,
+    /// Solver error against the same method with every step solved to round-off.
+    pub solver_rms_m: Option<f64>,
+    pub solver_max_m: Option<f64>,
+    pub solver_rel: Option<f64>,
+    /// The lowest mode's period over the exact motion's, minus one.
+    pub phase_error: Option<f64>,
+    /// The lowest mode's energy lost per period, and the exact motion's.
+    pub energy_decay_per_period: Option<f64>,
+    pub exact_energy_decay_per_period: Option<f64>,
+    /// Statics: whether the thesis's rule stopped the run, when, how far from the exact
+    /// equilibrium (RMS over the free nodes), and its peaks and T/2.
+    pub at_rest: Option<bool>,
+    pub end_time_s: Option<f64>,
+    pub rest_error_rms_m: Option<f64>,
+    pub peaks: Option<usize>,
+    pub half_period_s: Option<f64>,
+    /// Why the run stopped early, empty if it did not.
+    pub failure: String,
+}
+
+fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
+    Row {
+        kind: kind.into(),
+        scene: c.case.scene.id().into(),
+        stiffness_n_per_m: c.case.stiffness,
+        solver: c.spec.id.id().into(),
+        iterations: c.spec.iterations,
+        stopping: c.spec.stopping.id(),
+        dt_s: c.dt_s,
+        window_s,
+        flops: None,
+        iterations_mean: None,
+        physical_rms_m: None,
+        physical_max_m: None,
+        physical_rel: None,
+        solver_rms_m: None,
+        solver_max_m: None,
+        solver_rel: None,
+        phase_error: None,
+        energy_decay_per_period: None,
+        exact_energy_decay_per_period: None,
+        at_rest: None,
+        end_time_s: None,
+        rest_error_rms_m: None,
+        peaks: None,
+        half_period_s: None,
+        failure: String::new(),
+    }
+}
+
+impl Row {
+    fn dynamics(o: &Outcome, window_s: f64, exact_decay: Option<f64>) -> Self {
+        let mut row = base("dynamics", &o.configuration, window_s);
+        row.flops = Some(o.flops);
+        match &o.measured {
+            Ok(m) => {
+                row.iterations_mean = Some(m.iterations_mean);
+                row.physical_rms_m = Some(m.physical.rms);
+                row.physical_max_m = Some(m.physical.max);
+                row.physical_rel = Some(m.physical.relative);
+                row.solver_rms_m = m.solver.map(|e| e.rms);
+                row.solver_max_m = m.solver.map(|e| e.max);
+                row.solver_rel = m.solver.map(|e| e.relative);
+                row.phase_error = m.phase_error;
+                row.energy_decay_per_period = m.energy_decay;
+                row.exact_energy_decay_per_period = exact_decay;
+            }
+            Err(e) => row.failure = e.clone(),
+        }
+        row
+    }
+
+    fn statics(s: &StaticsOutcome) -> Self {
+        let mut row = base(
+            "statics",
+            &s.configuration,
+            super::statics::STATICS_MAX_TIME_S,
+        );
+        match &s.failure {
+            Some(e) => row.failure = e.clone(),
+            None => {
+                row.flops = Some(s.flops);
+                row.at_rest = Some(s.at_rest);
+                row.end_time_s = Some(s.end_time_s);
+                row.rest_error_rms_m = Some(s.rest_error_rms_m);
+                row.peaks = Some(s.peaks);
+                row.half_period_s = s.half_period_s;
+            }
+        }
+        row
+    }
+
+    /// Whether the run finished (no divergence).
+    pub fn finished(&self) -> bool {
+        self.failure.is_empty()
+    }
+}
+
+impl Benchmark {
+    /// Every run as a row: the dynamics runs case by case in the sweep's order, then the
+    /// statics runs.
+    pub fn rows(&self) -> Vec<Row> {
+        let mut rows: Vec<Row> = self
+            .outcomes
+            .iter()
+            .map(|o| {
+                let truth = self
+                    .truth(o.configuration.case)
+                    .expect("every run's case has a truth");
+                let exact_decay = super::metrics::modal_period(&truth.exact)
+                    .and_then(|p| super::metrics::energy_decay_per_period(&truth.exact, p));
+                Row::dynamics(o, truth.window, exact_decay)
+            })
+            .collect();
+        rows.extend(self.statics.iter().map(Row::statics));
+        rows
+    }
+}
+
+/// One case's ground truths, the content of `report/data/benchmark_truths.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TruthRow {
+    pub scene: String,
+    pub stiffness_n_per_m: f64,
+    /// The lowest excited mode of the linearised system, rad/s.
+    pub linear_omega_rad_per_s: f64,
+    /// The lowest mode's period in the exact motion, s.
+    pub exact_period_s: f64,
+    /// The window, s.
+    pub window_s: f64,
+    /// RK4's stability limit and the exact motion's step, s.
+    pub rk4_stability_limit_s: f64,
+    pub rk4_step_s: f64,
+    /// The largest node distance between the exact motions at 2h and h, m.
+    pub halving_gap_m: f64,
+    /// The exact motion's RMS amplitude about the equilibrium (the do-nothing error), m.
+    pub amplitude_rms_m: f64,
+    /// The lowest mode's energy lost per period in the exact motion.
+    pub exact_energy_decay_per_period: Option<f64>,
+}
+
+impl Benchmark {
+    /// Every case's truths as a row.
+    pub fn truth_rows(&self) -> Vec<TruthRow> {
+        self.truths
+            .iter()
+            .map(|t| {
+                let period = super::metrics::modal_period(&t.exact);
+                TruthRow {
+                    scene: t.case.scene.id().into(),
+                    stiffness_n_per_m: t.case.stiffness,
+                    linear_omega_rad_per_s: t.mode.omega,
+                    exact_period_s: period.unwrap_or(f64::NAN),
+                    window_s: t.window,
+                    rk4_stability_limit_s: t.stability_limit,
+                    rk4_step_s: t.h,
+                    halving_gap_m: t.halving_gap,
+                    amplitude_rms_m: t.amplitude,
+                    exact_energy_decay_per_period: period
+                        .and_then(|p| super::metrics::energy_decay_per_period(&t.exact, p)),
+                }
+            })
+            .collect()
+    }
+}

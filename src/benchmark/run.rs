@@ -1,0 +1,113 @@
+//! One configuration run and measured against its case's ground truths.
+
+use super::metrics::{energy_decay_per_period, largest_distance, modal_period, rms_distance};
+use super::sweep::Configuration;
+use super::truth::{record, CaseTruth, Trajectory};
+use crate::error::Result;
+use crate::work_precision::{flops_per_step, flops_setup, logged_flops};
+
+/// An error against one ground truth, per node over the free nodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeError {
+    /// RMS over the samples and free nodes, m.
+    pub rms: f64,
+    /// The largest node distance over the samples, m.
+    pub max: f64,
+    /// The RMS over the exact motion's RMS amplitude about the equilibrium.
+    pub relative: f64,
+}
+
+impl NodeError {
+    /// The error of `run` against `truth`, scaled by `amplitude`.
+    pub fn between(
+        system: &crate::system::MassSpringSystem,
+        run: &Trajectory,
+        truth: &Trajectory,
+        amplitude: f64,
+    ) -> Self {
+        let rms = rms_distance(system, &run.samples, &truth.samples);
+        Self {
+            rms,
+            max: largest_distance(&run.samples, &truth.samples),
+            relative: rms / amplitude,
+        }
+    }
+}
+
+/// What one configuration measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measurement {
+    /// The physical error, against the exact motion.
+    pub physical: NodeError,
+    /// The solver error, against the same method with every step solved to round-off; None
+    /// where that method is not run (time steps outside [`super::sweep::SOLVER_ERROR_DTS`],
+    /// the substeps and the baselines).
+    pub solver: Option<NodeError>,
+    /// The lowest mode's period over the exact motion's, minus one; None where it does not
+    /// oscillate over the window.
+    pub phase_error: Option<f64>,
+    /// The lowest mode's energy lost per (exact) period.
+    pub energy_decay: Option<f64>,
+    /// The mean iterations a step took (the fixed count in the count mode).
+    pub iterations_mean: f64,
+}
+
+/// A configuration's outcome: its cost and its measurement, or why it stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    pub configuration: Configuration,
+    /// Floating-point operations over the window: counted from the iterations its steps took
+    /// where it logged them, else the model's count.
+    pub flops: f64,
+    pub measured: std::result::Result<Measurement, String>,
+}
+
+/// Runs a configuration over its case's window and measures it against `truth` and, for the
+/// solver error, its method's converged trajectory `reference`.
+pub fn run(
+    configuration: &Configuration,
+    truth: &CaseTruth,
+    reference: Option<&Trajectory>,
+) -> Result<Outcome> {
+    let case = configuration.case;
+    let system = case.scene.system(case.stiffness)?;
+    let mut solver = configuration.spec.build(&system, configuration.dt_s)?;
+    let trajectory = record(
+        solver.as_mut(),
+        system.initial_state(),
+        truth.window,
+        &truth.mode,
+        &truth.equilibrium,
+    );
+    let log = solver
+        .iteration_log()
+        .filter(|_| trajectory.is_ok())
+        .cloned();
+    let steps = (truth.window / configuration.dt_s).round();
+    let spec = &configuration.spec;
+    let flops = match &log {
+        Some(log) => logged_flops(spec, &system, log),
+        None => flops_setup(spec, &system) + steps * flops_per_step(spec, &system),
+    };
+    let measured = trajectory
+        .map(|t| {
+            let exact_period = modal_period(&truth.exact);
+            let period = modal_period(&t);
+            Measurement {
+                physical: NodeError::between(&system, &t, &truth.exact, truth.amplitude),
+                solver: reference.map(|r| NodeError::between(&system, &t, r, truth.amplitude)),
+                phase_error: period.zip(exact_period).map(|(p, e)| p / e - 1.0),
+                energy_decay: exact_period.and_then(|p| energy_decay_per_period(&t, p)),
+                iterations_mean: log
+                    .as_ref()
+                    .and_then(|l| l.mean_iterations())
+                    .unwrap_or(configuration.spec.iterations as f64),
+            }
+        })
+        .map_err(|e| e.to_string());
+    Ok(Outcome {
+        configuration: *configuration,
+        flops,
+        measured,
+    })
+}

@@ -1,0 +1,289 @@
+//! The benchmark (`src/benchmark/`): its metrics on signals with known answers, its ground
+//! truths, and the claims its chapter makes, each recomputed from `benchmark.csv` (read back
+//! strictly) with this file's own code and shown failing on a plausible wrong hypothesis.
+//! The rope's two cases run once per process (about ten seconds of CPU); the sheet's are
+//! `make report`'s.
+
+use mass_spring_solvers::benchmark::metrics::{energy_decay_per_period, modal_period};
+use mass_spring_solvers::benchmark::rows::Row;
+use mass_spring_solvers::benchmark::truth::{lowest_excited_mode, Trajectory};
+use mass_spring_solvers::benchmark::verdicts::{Conclusion, Verdict};
+use mass_spring_solvers::benchmark::Case;
+use mass_spring_solvers::beyond::GridScene;
+use mass_spring_solvers::registry::SolverId;
+use mass_spring_solvers::report::benchmark::{rows_csv, BenchmarkChapter};
+use mass_spring_solvers::scene::thesis_rope;
+use std::sync::OnceLock;
+
+const ROPES: [Case; 2] = [
+    Case {
+        scene: GridScene::Rope,
+        stiffness: 1e3,
+    },
+    Case {
+        scene: GridScene::Rope,
+        stiffness: 1e6,
+    },
+];
+
+fn chapter() -> &'static BenchmarkChapter {
+    static CHAPTER: OnceLock<BenchmarkChapter> = OnceLock::new();
+    CHAPTER.get_or_init(|| BenchmarkChapter::compute_cases(&ROPES, &|_, _| {}).unwrap())
+}
+
+/// `benchmark.csv` as written, read back with a strict reader into this file's rows.
+fn rows_from_csv() -> Vec<Row> {
+    let text = rows_csv(&chapter().rows);
+    let mut reader = csv::ReaderBuilder::new()
+        .flexible(false)
+        .from_reader(text.as_bytes());
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    assert!(header.iter().all(|h| h
+        .chars()
+        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')));
+    reader.deserialize().map(|r| r.unwrap()).collect()
+}
+
+fn signal(dt: f64, steps: usize, f: impl Fn(f64) -> (f64, f64)) -> Trajectory {
+    let (modal, modal_energy) = (1..=steps).map(|n| f(n as f64 * dt)).unzip();
+    Trajectory {
+        dt,
+        samples: Vec::new(),
+        modal,
+        modal_energy,
+    }
+}
+
+/// The period of a sampled sinusoid is its period, to the sampling; a signal that does not
+/// cross its mean twice has none.
+#[test]
+fn the_modal_period_is_a_sinusoids_period() {
+    let t = signal(1e-3, 5000, |t| {
+        ((std::f64::consts::TAU * t / 0.7).sin(), 1.0)
+    });
+    let p = modal_period(&t).unwrap();
+    assert!((p - 0.7).abs() < 1e-5, "{p}");
+    // Negative case: a monotone decay never oscillates.
+    let t = signal(1e-3, 5000, |t| ((-t).exp(), 1.0));
+    assert_eq!(modal_period(&t), None);
+}
+
+/// The energy lost per period of an exponentially decaying energy is $`1 - e^{-\kappa T}`$;
+/// a constant energy loses none.
+#[test]
+fn the_energy_decay_is_the_exponents() {
+    let (kappa, period) = (0.3, 0.5);
+    let t = signal(1e-3, 4000, |t| (0.0, 2.0 * (-kappa * t).exp()));
+    let d = energy_decay_per_period(&t, period).unwrap();
+    assert!((d - (1.0 - (-kappa * period).exp())).abs() < 1e-9, "{d}");
+    let t = signal(1e-3, 4000, |_| (0.0, 2.0));
+    assert!(energy_decay_per_period(&t, period).unwrap().abs() < 1e-12);
+}
+
+/// The rope's lowest excited mode lies in its plane: the out-of-plane swings, slower, are not
+/// excited by an in-plane start and are skipped (the participation test is what skips them).
+#[test]
+fn the_lowest_excited_mode_is_in_the_rope_plane() {
+    let system = thesis_rope(1e3).unwrap();
+    let equilibrium = GridScene::Rope.equilibrium(1e3).unwrap();
+    let mode = lowest_excited_mode(&system, &equilibrium).unwrap();
+    assert!(mode.weights.iter().all(|w| w.z.abs() < 1e-12));
+    // Negative case: the slowest mode of all is out of the plane and slower.
+    let jacobian = system.force_jacobian_dense(&equilibrium);
+    let free: Vec<usize> = (1..9)
+        .flat_map(|i| (0..3).map(move |c| 3 * i + c))
+        .collect();
+    let k =
+        nalgebra::DMatrix::from_fn(free.len(), free.len(), |r, c| -jacobian[(free[r], free[c])]);
+    let slowest = k
+        .symmetric_eigenvalues()
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .sqrt();
+    assert!(slowest < 0.9 * mode.omega, "{slowest} vs {}", mode.omega);
+}
+
+/// The exact motion is converged: halving RK4's step moves it by far less than the smallest
+/// physical error any configuration reaches (but RK4's own, which the exact motion bounds).
+#[test]
+fn the_exact_motion_is_converged() {
+    let c = chapter();
+    for case in ROPES {
+        let truth = c.truth(case).unwrap();
+        let smallest = c
+            .dynamics(case)
+            .into_iter()
+            .filter(|r| r.solver != SolverId::Rk4.id())
+            .filter_map(|r| r.physical_rms_m)
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            truth.halving_gap_m < 1e-3 * smallest,
+            "{}: {} vs {smallest}",
+            case.label(),
+            truth.halving_gap_m
+        );
+        assert!(truth.window_s >= 3.0 * truth.exact_period_s);
+    }
+}
+
+/// Backward Euler's relative physical error falls at order 1 over its smallest decade of dt
+/// on both rope cases (fitted slope 1 ± 0.15), recomputed from the CSV. Negative case: the
+/// same data reject order 2.
+#[test]
+fn backward_euler_converges_at_order_one_on_the_rope() {
+    let rows = rows_from_csv();
+    for case in ROPES {
+        let mut points: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.kind == "dynamics" && r.scene == "rope")
+            .filter(|r| r.stiffness_n_per_m == case.stiffness && r.solver == "backward_euler")
+            .filter_map(|r| Some((r.dt_s.log10(), r.physical_rel?.log10())))
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let smallest = points[0].0;
+        let decade: Vec<(f64, f64)> = points
+            .into_iter()
+            .filter(|(x, _)| *x <= smallest + 1.0 + 1e-9)
+            .collect();
+        let n = decade.len() as f64;
+        let (mx, my) = (
+            decade.iter().map(|p| p.0).sum::<f64>() / n,
+            decade.iter().map(|p| p.1).sum::<f64>() / n,
+        );
+        let slope = decade.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
+            / decade.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+        assert!((slope - 1.0).abs() <= 0.15, "{}: {slope}", case.label());
+        assert!((slope - 2.0).abs() > 0.5, "order 2 is not what BE shows");
+        assert!(
+            c_slope(case).is_some_and(|s| (s - slope).abs() < 1e-12),
+            "the chapter says the same"
+        );
+    }
+}
+
+fn c_slope(case: Case) -> Option<f64> {
+    chapter()
+        .smallest_decade_slope(case, SolverId::BackwardEuler)
+        .map(|(s, _, _)| s)
+}
+
+/// The verdicts on the thesis's conclusions, recomputed from the CSV with this file's code:
+/// per rope stiffness and level, each of the three solvers' cheapest cost, the winners within
+/// 10 %. Negative case: with XPBD's and ADMM's costs exchanged, a verdict that names one of
+/// them changes.
+#[test]
+fn the_thesis_verdicts_come_from_the_csv() {
+    let rows = rows_from_csv();
+    let three = ["xpbd", "fast_mass_spring", "admm_pd"];
+    let cost = |rows: &[Row], k: f64, solver: &str, statics: bool, level: f64| -> Option<f64> {
+        rows.iter()
+            .filter(|r| r.scene == "rope" && r.stiffness_n_per_m == k && r.solver == solver)
+            .filter(|r| r.failure.is_empty())
+            .filter(|r| {
+                if statics {
+                    r.kind == "statics"
+                        && r.at_rest == Some(true)
+                        && r.rest_error_rms_m.is_some_and(|e| e <= level)
+                } else {
+                    r.kind == "dynamics" && r.physical_rel.is_some_and(|e| e <= level)
+                }
+            })
+            .filter_map(|r| r.flops)
+            .min_by(f64::total_cmp)
+    };
+    let cells = |rows: &[Row], statics: bool, swap: bool| -> Vec<Vec<&'static str>> {
+        let levels: &[f64] = if statics {
+            &[1e-2, 1e-3, 1e-4]
+        } else {
+            &[0.1, 0.01, 0.001]
+        };
+        let mut out = Vec::new();
+        for k in [1e3, 1e6] {
+            for &level in levels {
+                let mut costs: Vec<(&str, Option<f64>)> = three
+                    .iter()
+                    .map(|s| (*s, cost(rows, k, s, statics, level)))
+                    .collect();
+                if swap {
+                    let (x, a) = (costs[0].1, costs[2].1);
+                    costs[0].1 = a;
+                    costs[2].1 = x;
+                }
+                let best = costs
+                    .iter()
+                    .filter_map(|c| c.1)
+                    .fold(f64::INFINITY, f64::min);
+                out.push(
+                    costs
+                        .iter()
+                        .filter(|c| c.1.is_some_and(|c| c <= 1.1 * best))
+                        .map(|c| c.0)
+                        .collect(),
+                );
+            }
+        }
+        out
+    };
+    let to_ids = |cells: Vec<Vec<&str>>| -> Vec<Vec<SolverId>> {
+        cells
+            .into_iter()
+            .map(|w| w.into_iter().map(|s| s.parse().unwrap()).collect())
+            .collect()
+    };
+    let ours = |statics: bool, dynamics: bool, swap: bool| {
+        let mut all = Vec::new();
+        if statics {
+            all.extend(to_ids(cells(&rows, true, swap)));
+        }
+        if dynamics {
+            all.extend(to_ids(cells(&rows, false, swap)));
+        }
+        all
+    };
+    let verdicts = chapter().verdicts();
+    for (conclusion, verdict) in &verdicts {
+        let (statics, dynamics) = match conclusion {
+            Conclusion::StaticsProjectiveDynamics | Conclusion::StaticsAdmmVersatile => {
+                (true, false)
+            }
+            Conclusion::AdmmForBoth => (true, true),
+            _ => (false, true),
+        };
+        assert_eq!(
+            conclusion.decide(&ours(statics, dynamics, false)),
+            *verdict,
+            "{conclusion:?}"
+        );
+    }
+    assert_eq!(
+        verdicts
+            .iter()
+            .find(|(c, _)| *c == Conclusion::StaticsAdmmVersatile)
+            .unwrap()
+            .1,
+        Verdict::Undecided
+    );
+    // Negative case: exchanging XPBD's and ADMM's costs moves the verdict on XPBD for dynamics.
+    let xpbd = Conclusion::DynamicsXpbd;
+    let cells_now = ours(false, true, false);
+    let swapped = ours(false, true, true);
+    if cells_now.iter().any(|w| !w.is_empty()) {
+        assert_ne!(xpbd.decide(&cells_now), xpbd.decide(&swapped));
+    }
+}
+
+/// Every row of `benchmark.csv` reads back to the row that was written.
+#[test]
+fn the_csv_reads_back_to_its_rows() {
+    let back = rows_from_csv();
+    assert_eq!(back.len(), chapter().rows.len());
+    for (a, b) in back.iter().zip(&chapter().rows) {
+        assert_eq!(a.solver, b.solver);
+        assert_eq!(a.dt_s.to_bits(), b.dt_s.to_bits());
+        assert_eq!(
+            a.physical_rel.map(f64::to_bits),
+            b.physical_rel.map(f64::to_bits)
+        );
+    }
+}
