@@ -35,7 +35,6 @@ use crate::scene::{SheetParams, SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
 use crate::spring;
 use crate::system::{MassSpringSystem, Vec3};
 use nalgebra::Matrix3;
-use std::fmt::Write;
 
 /// The largest force on a free node, N, that counts as equilibrium (`docs/sheet-scene.md`).
 pub const RESIDUAL_TARGET: f64 = 1e-7;
@@ -380,20 +379,4 @@ pub fn report_equilibria() -> Result<Vec<(f64, usize, Equilibrium)>> {
         }
     }
     Ok(out)
-}
-
-/// `sheet_equilibrium.csv`: columns stiffness,n,i,j,x,y,z, one row per node (i, j) of every
-/// equilibrium, every coordinate in Rust's shortest round-trip form (full f64 precision).
-pub fn equilibrium_csv(equilibria: &[(f64, usize, Equilibrium)]) -> String {
-    let mut csv = String::from("stiffness,n,i,j,x,y,z\n");
-    for (k, n, eq) in equilibria {
-        for i in 0..*n {
-            for j in 0..*n {
-                let p = eq.x[i * n + j];
-                writeln!(csv, "{k:e},{n},{i},{j},{},{},{}", p.x, p.y, p.z)
-                    .expect("writing to a String");
-            }
-        }
-    }
-    csv
 }

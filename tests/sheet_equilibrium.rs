@@ -2,9 +2,10 @@
 //! symmetry, independence of the start, and an independent oracle.
 
 use mass_spring_solvers::backward_euler;
+use mass_spring_solvers::report::sheet::equilibrium_csv;
 use mass_spring_solvers::scene::{SheetParams, SHEET_SIDE};
 use mass_spring_solvers::sheet_equilibrium::{
-    equilibrium_csv, free_hessian, sagged_start, shaped_start, sheet_equilibrium,
+    free_hessian, sagged_start, shaped_start, sheet_equilibrium,
     smallest_hessian_eigenvalue, static_equilibrium, Equilibrium, RESIDUAL_TARGET,
 };
 use mass_spring_solvers::{MassSpringSystem, Vec3};
@@ -180,7 +181,7 @@ fn a_bad_start_is_refused_with_its_field() {
 fn the_csv_holds_every_node_at_full_precision() {
     let csv = equilibrium_csv(equilibria());
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("stiffness,n,i,j,x,y,z"));
+    assert_eq!(lines.next(), Some("stiffness_n_per_m,n,i,j,x_m,y_m,z_m"));
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 2 * (100 + 400));
     let (k, n, eq) = &equilibria()[3];

@@ -12,6 +12,7 @@ use crate::chebyshev::{spectral_radius, ChebyshevParams};
 use crate::error::Result;
 use crate::local_global::Base;
 use crate::registry::{SolverId, SolverSpec};
+use crate::report::data::CsvFile;
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, full_opt, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -181,7 +182,7 @@ impl BeyondChapter {
     /// [`CONVERGENCE_STIFFNESS`], one panel per start.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
         let mut panels = Vec::new();
-        let mut csv = String::from("solver,start,iteration,gap_m\n");
+        let mut csv = CsvFile::new(&["solver", "start", "iteration", "gap_m"]);
         for start in Start::ALL {
             let mut panel = Panel::new(
                 Axis::linear("iterations m"),
@@ -199,7 +200,12 @@ impl BeyondChapter {
                     .filter_map(|(i, g)| g.map(|g| ((i + 1) as f64, g.max(GAP_FLOOR))))
                     .collect();
                 for (m, g) in &points {
-                    csv += &format!("{},{},{m},{}\n", curve.spec.id, start.id(), full(*g));
+                    csv.record(vec![
+                        curve.spec.id.to_string(),
+                        start.id().to_string(),
+                        m.to_string(),
+                        full(*g),
+                    ]);
                 }
                 panel.series.push(
                     Series::line(
@@ -216,7 +222,7 @@ impl BeyondChapter {
         Ok(vec![ChapterFigure::new(
             "beyond_convergence",
             &Chart::new(FULL_WIDTH_MM, 120.0, panels),
-            csv,
+            csv.text(),
         )?])
     }
 
@@ -238,8 +244,16 @@ impl BeyondChapter {
 
     /// `convergence.csv`: one row per curve and iteration; a failed step has no gap.
     pub fn convergence_csv(&self) -> String {
-        let mut out =
-            String::from("solver,configuration,scene,start,stiffness,dt_s,iteration,gap_m\n");
+        let mut out = CsvFile::new(&[
+            "solver",
+            "configuration",
+            "scene",
+            "start",
+            "stiffness_n_per_m",
+            "dt_s",
+            "iteration",
+            "gap_m",
+        ]);
         for c in &self.curves {
             let configuration = setting_label(&SolverSpec {
                 iterations: 1,
@@ -247,19 +261,19 @@ impl BeyondChapter {
             })
             .replace("1 it.", "default");
             for (i, g) in c.gaps.iter().enumerate() {
-                out += &format!(
-                    "{},{configuration},{},{},{},{},{},{}\n",
-                    c.spec.id,
-                    c.scene,
-                    c.start.id(),
+                out.record(vec![
+                    c.spec.id.to_string(),
+                    configuration.to_string(),
+                    c.scene.to_string(),
+                    c.start.id().to_string(),
                     full(c.stiffness),
                     full(c.dt_s),
-                    i + 1,
-                    full_opt(*g)
-                );
+                    (i + 1).to_string(),
+                    full_opt(*g),
+                ]);
             }
         }
-        out
+        out.text()
     }
 
     /// The iterations each solver needs for a gap below [`GAP_TOLERANCE`] at the figure's

@@ -13,62 +13,97 @@ use crate::report::format::{full, full_opt};
 use crate::report::rest_state::Catenary;
 use crate::report::tables::half_period_deviation;
 
-/// The header of `results.csv` and `table1.csv`: the columns of `thesis_results.csv` (thesis
-/// convention for `half_period_s`) plus the exact-convention half-period.
-pub const RESULTS_HEADER: &str =
-    "table,solver,dt_s,iterations,stiffness,error,ke_peaks,half_period_s,period_rel_error,half_period_exact_s";
+/// The columns of `results.csv` and `table1.csv`: those of `thesis_results.csv` (the published
+/// table's own names; thesis convention for `half_period_s`) plus the exact-convention
+/// half-period.
+pub const RESULTS_HEADER: &[&str] = &[
+    "table",
+    "solver",
+    "dt_s",
+    "iterations",
+    "stiffness",
+    "error",
+    "ke_peaks",
+    "half_period_s",
+    "period_rel_error",
+    "half_period_exact_s",
+];
 
-fn row(m: &Measured) -> String {
+fn row(m: &Measured) -> Vec<String> {
     let p = &m.published;
-    format!(
-        "{},{},{},{},{},{},{},{},{},{}\n",
-        p.table,
-        p.solver.id(),
+    vec![
+        p.table.to_string(),
+        p.solver.id().to_string(),
         full(p.dt_s),
-        p.iterations,
+        p.iterations.to_string(),
         full(p.stiffness),
         full_opt(m.error_sum),
-        m.peaks,
+        m.peaks.to_string(),
         full_opt(m.half_period_thesis),
         full_opt(m.period_rel_error),
-        full_opt(m.half_period_exact)
-    )
+        full_opt(m.half_period_exact),
+    ]
 }
 
 /// `results.csv`: every measured row, in the thesis's order.
 pub fn results_csv(results: &ResultSet) -> String {
-    let mut out = format!("{RESULTS_HEADER}\n");
-    for m in &results.rows {
-        out += &row(m);
-    }
-    out
+    write_csv(RESULTS_HEADER, results.rows.iter().map(row))
 }
 
 /// `table1.csv`: the Backward Euler reference rows (Table 1).
 pub fn table1_csv(results: &ResultSet) -> String {
-    let mut out = format!("{RESULTS_HEADER}\n");
-    for m in results
-        .rows
-        .iter()
-        .filter(|m| m.published.table == 1 && m.published.solver == SolverId::BackwardEuler)
-    {
-        out += &row(m);
-    }
-    out
+    write_csv(
+        RESULTS_HEADER,
+        results
+            .rows
+            .iter()
+            .filter(|m| m.published.table == 1 && m.published.solver == SolverId::BackwardEuler)
+            .map(row),
+    )
 }
 
 /// `catenary.csv`: the exact static equilibrium of the discrete elastic chain of the thesis
-/// rope, `stiffness,node,x,y`, for every stiffness available.
+/// rope, for every stiffness available.
 pub fn catenary_csv(catenary: &Catenary) -> Option<String> {
-    let mut out = String::from("stiffness,node,x,y\n");
+    let mut csv = CsvFile::new(&["stiffness_n_per_m", "node", "x_m", "y_m"]);
     let mut any = false;
     for (k, nodes) in catenary.all() {
         any = true;
         for (i, p) in nodes.iter().enumerate() {
-            out += &format!("{},{i},{},{}\n", full(k), full(p.x), full(p.y));
+            csv.record(vec![full(k), i.to_string(), full(p.x), full(p.y)]);
         }
     }
-    any.then_some(out)
+    any.then(|| csv.text())
+}
+
+/// A CSV file being built, record by record, and written with `csv::Writer` at the end: every
+/// data file of the report goes through it or [`write_csv`], so that a field holding a comma
+/// is quoted and every file reads back with a strict reader.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CsvFile {
+    header: Vec<&'static str>,
+    records: Vec<Vec<String>>,
+}
+
+impl CsvFile {
+    /// An empty file with these columns.
+    pub fn new(header: &[&'static str]) -> Self {
+        Self {
+            header: header.to_vec(),
+            records: Vec::new(),
+        }
+    }
+
+    /// Appends a record; it must have one field per column.
+    pub fn record(&mut self, fields: Vec<String>) {
+        debug_assert_eq!(fields.len(), self.header.len(), "{:?}", self.header);
+        self.records.push(fields);
+    }
+
+    /// The file's text.
+    pub fn text(&self) -> String {
+        write_csv(&self.header, self.records.iter().cloned())
+    }
 }
 
 /// A CSV file of `header` and `records`, written with `csv::Writer` (fields quoted where they
@@ -133,7 +168,11 @@ pub fn reproduction_csv(forensics: &Forensics) -> String {
             r.extend([
                 e.evidence.id().to_string(),
                 e.configuration.id(),
-                e.rests_on(),
+                if e.effects.is_empty() {
+                    String::new()
+                } else {
+                    e.rests_on()
+                },
                 forensics.twins.twin_of(p).map_or(String::new(), row_label),
                 p.ke_peaks.to_string(),
                 m.peaks.to_string(),

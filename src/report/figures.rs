@@ -13,6 +13,7 @@ use crate::experiments::{
 };
 use crate::forensics::Evidence;
 use crate::registry::SolverId;
+use crate::report::data::CsvFile;
 use crate::report::format::{full, full_opt, sig4};
 use crate::report::plot::{
     layout, power_of_ten, Align, Arrow, Axis, Band, Chart, Entry, Layout, LegendPlace, Line,
@@ -164,25 +165,25 @@ fn stiffness_text(k: f64) -> String {
 }
 
 /// Long-format CSV of named (x, y) series.
-fn series_csv(x: &str, y: &str, series: &[(String, Vec<(f64, f64)>)]) -> String {
-    let mut out = format!("series,{x},{y}\n");
+fn series_csv(x: &'static str, y: &'static str, series: &[(String, Vec<(f64, f64)>)]) -> String {
+    let mut out = CsvFile::new(&["series", x, y]);
     for (name, points) in series {
         for &(a, b) in points {
-            out += &format!("{name},{},{}\n", full(a), full(b));
+            out.record(vec![name.to_string(), full(a), full(b)]);
         }
     }
-    out
+    out.text()
 }
 
 /// Node positions (x, y) of named shapes as CSV.
 fn shapes_csv(shapes: &[(String, Vec<Vec3>)]) -> String {
-    let mut out = String::from("series,node,x_m,y_m\n");
+    let mut out = CsvFile::new(&["series", "node", "x_m", "y_m"]);
     for (name, nodes) in shapes {
         for (i, p) in nodes.iter().enumerate() {
-            out += &format!("{name},{i},{},{}\n", full(p.x), full(p.y));
+            out.record(vec![name.to_string(), i.to_string(), full(p.x), full(p.y)]);
         }
     }
-    out
+    out.text()
 }
 
 /// A series reduced to the minimum and maximum of each of at most `buckets` consecutive
@@ -280,7 +281,13 @@ fn error_against_dt(
     solvers: &[SolverId],
 ) -> Result<Figure> {
     let k = stiffness_label(stiffness);
-    let mut csv_rows = String::from("solver,iterations,dt_s,error_published_m,error_ours_m\n");
+    let mut csv_rows = CsvFile::new(&[
+        "solver",
+        "iterations",
+        "dt_s",
+        "error_published_m",
+        "error_ours_m",
+    ]);
     // Per solver: iteration counts, published series, our series.
     let mut per_solver = Vec::new();
     for &solver in solvers {
@@ -300,14 +307,13 @@ fn error_against_dt(
             let mut o = Vec::new();
             for r in &rows {
                 let ours_error = measured(&data.results, r).and_then(|m| m.error_sum);
-                csv_rows += &format!(
-                    "{},{},{},{},{}\n",
-                    solver.id(),
-                    iterations,
+                csv_rows.record(vec![
+                    solver.id().to_string(),
+                    iterations.to_string(),
                     full(r.dt_s),
                     full_opt(r.error),
-                    full_opt(ours_error)
-                );
+                    full_opt(ours_error),
+                ]);
                 p.extend(r.error.map(|e| (r.dt_s, e)));
                 o.extend(ours_error.map(|e| (r.dt_s, e)));
             }
@@ -422,7 +428,7 @@ fn error_against_dt(
             stiffness_text(stiffness)
         ),
         &chart,
-        csv_rows,
+        csv_rows.text(),
     )
 }
 
@@ -524,7 +530,7 @@ fn figure1(data: &ReportData) -> Result<Figure> {
     let sheet = &data.runs.sheet;
     let p = &sheet.params;
     let n = p.nodes_per_side;
-    let mut csv = String::from("time_s,i,j,x_m,y_m,z_m\n");
+    let mut csv = CsvFile::new(&["time_s", "i", "j", "x_m", "y_m", "z_m"]);
     // One common extent for every panel: the same scale throughout.
     let all: Vec<(f64, f64)> = sheet
         .frames
@@ -574,13 +580,14 @@ fn figure1(data: &ReportData) -> Result<Figure> {
         for i in 0..n {
             for j in 0..n {
                 let q = x[p.node(i, j)];
-                csv += &format!(
-                    "{},{i},{j},{},{},{}\n",
+                csv.record(vec![
                     full(*t),
+                    i.to_string(),
+                    j.to_string(),
                     full(q.x),
                     full(q.y),
-                    full(q.z)
-                );
+                    full(q.z),
+                ]);
             }
         }
         panels.push(panel);
@@ -619,7 +626,7 @@ fn figure1(data: &ReportData) -> Result<Figure> {
             sheet.frames.iter().map(|(t, _)| format!("{} s", sig_short(*t))).collect::<Vec<_>>().join(", ")
         ),
         &chart,
-        csv,
+        csv.text(),
     )
 }
 
@@ -749,7 +756,7 @@ fn figure3() -> Result<Figure> {
     panel.frame = false;
     panel.equal_aspect = true;
     panel.legend = LegendPlace::Below;
-    let mut csv = String::from("element,index,x_a_m,y_a_m,x_b_m,y_b_m\n");
+    let mut csv = CsvFile::new(&["element", "index", "x_a_m", "y_a_m", "x_b_m", "y_b_m"]);
     for (i, w) in nodes.windows(2).enumerate() {
         let label = if i == 0 {
             "spring: stiffness k, rest length l₀ = 1 m"
@@ -759,13 +766,14 @@ fn figure3() -> Result<Figure> {
         panel
             .series
             .push(Series::line(label, zigzag(w[0], w[1], 3, 0.12), BLUE).with_weight(0.8));
-        csv += &format!(
-            "spring,{i},{},{},{},{}\n",
+        csv.record(vec![
+            "spring".to_string(),
+            i.to_string(),
             full(w[0].0),
             full(w[0].1),
             full(w[1].0),
-            full(w[1].1)
-        );
+            full(w[1].1),
+        ]);
     }
     let last = nodes.len() - 1;
     panel.series.push(
@@ -785,7 +793,14 @@ fn figure3() -> Result<Figure> {
             format!("x{}", subscript(i)),
             BLACK,
         );
-        csv += &format!("node,{i},{},{},,\n", full(x), full(y));
+        csv.record(vec![
+            "node".to_string(),
+            i.to_string(),
+            full(x),
+            full(y),
+            String::new(),
+            String::new(),
+        ]);
     }
     panel.label(nodes[0], (-5.0, 4.0), Align::End, "(0, 0) m", GREY);
     panel.label(nodes[last], (5.0, 4.0), Align::Start, "(9, 0) m", GREY);
@@ -809,7 +824,7 @@ fn figure3() -> Result<Figure> {
          rope starts straight, taut and at rest."
             .into(),
         &Chart::new(FULL_WIDTH_MM, 45.0, vec![panel]),
-        csv,
+        csv.text(),
     )
 }
 
@@ -907,20 +922,18 @@ fn figure4() -> Result<Figure> {
         "stretched: C > 0",
         GREY,
     );
-    let csv = format!(
-        "quantity,x,y\nx1,{},{}\nx2,{},{}\ngrad_x1_C,{},{}\ngrad_x2_C,{},{}\nlength_m,{},\nrest_length_m,{},\nC_m,{},\n",
-        full(x1.0),
-        full(x1.1),
-        full(x2.0),
-        full(x2.1),
-        full(n.0),
-        full(n.1),
-        full(-n.0),
-        full(-n.1),
-        full(d),
-        full(l0),
-        full(c)
-    );
+    let mut csv = CsvFile::new(&["quantity", "x_m", "y_m"]);
+    for (quantity, x, y) in [
+        ("x1", x1.0, Some(x1.1)),
+        ("x2", x2.0, Some(x2.1)),
+        ("grad_x1_c", n.0, Some(n.1)),
+        ("grad_x2_c", -n.0, Some(-n.1)),
+        ("length", d, None),
+        ("rest_length", l0, None),
+        ("c", c, None),
+    ] {
+        csv.record(vec![quantity.into(), full(x), full_opt(y)]);
+    }
     Figure::new(
         4,
         "fig04-distance-constraint",
@@ -929,7 +942,7 @@ fn figure4() -> Result<Figure> {
          the spring, opposite at the two ends, pointing where C grows; (b) C against the spring's length."
             .into(),
         &Chart::new(FULL_WIDTH_MM, 75.0, vec![left, right]),
-        csv,
+        csv.text(),
     )
 }
 
@@ -996,8 +1009,8 @@ fn figure11(runs: &FigureRuns) -> Result<Figure> {
         panel
             .series
             .push(Series::points("peaks", peaks.clone(), RED).with_marker(Marker::Circle, true));
-        csv_series.push(("kinetic_energy_J".to_string(), ke));
-        csv_series.push(("peak_J".to_string(), peaks));
+        csv_series.push(("kinetic_energy_j".to_string(), ke));
+        csv_series.push(("peak_j".to_string(), peaks));
     }
     headroom(&mut panel, 0.12);
     Figure::new(
@@ -1009,7 +1022,7 @@ fn figure11(runs: &FigureRuns) -> Result<Figure> {
              periods span peaks 1 to 5.{caption_extra}"
         ),
         &Chart::new(COLUMN_WIDTH_MM, 66.0, vec![panel]),
-        series_csv("time_s", "value", &csv_series),
+        series_csv("time_s", "value_j", &csv_series),
     )
 }
 
@@ -1023,7 +1036,14 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
     );
     energy.legend = LegendPlace::Below;
     rope.legend = LegendPlace::Below;
-    let mut csv = String::from("instant,time_s,kinetic_energy_J,node,x_m,y_m\n");
+    let mut csv = CsvFile::new(&[
+        "instant",
+        "time_s",
+        "kinetic_energy_j",
+        "node",
+        "x_m",
+        "y_m",
+    ]);
     let palette = [GREY, Rgb(217, 72, 1), GREEN, BLUE, Rgb(120, 40, 160)];
     if let Some((_, run)) = runs.get(BE_SOFT) {
         let instants = five_instants(&run.kinetic_energy);
@@ -1063,14 +1083,14 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
                     .with_marker_scale(0.8),
                 );
                 for (node, p) in state.x.iter().enumerate() {
-                    csv += &format!(
-                        "{},{},{},{node},{},{}\n",
-                        n + 1,
+                    csv.record(vec![
+                        (n + 1).to_string(),
                         full(t),
                         full(e),
+                        node.to_string(),
                         full(p.x),
-                        full(p.y)
-                    );
+                        full(p.y),
+                    ]);
                 }
             }
         }
@@ -1089,7 +1109,7 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
          up) and 5 the next minimum (highest turning point): one full period."
             .into(),
         &Chart::new(FULL_WIDTH_MM, 80.0, vec![energy, rope]),
-        csv,
+        csv.text(),
     )
 }
 
@@ -1302,7 +1322,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
             if first_peaks.is_empty() { "–".to_string() } else { first_peaks.join(", ") }
         ),
         &Chart::new(FULL_WIDTH_MM, 66.0, vec![panel]),
-        series_csv("time_s", "kinetic_energy_J", &csv_series),
+        series_csv("time_s", "kinetic_energy_j", &csv_series),
     )
 }
 
@@ -1422,27 +1442,36 @@ fn parity(data: &ReportData) -> Result<Figure> {
             })
         })
         .collect();
-    let mut csv = String::from(
-        "table,solver,dt_s,iterations,stiffness_N_per_m,class,peaks_published,peaks_ours,half_period_published_s,\
-         half_period_ours_s,error_published_m,error_ours_m\n",
-    );
+    let mut csv = CsvFile::new(&[
+        "table",
+        "solver",
+        "dt_s",
+        "iterations",
+        "stiffness_n_per_m",
+        "class",
+        "peaks_published",
+        "peaks_ours",
+        "half_period_published_s",
+        "half_period_ours_s",
+        "error_published_m",
+        "error_ours_m",
+    ]);
     for r in &rows {
         let p = r.published;
-        csv += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            p.table,
-            p.solver.id(),
+        csv.record(vec![
+            p.table.to_string(),
+            p.solver.id().to_string(),
             full(p.dt_s),
-            p.iterations,
+            p.iterations.to_string(),
             full(p.stiffness),
-            r.class,
-            p.ke_peaks,
-            r.ours.peaks,
+            r.class.to_string(),
+            p.ke_peaks.to_string(),
+            r.ours.peaks.to_string(),
             full(p.half_period_s),
             full_opt(r.ours.half_period_thesis),
             full_opt(p.error),
-            full_opt(r.ours.error_sum)
-        );
+            full_opt(r.ours.error_sum),
+        ]);
     }
     let (peaks, n_peaks) = parity_points(&rows, |r| {
         Some((r.published.ke_peaks as f64, r.ours.peaks as f64))
@@ -1522,7 +1551,7 @@ fn parity(data: &ReportData) -> Result<Figure> {
             classes.join(", ")
         ),
         &chart,
-        csv,
+        csv.text(),
     )
 }
 

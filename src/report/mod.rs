@@ -22,6 +22,7 @@ pub mod plot;
 pub mod publish;
 pub mod rest_state;
 pub mod runs;
+pub mod schema;
 pub mod sheet;
 pub mod tables;
 pub mod traceability;
@@ -496,47 +497,13 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += "\n";
 
     md += "## 15. Data files\n\n";
-    md += &format!(
-        "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
-         `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
-         numbers as the shortest decimal that reads back to the same double.\n\
-         - [`data/table1.csv`](data/table1.csv): the same for Table 1.\n\
-         - [`data/catenary.csv`](data/catenary.csv): `stiffness,node,x,y`, the exact discrete-chain equilibrium \
-         of the thesis rope, full precision.\n\
-         - [`data/reproduction.csv`](data/reproduction.csv): `{}`, the class of every published row, the \
-         configuration that produced our numbers and the choices it rests on (section 6); `our_error_m` is the \
-         sum of per-node distances to our reference.\n\
-         - [`data/configurations.csv`](data/configurations.csv): `{}`, every run of Liu's other first iterate \
-         and of the ADMM candidates (the Liu grid is in `liu_grid.csv`).\n\
-         - [`data/liu_grid.csv`](data/liu_grid.csv): `{}`, every run of the Liu hypothesis: each grid point on \
-         each Liu row and the probes that located the damping interval (section 6.4).\n\
-         - [`data/gravity-mismatch.csv`](data/gravity-mismatch.csv): `{}`, the gravity-mismatch errors of \
-         section 6.6, against our reference runs and against the exact equilibria.\n\
-         - `data/figNN-*.csv`: the points each figure draws (long series reduced to the minimum and maximum of \
-         each of at most 1500 buckets).\n\
-         - `data/tutorial_*.csv`: the tutorial chapter (section 9): the points of each of its figures \
-         (`tutorial_<figure>.csv`), the stability limits, the several-gravities particles and the energy kept at \
-         each bounce, full precision.\n\
-         - [`data/beyond_results.csv`](data/beyond_results.csv): `{}`, the grid of section 10 (`table` empty).\n\
-         - [`data/convergence.csv`](data/convergence.csv): the gap to the converged Backward Euler step after \
-         each iteration of one step, every iterative solver (section 10.3).\n\
-         - [`data/sheet_results.csv`](data/sheet_results.csv): the sheet's grid (section 11), the columns of \
-         `beyond_results.csv`.\n\
-         - [`data/sheet_equilibrium.csv`](data/sheet_equilibrium.csv): `stiffness,n,i,j,x,y,z`, the sheet's exact \
-         equilibrium at n = 10 and 20, full precision.\n\
-         - [`data/benchmark.csv`](data/benchmark.csv): every run of the benchmark (section 12 and the \
-         benchmark views of sections 10-11), one row each with every metric.\n\
-         - [`data/benchmark_truths.csv`](data/benchmark_truths.csv): the benchmark's ground truths per \
-         case.\n\
-         - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
-         peak count, T/2 and rest-state error (Figure 16).\n\n",
-        data::RESULTS_HEADER,
-        data::REPRODUCTION_HEADER.join(","),
-        data::CONFIGURATIONS_HEADER.join(","),
-        data::LIU_GRID_HEADER.join(","),
-        data::GRAVITY_HEADER.join(","),
-        beyond::BEYOND_HEADER
-    );
+    md += "Every data file is a CSV written with `csv::Writer` and read back by a strict reader in \
+           `tests/csv_schema.rs` against the schema below (`report::schema`): column names are \
+           `name_unit` (`dt_s`, `x_m`, `stiffness_n_per_m`; no unit for a count, an identifier or a \
+           ratio), an empty field means none, numbers are the shortest decimal that reads back to the \
+           same double. `results.csv` and `table1.csv` keep the published table's column names.\n\n";
+    md += &schema::section_list();
+    md += "\n";
 
     md += "## 16. Crate and dependency versions\n\n";
     let v = &data.sources.versions;

@@ -9,6 +9,7 @@ use crate::registry::SolverId;
 use crate::report::benchmark::{
     mean_with_interval, BenchmarkChapter, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD,
 };
+use crate::report::data::CsvFile;
 use crate::report::figures::colour;
 use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -16,7 +17,7 @@ use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
-use crate::sheet_equilibrium::{equilibrium_csv, report_equilibria, Equilibrium};
+use crate::sheet_equilibrium::{report_equilibria, Equilibrium};
 use crate::system::Vec3;
 
 /// The horizontal coordinate of a view.
@@ -40,7 +41,7 @@ impl SheetChapter {
     /// The chapter's figure: the exact rest states of the 10 × 10 sheet at both stiffnesses,
     /// (a) seen along z (x against y), (b) seen along x (z against y), to scale.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
-        let mut csv = String::from("stiffness,node,x_m,y_m,z_m\n");
+        let mut csv = CsvFile::new(&["stiffness_n_per_m", "node", "x_m", "y_m", "z_m"]);
         let views: [(&str, Projection); 2] = [("x (m)", |p| p.x), ("z (m)", |p| p.z)];
         let mut panels = Vec::new();
         for (view, (label, horizontal)) in views.iter().enumerate() {
@@ -55,13 +56,13 @@ impl SheetChapter {
                 let points: Vec<(f64, f64)> = e.x.iter().map(|p| (horizontal(p), p.y)).collect();
                 if view == 0 {
                     for (i, p) in e.x.iter().enumerate() {
-                        csv += &format!(
-                            "{},{i},{},{},{}\n",
+                        csv.record(vec![
                             full(*stiffness),
+                            i.to_string(),
                             full(p.x),
                             full(p.y),
-                            full(p.z)
-                        );
+                            full(p.z),
+                        ]);
                     }
                 }
                 let legend = if view == 1 {
@@ -79,7 +80,7 @@ impl SheetChapter {
         Ok(vec![ChapterFigure::new(
             "sheet_rest_states",
             &Chart::new(FULL_WIDTH_MM, 70.0, panels),
-            csv,
+            csv.text(),
         )?])
     }
 
@@ -218,4 +219,27 @@ impl SheetChapter {
         };
         md
     }
+}
+
+/// `sheet_equilibrium.csv`: one row per node (i, j) of every equilibrium, every coordinate at
+/// full precision.
+pub fn equilibrium_csv(equilibria: &[(f64, usize, Equilibrium)]) -> String {
+    let mut csv = CsvFile::new(&["stiffness_n_per_m", "n", "i", "j", "x_m", "y_m", "z_m"]);
+    for (k, n, eq) in equilibria {
+        for i in 0..*n {
+            for j in 0..*n {
+                let p = eq.x[i * n + j];
+                csv.record(vec![
+                    full(*k),
+                    n.to_string(),
+                    i.to_string(),
+                    j.to_string(),
+                    full(p.x),
+                    full(p.y),
+                    full(p.z),
+                ]);
+            }
+        }
+    }
+    csv.text()
 }

@@ -10,6 +10,7 @@ use super::studies::{
 use crate::error::Result;
 use crate::particles::Integrator;
 use crate::registry::SolverId;
+use crate::report::data::CsvFile;
 use crate::report::format::{full, short, sig4};
 use crate::report::plot::{
     power_of_ten, Align, Axis, Chart, Entry, LegendPlace, Line, Marker, Panel, Rgb, Series,
@@ -51,7 +52,7 @@ fn typeset(x: f64) -> String {
 /// Figure T1: global error against h, log-log, one line per method.
 pub fn convergence(series: &[ConvergenceSeries]) -> Result<ChapterFigure> {
     let mut panel = Panel::new(Axis::log("h (s)"), Axis::log("phase-plane error (m)"));
-    let mut csv = String::from("method,zeta,h_s,error_m\n");
+    let mut csv = CsvFile::new(&["method", "zeta", "h_s", "error_m"]);
     for s in series {
         let (color, marker) = method_style(s.method);
         panel.series.push(
@@ -68,19 +69,18 @@ pub fn convergence(series: &[ConvergenceSeries]) -> Result<ChapterFigure> {
             .with_marker(marker, true),
         );
         for (h, e) in &s.points {
-            csv += &format!(
-                "{},{},{},{}\n",
-                s.method.id(),
+            csv.record(vec![
+                s.method.id().to_string(),
                 full(s.zeta),
                 full(*h),
-                full(*e)
-            );
+                full(*e),
+            ]);
         }
     }
     ChapterFigure::new(
         "tutorial_convergence",
         &Chart::new(FULL_WIDTH_MM, 70.0, vec![panel]),
-        csv,
+        csv.text(),
     )
 }
 
@@ -105,7 +105,7 @@ fn log_extent(runs: &[EnergyRun], pad: f64) -> (f64, f64) {
 pub fn stability_energy(runs: &[EnergyRun]) -> Result<ChapterFigure> {
     let (lo, hi) = log_extent(runs, 0.3);
     let mut panels = Vec::new();
-    let mut csv = String::from("integrator,h_omega,periods,energy_ratio\n");
+    let mut csv = CsvFile::new(&["integrator", "h_omega", "periods", "energy_ratio"]);
     for integrator in Integrator::ALL {
         let mut panel = Panel::new(
             Axis::linear("t ω / 2π (periods)"),
@@ -132,13 +132,12 @@ pub fn stability_energy(runs: &[EnergyRun]) -> Result<ChapterFigure> {
                 .with_line(line),
             );
             for (t, e) in &run.points {
-                csv += &format!(
-                    "{},{},{},{}\n",
-                    integrator.key(),
+                csv.record(vec![
+                    integrator.key().to_string(),
                     full(run.h_omega),
                     full(*t),
-                    full(*e)
-                );
+                    full(*e),
+                ]);
             }
         }
         panels.push(panel);
@@ -146,7 +145,7 @@ pub fn stability_energy(runs: &[EnergyRun]) -> Result<ChapterFigure> {
     ChapterFigure::new(
         "tutorial_stability_energy",
         &Chart::new(FULL_WIDTH_MM, 62.0, panels),
-        csv,
+        csv.text(),
     )
 }
 
@@ -211,22 +210,27 @@ pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<ChapterFigure> {
         .with_marker(Marker::Circle, false)
         .with_marker_every(PAIR_MARKER_EVERY),
     );
-    let mut csv = String::from("study,time_s,ours,closed_form\n");
+    let mut csv = CsvFile::new(&["study", "time_s", "ours", "closed_form"]);
     for (t, a, b) in &drag.samples {
-        csv += &format!(
-            "drag_speed_m_per_s,{},{},{}\n",
+        csv.record(vec![
+            "drag_speed_m_per_s".to_string(),
             full(*t),
             full(*a),
-            full(*b)
-        );
+            full(*b),
+        ]);
     }
     for (t, a, b) in &pair.samples {
-        csv += &format!("spring_stretch_m,{},{},{}\n", full(*t), full(*a), full(*b));
+        csv.record(vec![
+            "spring_stretch_m".to_string(),
+            full(*t),
+            full(*a),
+            full(*b),
+        ]);
     }
     ChapterFigure::new(
         "tutorial_forces",
         &Chart::new(FULL_WIDTH_MM, 72.0, vec![left, right]),
-        csv,
+        csv.text(),
     )
 }
 
@@ -258,7 +262,7 @@ pub fn pendulum_frames(run: &PendulumRun) -> Result<ChapterFigure> {
     };
     let floor_style = |label: &str| Series::line(label, Vec::new(), GREY).with_weight(2.0);
     let mut panels = Vec::new();
-    let mut csv = String::from("time_s,particle,x_m,y_m\n");
+    let mut csv = CsvFile::new(&["time_s", "particle", "x_m", "y_m"]);
     for (k, (t, x)) in run.frames.iter().enumerate() {
         let mut panel = Panel::new(
             Axis::linear("").range(x_range.0, x_range.1),
@@ -289,7 +293,7 @@ pub fn pendulum_frames(run: &PendulumRun) -> Result<ChapterFigure> {
             );
         }
         for (i, p) in x.iter().enumerate() {
-            csv += &format!("{},{i},{},{}\n", full(*t), full(p.x), full(p.y));
+            csv.record(vec![full(*t), i.to_string(), full(p.x), full(p.y)]);
         }
         panels.push(panel);
     }
@@ -315,7 +319,7 @@ pub fn pendulum_frames(run: &PendulumRun) -> Result<ChapterFigure> {
         style: s.style,
     })
     .collect();
-    ChapterFigure::new("tutorial_pendulum_frames", &chart, csv)
+    ChapterFigure::new("tutorial_pendulum_frames", &chart, csv.text())
 }
 
 /// A short decimal for labels and captions (`0.5`, `1.432`).
@@ -347,22 +351,35 @@ pub fn pendulum_energy(run: &PendulumRun) -> Result<ChapterFigure> {
         .with_marker(Marker::Circle, true)
         .with_marker_scale(0.6),
     );
-    let mut csv = String::from("series,time_s,particle,energy_J,energy_before_step_J\n");
+    let mut csv = CsvFile::new(&[
+        "series",
+        "time_s",
+        "particle",
+        "energy_j",
+        "energy_before_step_j",
+    ]);
     for (t, e) in &run.energy {
-        csv += &format!("energy,{},,{},\n", full(*t), full(*e));
+        csv.record(vec![
+            "energy".to_string(),
+            full(*t),
+            String::new(),
+            full(*e),
+            String::new(),
+        ]);
     }
     for (t, i, before, after) in &run.contacts {
-        csv += &format!(
-            "contact,{},{i},{},{}\n",
+        csv.record(vec![
+            "contact".to_string(),
             full(*t),
+            i.to_string(),
             full(*after),
-            full(*before)
-        );
+            full(*before),
+        ]);
     }
     ChapterFigure::new(
         "tutorial_pendulum_energy",
         &Chart::new(COLUMN_WIDTH_MM, 70.0, vec![panel]),
-        csv,
+        csv.text(),
     )
 }
 
@@ -385,7 +402,7 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
     panel
         .series
         .push(Series::line("floor", vec![(-0.5, 0.0), (x_end, 0.0)], GREY).with_weight(2.0));
-    let mut csv = String::from("time_s,particle,x_m,y_m,z_m\n");
+    let mut csv = CsvFile::new(&["time_s", "particle", "x_m", "y_m", "z_m"]);
     for (k, (t, x)) in run.frames.iter().enumerate() {
         let dx = k as f64 * shift;
         // Every spring of the frame in one series, a NaN point between springs.
@@ -413,19 +430,19 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
             BLACK,
         );
         for (i, p) in x.iter().enumerate() {
-            csv += &format!(
-                "{},{i},{},{},{}\n",
+            csv.record(vec![
                 full(*t),
+                i.to_string(),
                 full(p.x),
                 full(p.y),
-                full(p.z)
-            );
+                full(p.z),
+            ]);
         }
     }
     ChapterFigure::new(
         "tutorial_cloth_drop",
         &Chart::new(COLUMN_WIDTH_MM, 100.0, vec![panel]),
-        csv,
+        csv.text(),
     )
 }
 
@@ -499,31 +516,39 @@ pub fn adaptive(study: &AdaptiveStudy) -> Result<ChapterFigure> {
         )
         .with_marker(Marker::Square, true),
     );
-    let mut csv = String::from(
-        "scene,tolerance,error_m,accepted,rejected_error,rejected_contact,evaluations,smallest_step_s,largest_step_s\n",
-    );
+    let mut csv = CsvFile::new(&[
+        "scene",
+        "tolerance_m",
+        "error_m",
+        "accepted",
+        "rejected_error",
+        "rejected_contact",
+        "evaluations",
+        "smallest_step_s",
+        "largest_step_s",
+    ]);
     for (scene, runs) in [
         ("pendulum", &study.pendulum),
         ("dropped_particle", &study.drop),
     ] {
         for r in runs {
             let s = r.stats;
-            csv += &format!(
-                "{scene},{},{},{},{},{},{},{},{}\n",
+            csv.record(vec![
+                scene.to_string(),
                 full(r.tolerance),
                 full(r.error),
-                s.accepted,
-                s.rejected_error,
-                s.rejected_contact,
-                s.evaluations,
+                s.accepted.to_string(),
+                s.rejected_error.to_string(),
+                s.rejected_contact.to_string(),
+                s.evaluations.to_string(),
                 full(s.smallest_step),
-                full(s.largest_step)
-            );
+                full(s.largest_step),
+            ]);
         }
     }
     ChapterFigure::new(
         "tutorial_adaptive",
         &Chart::new(FULL_WIDTH_MM, 75.0, vec![error, work]),
-        csv,
+        csv.text(),
     )
 }

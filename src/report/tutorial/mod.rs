@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::particles::adaptive::{MAX_GROWTH, MAX_SHRINK, SAFETY};
 use crate::particles::Integrator;
 use crate::registry::SolverId;
+use crate::report::data::CsvFile;
 use crate::report::format::{full, short, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
 use crate::report::ChapterFigure;
@@ -84,45 +85,57 @@ impl TutorialChapter {
     }
 
     fn stability_csv(&self) -> String {
-        let mut csv = String::from("integrator,largest_stable_h_omega,closed_form\n");
+        let mut csv = CsvFile::new(&["integrator", "largest_stable_h_omega", "closed_form"]);
         for l in &self.limits {
-            csv += &format!(
-                "{},{},{}\n",
-                l.integrator.key(),
+            csv.record(vec![
+                l.integrator.key().to_string(),
                 full(l.measured),
-                full(l.expected)
-            );
+                full(l.expected),
+            ]);
         }
-        csv
+        csv.text()
     }
 
     fn gravities_csv(&self) -> String {
-        let mut csv =
-            String::from("particle,gravities,x_m,y_m,z_m,closed_x_m,closed_y_m,closed_z_m\n");
+        let mut csv = CsvFile::new(&[
+            "particle",
+            "gravities",
+            "x_m",
+            "y_m",
+            "z_m",
+            "closed_x_m",
+            "closed_y_m",
+            "closed_z_m",
+        ]);
         for (i, p) in self.gravities.iter().enumerate() {
-            csv += &format!(
-                "{i},{},{},{},{},{},{},{}\n",
-                p.gravities.join(" + "),
+            csv.record(vec![
+                i.to_string(),
+                p.gravities.join(" + ").to_string(),
                 full(p.ours.x),
                 full(p.ours.y),
                 full(p.ours.z),
                 full(p.closed.x),
                 full(p.closed.y),
-                full(p.closed.z)
-            );
+                full(p.closed.z),
+            ]);
         }
-        csv
+        csv.text()
     }
 
     fn bounces_csv(&self) -> String {
-        let mut csv = String::from("scheme,bounce,energy_kept,restitution_squared\n");
+        let mut csv = CsvFile::new(&["scheme", "bounce", "energy_kept", "restitution_squared"]);
         let e2 = studies::DROP.1.powi(2);
         for run in &self.bounces {
             for (n, kept) in run.kept.iter().enumerate() {
-                csv += &format!("{},{},{},{}\n", run.scheme, n + 1, full(*kept), full(e2));
+                csv.record(vec![
+                    run.scheme.to_string(),
+                    (n + 1).to_string(),
+                    full(*kept),
+                    full(e2),
+                ]);
             }
         }
-        csv
+        csv.text()
     }
 
     /// The chapter's section of `REPORT.md`, headed `## {number}.`.
