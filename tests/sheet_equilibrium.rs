@@ -5,8 +5,8 @@ use mass_spring_solvers::backward_euler;
 use mass_spring_solvers::report::sheet::equilibrium_csv;
 use mass_spring_solvers::scene::{SheetParams, SHEET_SIDE};
 use mass_spring_solvers::sheet_equilibrium::{
-    free_hessian, sagged_start, shaped_start, sheet_equilibrium,
-    smallest_hessian_eigenvalue, static_equilibrium, Equilibrium, RESIDUAL_TARGET,
+    free_hessian, sagged_start, shaped_start, sheet_equilibrium, smallest_hessian_eigenvalue,
+    static_equilibrium, Equilibrium, RESIDUAL_TARGET,
 };
 use mass_spring_solvers::{MassSpringSystem, Vec3};
 

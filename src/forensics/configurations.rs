@@ -246,6 +246,18 @@ impl ConfigurationId {
         }
     }
 
+    /// Its name for a reader, a few words: `faithful`, `Liu from y`, `Liu hypothesis`,
+    /// `ADMM start x_n + dt·v_n`.
+    pub fn short_label(self) -> String {
+        match self {
+            ConfigurationId::Faithful => "faithful".into(),
+            ConfigurationId::LiuStartInertial => "Liu from y".into(),
+            ConfigurationId::Liu(h) if h == LiuHypothesis::PRINTED => "faithful".into(),
+            ConfigurationId::Liu(_) => "Liu hypothesis".into(),
+            ConfigurationId::Admm(c) => format!("ADMM: {}", c.variant().label()),
+        }
+    }
+
     /// What it changes, in a few words.
     pub fn summary(self) -> String {
         match self {

@@ -188,6 +188,15 @@ impl BenchmarkChapter {
         Some((log_slope(&decade)?, smallest, decade.last()?.0))
     }
 
+    /// The cheapest configuration of any solver that reaches a relative physical error of
+    /// `level` on a case.
+    pub fn cheapest_overall(&self, case: Case, level: f64) -> Option<&Row> {
+        self.dynamics(case)
+            .into_iter()
+            .filter(|r| r.physical_rel.is_some_and(|e| e <= level) && r.flops.is_some())
+            .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()))
+    }
+
     /// The work-precision figures, one per case, three panels by family, the baselines and
     /// the do-nothing line on each.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
@@ -199,8 +208,8 @@ impl BenchmarkChapter {
                     .iter()
                     .map(|(name, family)| {
                         let mut panel = Panel::new(
-                            Axis::log("floating-point operations over the window"),
-                            Axis::log("physical error / exact amplitude"),
+                            Axis::log("flops over the window"),
+                            Axis::log("physical error / amplitude"),
                         );
                         panel.heading = (*name).into();
                         let mut lowest_cost = f64::INFINITY;
@@ -267,8 +276,8 @@ impl BenchmarkChapter {
                     w.write_record(&r).expect("writing to memory cannot fail");
                     csv += &String::from_utf8(w.into_inner().expect("in memory")).expect("UTF-8");
                 }
-                let mut chart = Chart::new(FULL_WIDTH_MM, 80.0, panels);
-                chart.columns = 3;
+                let mut chart = Chart::new(FULL_WIDTH_MM, 190.0, panels);
+                chart.columns = 1;
                 ChapterFigure::new(stem(case), &chart, csv)
             })
             .collect()

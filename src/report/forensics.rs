@@ -24,7 +24,7 @@ use crate::forensics::{
 use crate::metrics::STOP_THRESHOLD_J;
 use crate::registry::SolverId;
 use crate::report::format::{
-    full, opt4, opt_rest_error, percent, rest_error, short, sig, sig4, MarkdownTable,
+    full, opt4, opt_rest_error, percent, rest_error, sci3, short, sig, sig4, MarkdownTable,
 };
 use crate::report::tables::{
     half_period_deviation, printed, published_table, stiffness_label, ERROR_CHECK_ABOVE,
@@ -59,7 +59,7 @@ fn count_cells(counts: [usize; 7]) -> Vec<String> {
 /// Rows per evidence class, per table and in total, then the observations (twins once): the
 /// top of the report.
 pub fn counts_table(f: &Forensics) -> MarkdownTable {
-    let mut header = vec!["table", "solver", ">k (N/m)", ">rows"];
+    let mut header = vec!["table", ">rows"];
     let ids: Vec<String> = Evidence::ALL
         .iter()
         .map(|s| format!(">{}", s.id()))
@@ -73,18 +73,17 @@ pub fn counts_table(f: &Forensics) -> MarkdownTable {
         } else {
             stiffness_label(first.stiffness)
         };
-        let mut cells = vec![table.to_string(), first.solver.abbreviation().into(), k];
+        let mut cells = vec![format!(
+            "Table {table} ({}, k = {k})",
+            first.solver.abbreviation()
+        )];
         cells.extend(count_cells(f.counts(Some(table))));
         t.row(cells);
     }
-    let mut cells = vec!["all rows".to_string(), "all".into(), "both".into()];
+    let mut cells = vec!["all rows".to_string()];
     cells.extend(count_cells(f.counts(None)));
     t.row(cells);
-    let mut cells = vec![
-        "observations".to_string(),
-        "twins once".into(),
-        "both".into(),
-    ];
+    let mut cells = vec!["observations (twins once)".to_string()];
     cells.extend(count_cells(f.observation_counts()));
     t.row(cells);
     t
@@ -107,7 +106,7 @@ pub fn headline(f: &Forensics) -> String {
     let total: usize = rows.iter().sum();
     let distinct: usize = observations.iter().sum();
     format!(
-        "**Evidence for the {total} published rows** (section 6, one written rule): {}. Counted as \
+        "**Evidence for the {total} published rows**, one written rule: {}. Counted as \
          observations, with the {} twin pairs (rows whose published numbers and our runs coincide) taken \
          once, the {distinct} observations are {}. Each row takes the weakest class of the choices it rests \
          on (section 6.1): a scene or convention identified on the rows it affects makes them interpretation, a value chosen with a row in view makes it fitted.",
@@ -176,14 +175,11 @@ fn deviation_cell(m: &Measured) -> String {
     }
 }
 
-/// The class of every row, with the numbers of the configuration that produced them.
-pub fn evidence_table(f: &Forensics) -> MarkdownTable {
+/// The class of every row, with the numbers of the configuration that produced them, and its
+/// notes (what it rests on, its twin, what else was measured) numbered below the table.
+pub fn evidence_table(f: &Forensics) -> (MarkdownTable, String) {
     let mut t = MarkdownTable::new(&[
-        "table",
-        "solver",
-        ">dt (s)",
-        ">iter.",
-        ">k (N/m)",
+        "row",
         "evidence",
         "configuration",
         ">peaks pub.",
@@ -191,37 +187,37 @@ pub fn evidence_table(f: &Forensics) -> MarkdownTable {
         ">T/2 pub. (s)",
         ">T/2 ours (s)",
         ">T/2 dev.",
-        ">error pub.",
-        ">error ours (Σ|Δ|)",
-        "rests on, and note",
+        ">error ours (m)",
+        ">note",
     ]);
+    let mut notes = String::new();
+    let mut n = 0;
     for e in &f.evidence {
         let m = &e.measured;
         let row = &m.published;
         let p = printed(row);
+        let note = row_note(f, e);
+        let reference = if note.is_empty() {
+            "–".to_string()
+        } else {
+            n += 1;
+            notes += &format!("{n}. {}: {note}\n", row_label(row));
+            format!("[{n}]")
+        };
         t.row(vec![
-            row.table.to_string(),
-            row.solver.abbreviation().into(),
-            full(row.dt_s),
-            row.iterations.to_string(),
-            stiffness_label(row.stiffness),
+            row_label(row),
             e.evidence.id().into(),
-            e.configuration.id(),
+            e.configuration.short_label(),
             p.ke_peaks.clone(),
             peaks_cell(m),
             p.half_period_s.clone(),
             opt4(m.half_period_thesis),
             deviation_cell(m),
-            if p.error.is_empty() {
-                "–".into()
-            } else {
-                p.error.clone()
-            },
             opt_rest_error(m.error_sum),
-            row_note(f, e),
+            reference,
         ]);
     }
-    t
+    (t, notes)
 }
 
 /// What a row rests on and what else was measured: each weakening choice with the other
@@ -765,13 +761,9 @@ pub fn gravity_table(f: &Forensics) -> MarkdownTable {
     let solver = format!(">solver at {g}");
     let peaks = format!("solver at {g}: peaks, T/2");
     let mut t = MarkdownTable::new(&[
-        "table",
-        "solver",
-        ">dt (s)",
-        ">iter.",
-        ">k (N/m)",
+        "row",
         "configuration",
-        ">error pub.",
+        ">error pub. (m)",
         same.as_str(),
         reference.as_str(),
         solver.as_str(),
@@ -782,13 +774,9 @@ pub fn gravity_table(f: &Forensics) -> MarkdownTable {
         let m = &r.solver_mismatched_run;
         let floor = if r.is_floor() { " (floor)" } else { "" };
         t.row(vec![
-            row.table.to_string(),
-            row.solver.abbreviation().into(),
-            full(row.dt_s),
-            row.iterations.to_string(),
-            stiffness_label(row.stiffness),
-            r.configuration.id(),
-            format!("{}{floor}", printed(row).error),
+            row_label(row),
+            r.configuration.short_label(),
+            format!("{}{floor}", row.error.map_or("–".into(), sci3)),
             ratio_cell(r.same_gravity.sum, row.error),
             ratio_cell(r.reference_mismatched.sum, row.error),
             ratio_cell(r.solver_mismatched.sum, row.error),
@@ -820,8 +808,11 @@ pub fn admm_misses_by_direction(faithful: &ResultSet) -> (usize, usize) {
 
 /// The forensic section of REPORT.md (without its heading), for the faithful result set
 /// `faithful` that `f` was computed from.
-pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
-    let mut md = String::new();
+pub fn section(f: &Forensics) -> String {
+    let mut md = headline(f);
+    md += "\n\n";
+    md += &counts_table(f).render();
+    md += "\n";
     md += "**The rule of evidence** (one rule, `crate::forensics::evidence`). A row's reproduction rests on the \
            printed algorithm and on *choices*: values at points the thesis leaves open (the scene fitted on Table \
            1, conventions 4 and 5 of `docs/thesis-scene.md`, the gravity, Liu's first iterate) and departures from \
@@ -855,7 +846,16 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
     );
     md += "### 6.1 The choices and the rows that rest on them\n\n";
     md += &choices_table(f).render();
-    md += "\n### 6.2 Evidence for every row\n\n";
+    md += "\nThe evidence of every row, the time conventions' other readings, the Liu hypothesis with its \
+           parameters' intervals, every ADMM candidate and the gravity study are in appendix A.\n\n";
+    md
+}
+
+/// The forensic chapter's details (the report's appendix A, without its heading): every row's
+/// evidence, the time conventions, the Liu hypothesis, the ADMM candidates, the gravity study.
+pub fn appendix(f: &Forensics, faithful: &ResultSet) -> String {
+    let mut md = String::new();
+    md += "### A.1 Evidence for every row\n\n";
     md += &format!(
         "Our numbers are those of the configuration named; errors against our faithful reference of the same \
          stiffness, as the sum of per-node distances (convention 7; below {:e} m they are the round-off of \
@@ -864,8 +864,11 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
         crate::report::format::ROUND_OFF_REST_ERROR_M,
         short(100.0 * MARGINAL_HALF_PERIOD)
     );
-    md += &evidence_table(f).render();
-    md += "\n### 6.3 The time conventions and their other readings\n\n";
+    let (table, notes) = evidence_table(f);
+    md += &table.render();
+    md += "\n";
+    md += &notes;
+    md += "\n### A.2 The time conventions and their other readings\n\n";
     md += "Convention 4 stamps a peak at the step that detects it; its other reading stamps it at its own sample. \
            Convention 5 accumulates time in f32; its other reading in f64. At dt = 1e-3 s either reading moves T/2 \
            by a few thousandths of a percent to a few tenths, so Table 1 cannot identify convention 4; the \
@@ -873,12 +876,12 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
            closer to our f32 detection-step value and how many to our exact value (the 0.5 % tolerance is wider \
            than the gap between the two at dt = 1e-3).\n\n";
     md += &time_convention_table(faithful).render();
-    md += "\n### 6.4 Liu 2013: the open first iterate and the fitted hypothesis\n\n";
+    md += "\n### A.3 Liu 2013: the open first iterate and the fitted hypothesis\n\n";
     md += "Algorithm 3 does not say where each step's iteration starts. Both readings were run on every Liu row; \
            a row reproduced by one only is an interpretation.\n\n";
     md += &liu_readings_table(f, faithful).render();
-    md += "\nStarted at y with one iteration, Liu's step is almost ADMM's with the start x⁰ = x_n + dt·v_n (section \
-           6.5). Run on the ADMM one-iteration rows, measured against the published ADMM numbers:\n\n";
+    md += "\nStarted at y with one iteration, Liu's step is almost ADMM's with the start x⁰ = x_n + dt·v_n (appendix \
+           A.4). Run on the ADMM one-iteration rows, measured against the published ADMM numbers:\n\n";
     md += &liu_as_admm_table(f).render();
     let reproduced = f.liu_as_admm.iter().filter(|m| m.reproduces()).count();
     md += &format!(
@@ -921,7 +924,7 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
            (finding 2), whose first peak is already below the threshold; both end on a round-off peak, so the \
            exemption reproduces no row outside the noise-limited ones. Every grid run is in \
            [`data/liu_grid.csv`](data/liu_grid.csv).\n";
-    md += "\n### 6.5 ADMM: every candidate tried\n\n";
+    md += "\n### A.4 ADMM: every candidate tried\n\n";
     let (n, of) = admm_start_inertial_count(f);
     let (longer, earlier) = admm_misses_by_direction(faithful);
     md += &format!(
@@ -944,7 +947,7 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
     );
     md += &variants_table(f, faithful).render();
     md += &format!(
-        "\n### 6.6 The rest-state error floors: gravity mismatch\n\n\
+        "\n### A.5 The rest-state error floors: gravity mismatch\n\n\
          Forensic finding 5: the small published errors (at most {}) are floors, and a reference and solvers \
          run at different gravities ({} and {} m/s²) give errors of their size. Provenance: {PROVENANCE}. So \
          this is a description, not a test: every solver row runs under the configuration of its evidence \

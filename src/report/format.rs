@@ -160,6 +160,16 @@ impl MarkdownTable {
     }
 }
 
+/// `x` in scientific notation with 3 significant digits, `1.22e1`, `3.58e-3`: one format for a
+/// column whose values span many orders of magnitude.
+pub fn sci3(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
 /// A rest-state error below this is the round-off of a converged solve, not physics, m: the
 /// report and the snapshots print it as the bound.
 pub const ROUND_OFF_REST_ERROR_M: f64 = 1e-6;

@@ -122,7 +122,7 @@ pub const FILES: &[FileSchema] = &[
     },
     FileSchema {
         pattern: "liu_grid.csv",
-        about: "every run of the Liu hypothesis: each grid point on each Liu row and the probes of the damping interval (section 6.4)",
+        about: "every run of the Liu hypothesis: each grid point on each Liu row and the probes of the damping interval (appendix A.3)",
         columns: &[
             ("configuration", ""),
             ("role", ""),
@@ -143,7 +143,7 @@ pub const FILES: &[FileSchema] = &[
     },
     FileSchema {
         pattern: "gravity-mismatch.csv",
-        about: "the gravity-mismatch errors (section 6.6) against our reference runs and against the exact equilibria",
+        about: "the gravity-mismatch errors (appendix A.5) against our reference runs and against the exact equilibria",
         columns: &[
             ("table", ""),
             ("solver", ""),

@@ -224,7 +224,7 @@ fn every_table_figure_and_data_file_is_there() {
             file(&format!("data/tutorial_{stem}.csv"));
         }
     }
-    assert!(report.contains("## 9. The particle-system tutorial, verified"));
+    assert!(report.contains("9. The particle-system tutorial, verified"));
     for n in 1..=15 {
         let prefix = format!("figures/fig{n:02}-");
         let svg = svgs
@@ -263,7 +263,7 @@ fn results_csv_has_the_56_rows_in_the_thesis_columns() {
 fn catenary_csv_holds_both_stiffnesses_at_full_precision() {
     let csv = file("data/catenary.csv");
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines[0], "stiffness,node,x,y");
+    assert_eq!(lines[0], "stiffness_n_per_m,node,x_m,y_m");
     assert_eq!(lines.len(), 1 + 2 * 10);
     for line in &lines[1..] {
         let fields: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
@@ -401,5 +401,53 @@ fn every_figure_rasterises_at_its_stated_size() {
         let dark = pixmap.pixels().iter().filter(|p| p.red() < 128).count();
         assert!(dark > 1000, "{} is almost blank", stem);
         pixmap.save_png(dir.join(format!("{}.png", stem))).unwrap();
+    }
+}
+
+/// A newcomer's report: the findings and the contents in its first lines, every link to an
+/// anchor that exists, every section in the contents, no table wider than ten columns.
+/// Negative cases in `report::navigation`'s unit test (a reference without an anchor stays
+/// plain).
+#[test]
+fn the_report_opens_with_its_findings_and_every_link_lands() {
+    let report = file("REPORT.md");
+    let head: Vec<&str> = report.lines().take(40).collect();
+    assert!(head.iter().any(|l| l.starts_with("**Findings**")));
+    assert!(head.iter().any(|l| l.starts_with("**Contents**")));
+    let ids: Vec<&str> = report
+        .split("<a id=\"")
+        .skip(1)
+        .filter_map(|s| s.split('"').next())
+        .collect();
+    let targets: Vec<&str> = report
+        .split("](#")
+        .skip(1)
+        .filter_map(|s| s.split(')').next())
+        .collect();
+    assert!(targets.len() > 50, "{} internal links", targets.len());
+    for t in &targets {
+        assert!(ids.contains(t), "a link to #{t}, which no anchor has");
+    }
+    for line in report
+        .lines()
+        .filter(|l| l.starts_with("## ") || l.starts_with("### "))
+    {
+        if let Some(id) = line
+            .split("<a id=\"")
+            .nth(1)
+            .and_then(|s| s.split('"').next())
+        {
+            assert!(
+                report.contains(&format!("](#{id})")),
+                "{line}: not in the contents"
+            );
+        }
+    }
+    for line in report
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| ---"))
+    {
+        let columns = line.matches(" | ").count() + 1;
+        assert!(columns <= 10, "{columns} columns: {line}");
     }
 }
