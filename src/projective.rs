@@ -268,7 +268,23 @@ impl GlobalSolve {
     /// Builds and factors $`A = M + dt^2 \sum_i w_i D_i^\top D_i`$ for `system` (per-spring
     /// `weights` >= 0, `dt` > 0).
     pub fn new(system: &MassSpringSystem, dt: f64, weights: &[f64]) -> Result<Self> {
+        Self::with_node_weights(system, dt, weights, &[])
+    }
+
+    /// [`Self::new`] with per-node weights too (none, or one per node, >= 0):
+    /// $`A = M + dt^2 (\sum_i w_i D_i^\top D_i + \mathrm{diag}(w'))`$, for a block of ADMM's
+    /// $`g`$ on the nodes themselves (the damped ADMM's drag).
+    pub fn with_node_weights(
+        system: &MassSpringSystem,
+        dt: f64,
+        weights: &[f64],
+        node_weights: &[f64],
+    ) -> Result<Self> {
         let mut a = system_matrix(system, dt, weights)?;
+        for (j, &w) in node_weights.iter().enumerate() {
+            require_non_negative(format!("node_weights[{j}]"), w)?;
+            a.add(j, j, dt * dt * w);
+        }
         let fixed_nodes = system
             .nodes()
             .iter()

@@ -17,10 +17,12 @@ use crate::backward_euler::{damped_converged_step, BackwardEuler, ConvergedStepO
 use crate::chebyshev::{spectral_radius, Chebyshev, ChebyshevParams, RhoRule};
 use crate::damped_admm::DampedAdmm;
 use crate::damping::RayleighDamping;
+use crate::dissipation::{Dissipation, PowerLawDrag, RayleighForm};
 use crate::error::{require_positive, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
 use crate::first_iterate::FirstIterate;
 use crate::local_global::{AdmmMerit, Base};
+use crate::optimization_integrator::{Integrated, MinimizingSolver, OptimizationIntegrator};
 use crate::particles::adaptive::AdaptiveStepper;
 use crate::particles::integrators::{Integrator, ParticleStepper};
 use crate::particles::ParticleSystem;
@@ -164,14 +166,17 @@ impl SolverId {
                 file: "src/backward_euler.rs",
                 family: Family::Thesis,
                 iteration: Some("Newton iteration"),
-                options: &[FIRST_ITERATE_PREVIOUS],
+                options: &[FIRST_ITERATE_PREVIOUS, INTEGRATOR],
                 relative_cost: 9.0,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     let solver = BackwardEuler::new(system, dt, spec.iterations)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::Previous),
-                    )))
+                    integrated(
+                        solver.with_first_iterate(
+                            spec.params.first_iterate_or(FirstIterate::Previous),
+                        ),
+                        spec,
+                    )
                 }),
             },
             SolverId::Pbd => SolverInfo {
@@ -220,14 +225,17 @@ impl SolverId {
                 file: "src/fast_mass_spring.rs",
                 family: Family::Thesis,
                 iteration: Some("local/global iteration"),
-                options: &[FIRST_ITERATE_PREVIOUS],
+                options: &[FIRST_ITERATE_PREVIOUS, INTEGRATOR],
                 relative_cost: 1.0,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     let solver = FastMassSpring::new(system, dt, spec.iterations)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::Previous),
-                    )))
+                    integrated(
+                        solver.with_first_iterate(
+                            spec.params.first_iterate_or(FirstIterate::Previous),
+                        ),
+                        spec,
+                    )
                 }),
             },
             SolverId::AdmmPd => SolverInfo {
@@ -238,14 +246,17 @@ impl SolverId {
                 file: "src/admm.rs",
                 family: Family::Thesis,
                 iteration: Some("ADMM iteration"),
-                options: &[FIRST_ITERATE_PREDICTION],
+                options: &[FIRST_ITERATE_PREDICTION, INTEGRATOR],
                 relative_cost: 1.2,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
                     let solver = AdmmPd::new(system, dt, spec.iterations)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::InertialPrediction),
-                    )))
+                    integrated(
+                        solver.with_first_iterate(
+                            spec.params.first_iterate_or(FirstIterate::InertialPrediction),
+                        ),
+                        spec,
+                    )
                 }),
             },
             SolverId::ChebyshevLiu => chebyshev(Base::Liu),
@@ -260,15 +271,30 @@ impl SolverId {
                 file: "src/backward_euler.rs",
                 family: Family::Beyond,
                 iteration: Some("Newton iteration"),
-                options: &[RAYLEIGH_ALPHA, RAYLEIGH_BETA, FIRST_ITERATE_PREVIOUS],
+                options: &[
+                    RAYLEIGH_ALPHA,
+                    RAYLEIGH_BETA,
+                    RAYLEIGH_FORM,
+                    DRAG,
+                    DRAG_EXPONENT,
+                    FIRST_ITERATE_PREVIOUS,
+                    INTEGRATOR,
+                ],
                 relative_cost: 9.0,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    let solver =
-                        BackwardEuler::damped(system, dt, spec.iterations, spec.params.damping)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::Previous),
-                    )))
+                    let solver = BackwardEuler::dissipative(
+                        system,
+                        dt,
+                        spec.iterations,
+                        spec.params.dissipation(),
+                    )?;
+                    integrated(
+                        solver.with_first_iterate(
+                            spec.params.first_iterate_or(FirstIterate::Previous),
+                        ),
+                        spec,
+                    )
                 }),
             },
             SolverId::DampedAdmm => SolverInfo {
@@ -282,6 +308,10 @@ impl SolverId {
                 options: &[
                     RAYLEIGH_ALPHA,
                     RAYLEIGH_BETA,
+                    RAYLEIGH_FORM,
+                    DRAG,
+                    DRAG_EXPONENT,
+                    INTEGRATOR,
                     OptionInfo {
                         name: "first_iterate",
                         help: "first iterate of each step: previous-position, inertia, \
@@ -292,12 +322,17 @@ impl SolverId {
                 relative_cost: 1.5,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    let solver =
-                        DampedAdmm::new(system, dt, spec.iterations, spec.params.damping)?;
-                    Ok(Box::new(match spec.params.first_iterate {
+                    let solver = DampedAdmm::dissipative(
+                        system,
+                        dt,
+                        spec.iterations,
+                        spec.params.dissipation(),
+                    )?;
+                    let solver = match spec.params.first_iterate {
                         Some(first_iterate) => solver.with_first_iterate(first_iterate),
                         None => solver,
-                    }))
+                    };
+                    integrated(solver, spec)
                 }),
             },
             SolverId::XpbdSubsteps => SolverInfo {
@@ -344,14 +379,18 @@ impl SolverId {
                         help: "L-BFGS window m, past pairs kept, an integer >= 1 [default: 5]",
                     },
                     FIRST_ITERATE_PREDICTION,
+                    INTEGRATOR,
                 ],
                 relative_cost: 6.5,
                 accelerates: Some(SolverId::FastMassSpring),
                 builder: Builder::Springs(|system, dt, spec| {
                     let solver = Lbfgs::new(system, dt, spec.iterations, spec.params.lbfgs())?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::InertialPrediction),
-                    )))
+                    integrated(
+                        solver.with_first_iterate(
+                            spec.params.first_iterate_or(FirstIterate::InertialPrediction),
+                        ),
+                        spec,
+                    )
                 }),
             },
             SolverId::Vbd => SolverInfo {
@@ -374,16 +413,15 @@ impl SolverId {
                         help: "local Hessian: exact (the paper's, a vertex skipped when \
                                |det H| <= 1e-10 (m/h²)³) or projected [default: exact]",
                     },
+                    INTEGRATOR,
                 ],
                 relative_cost: 8.5,
                 accelerates: None,
                 builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(Vbd::new(
-                        system,
-                        dt,
-                        spec.iterations,
-                        spec.params.vbd(),
-                    )?))
+                    integrated(
+                        Vbd::new(system, dt, spec.iterations, spec.params.vbd())?,
+                        spec,
+                    )
                 }),
             },
             SolverId::ExplicitEuler => tutorial_integrator(
@@ -491,6 +529,40 @@ const RAYLEIGH_BETA: OptionInfo = OptionInfo {
     help: "stiffness-proportional Rayleigh damping beta >= 0, in s [default: 0]",
 };
 
+/// The options of the dissipative solvers beyond Rayleigh's coefficients.
+const RAYLEIGH_FORM: OptionInfo = OptionInfo {
+    name: "rayleigh_form",
+    help: "Rayleigh damping's form: classical (alpha M + beta K) or momentum-conserving \
+           (this crate's: the springs' rates of stretching only) [default: classical]",
+};
+const DRAG: OptionInfo = OptionInfo {
+    name: "drag",
+    help: "power-law drag coefficient c >= 0 of D = c |v|^(p+1)/(p+1), in N·(s/m)^p \
+           [default: 0]",
+};
+const DRAG_EXPONENT: OptionInfo = OptionInfo {
+    name: "drag_exponent",
+    help: "power-law drag exponent p, > 0 and < 1 [default: 0.5]",
+};
+
+/// The option of every minimizing solver: the optimization integrator.
+const INTEGRATOR: OptionInfo = OptionInfo {
+    name: "integrator",
+    help: "optimization integrator: backward-euler, implicit-midpoint, bdf2 (started by one \
+           TR-BDF2 step) or tr-bdf2 [default: backward-euler]",
+};
+
+/// `solver` under the integrator of `spec` ([`Integrated`]).
+fn integrated(
+    solver: impl MinimizingSolver + Send + 'static,
+    spec: &SolverSpec,
+) -> Result<Box<dyn TimeStepper + Send>> {
+    Ok(Box::new(Integrated::new(
+        Box::new(solver),
+        spec.params.integrator,
+    )?))
+}
+
 /// The first-iterate option of a solver that starts at $`x_n`$ by default.
 const FIRST_ITERATE_PREVIOUS: OptionInfo = OptionInfo {
     name: "first_iterate",
@@ -560,12 +632,13 @@ fn chebyshev(base: Base) -> SolverInfo {
                        iteration count used) [default: asymptotic-rate]",
             },
             FIRST_ITERATE_PREDICTION,
+            INTEGRATOR,
         ],
         relative_cost: 2.0,
         accelerates: Some(base_solver(base)),
         builder: Builder::Springs(|system, dt, spec| {
             let params = spec.params.chebyshev(accelerated_base(spec.id));
-            Ok(Box::new(Chebyshev::new(system, dt, spec.iterations, params)?))
+            integrated(Chebyshev::new(system, dt, spec.iterations, params)?, spec)
         }),
     }
 }
@@ -601,7 +674,7 @@ fn anderson(base: Base) -> SolverInfo {
         family: Family::Beyond,
         iteration: Some("local/global iteration (one global solve)"),
         options: match base {
-            Base::Liu => &[ANDERSON_WINDOW, FIRST_ITERATE_PREDICTION],
+            Base::Liu => &[ANDERSON_WINDOW, FIRST_ITERATE_PREDICTION, INTEGRATOR],
             Base::Admm => &[
                 ANDERSON_WINDOW,
                 OptionInfo {
@@ -611,13 +684,14 @@ fn anderson(base: Base) -> SolverInfo {
                            (after the global step) [default: primal-residual]",
                 },
                 FIRST_ITERATE_PREDICTION,
+                INTEGRATOR,
             ],
         },
         relative_cost: 12.0,
         accelerates: Some(base_solver(base)),
         builder: Builder::Springs(|system, dt, spec| {
             let params = spec.params.anderson(accelerated_base(spec.id));
-            Ok(Box::new(Anderson::new(system, dt, spec.iterations, params)?))
+            integrated(Anderson::new(system, dt, spec.iterations, params)?, spec)
         }),
     }
 }
@@ -681,6 +755,12 @@ pub struct SolverParams {
     pub constraint_damping: f64,
     /// XPBD substeps: the constraint pass.
     pub sweep: Sweep,
+    /// Every minimizing solver: the optimization integrator.
+    pub integrator: OptimizationIntegrator,
+    /// The dissipative solvers: the form of their Rayleigh damping.
+    pub rayleigh_form: RayleighForm,
+    /// The dissipative solvers: power-law drag.
+    pub drag: PowerLawDrag,
 }
 
 impl SolverParams {
@@ -703,6 +783,10 @@ impl SolverParams {
             "hessian" => self.hessian.key().to_string(),
             "constraint_damping" => self.constraint_damping.to_string(),
             "sweep" => self.sweep.key().to_string(),
+            "integrator" => self.integrator.key().to_string(),
+            "rayleigh_form" => self.rayleigh_form.key().to_string(),
+            "drag" => self.drag.coefficient.to_string(),
+            "drag_exponent" => self.drag.exponent.to_string(),
             _ => return None,
         })
     }
@@ -733,6 +817,10 @@ impl SolverParams {
             "hessian" => self.hessian = value.parse()?,
             "constraint_damping" => self.constraint_damping = number()?,
             "sweep" => self.sweep = value.parse()?,
+            "integrator" => self.integrator = value.parse()?,
+            "rayleigh_form" => self.rayleigh_form = value.parse()?,
+            "drag" => self.drag.coefficient = number()?,
+            "drag_exponent" => self.drag.exponent = number()?,
             _ => {
                 let names: Vec<&str> = SolverId::ALL
                     .iter()
@@ -749,7 +837,16 @@ impl SolverParams {
         self.anderson(Base::Liu).validate()?;
         self.lbfgs().validate()?;
         self.xpbd_substeps().validate()?;
-        self.damping.validate()
+        self.dissipation().validate()
+    }
+
+    /// The dissipation of the dissipative solvers.
+    pub fn dissipation(&self) -> Dissipation {
+        Dissipation {
+            rayleigh: self.damping,
+            form: self.rayleigh_form,
+            drag: self.drag,
+        }
     }
 
     /// The first iterate set, or `own`.
@@ -840,6 +937,9 @@ impl Default for SolverParams {
             hessian: VbdParams::default().hessian,
             constraint_damping: XpbdSubstepsParams::default().constraint_damping,
             sweep: XpbdSubstepsParams::default().sweep,
+            integrator: OptimizationIntegrator::default(),
+            rayleigh_form: RayleighForm::default(),
+            drag: PowerLawDrag::NONE,
         }
     }
 }
@@ -903,7 +1003,9 @@ impl SolverSpec {
     /// gradient-ratio rule depends on the count and is left to each build.
     pub fn with_estimates(&self, system: &MassSpringSystem, dt: f64) -> Result<SolverSpec> {
         let mut spec = *self;
+        // Under another integrator each stage step has its own rho, found by the solver.
         if matches!(self.id, SolverId::ChebyshevLiu | SolverId::ChebyshevAdmm)
+            && self.params.integrator == OptimizationIntegrator::BackwardEuler
             && self.params.spectral_radius.is_none()
             && self.params.rho_rule == RhoRule::AsymptoticRate
         {
@@ -914,9 +1016,31 @@ impl SolverSpec {
         Ok(spec)
     }
 
+    /// An integrator other than Backward Euler needs a minimizing solver (one with the option).
+    fn check_integrator(&self) -> Result<()> {
+        let takes = self
+            .id
+            .info()
+            .options
+            .iter()
+            .any(|o| o.name == "integrator");
+        if takes || self.params.integrator == OptimizationIntegrator::BackwardEuler {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            "integrator",
+            self.params.integrator,
+            &format!(
+                "not given: {} is not a minimizing solver (it integrates by its own scheme)",
+                self.id
+            ),
+        ))
+    }
+
     /// The solver on a mass-spring system with time step `dt`. The tutorial's integrators run
     /// it as a particle system with no other force.
     pub fn build(&self, system: &MassSpringSystem, dt: f64) -> Result<Box<dyn TimeStepper>> {
+        self.check_integrator()?;
         let mut solver: Box<dyn TimeStepper> = match self.id.info().builder {
             Builder::Springs(build) => build(system, dt, self)?,
             Builder::Particles(build) => {
@@ -934,6 +1058,7 @@ impl SolverSpec {
         system: &MassSpringSystem,
         dt: f64,
     ) -> Result<Box<dyn TimeStepper + Send>> {
+        self.check_integrator()?;
         match self.id.info().builder {
             Builder::Springs(build) => {
                 let mut solver = build(system, dt, self)?;
