@@ -230,22 +230,27 @@ impl DampingSpringBlock {
 /// \frac{\omega^2}{2}|w - r|^2`$, the root of $`\omega^2(s - |r|) + \kappa s^p`$ (increasing and
 /// concave in $`s`$), by Newton's method safeguarded by bisection on the bracket.
 pub fn drag_proximal_length(r: f64, kappa: f64, omega2: f64, p: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, r);
-    let mut s = r;
+    let (mut lo, mut hi, mut s) = (0.0, r, r);
     for _ in 0..100 {
         let g = omega2 * (s - r) + kappa * s.powf(p);
+        if g == 0.0 {
+            break;
+        }
         if g > 0.0 {
             hi = s;
         } else {
             lo = s;
         }
         let newton = s - g / (omega2 + kappa * p * s.powf(p - 1.0));
-        s = if newton > lo && newton < hi {
+        let next = if (lo..=hi).contains(&newton) {
             newton
         } else {
             0.5 * (lo + hi)
         };
-        if hi - lo <= 1e-15 * r || g == 0.0 {
+        // Converged: the step is below round-off of the length.
+        let done = (next - s).abs() <= 1e-15 * r;
+        s = next;
+        if done {
             break;
         }
     }

@@ -23,11 +23,16 @@
 //!   ([`PowerLawDrag`]): $`f_d = -c|v|^{p-1}v`$, a force that stops a free mass in finite time
 //!   ($`t^* = \frac{m\,v_0^{1-p}}{(1-p)c}`$ after $`d^* = \frac{m\,v_0^{2-p}}{(2-p)c}`$). It
 //!   is $`C^1`$ but its Hessian $`c|v|^{p-1}(I + (p-1)\hat v\hat v^\top)`$ is unbounded at
-//!   $`v = 0`$. Newton handles that with a smoothed Hessian, $`|v|`$ replaced by
-//!   $`s = \sqrt{|v|^2 + \varepsilon^2}`$ ($`\varepsilon`$ = [`DRAG_SMOOTHING`]) in the Hessian
-//!   only, positive definite along and across $`v`$ ($`\ge p\,c\,s^{p-1}`$), with the exact
-//!   gradient and a backtracking line search on the exact objective, which is convex in the
-//!   drag: every step descends, and the minimiser is the exact one.
+//!   $`v = 0`$, and Newton with it does not converge there: on $`|v|^{p-1}v`$ its step maps
+//!   $`v`$ to $`(1 - 1/p)\,v`$, for $`p = 1/2`$ to $`-v`$, a two-cycle (measured: the converged
+//!   step stalled at updates of 1e-10 m). Newton here takes instead the curvature of the
+//!   drag's quadratic majorizer at the iterate, $`c\,s^{p-1} I`$ with
+//!   $`s = \sqrt{|v|^2 + \varepsilon^2}`$ ($`\varepsilon`$ = [`DRAG_SMOOTHING`] guards
+//!   $`v = 0`$): $`|v|^{p+1}`$ is a concave function of $`|v|^2`$, so the quadratic of that
+//!   curvature through the iterate lies above it, and a step on the drag alone is the
+//!   majorize-minimize step $`v \leftarrow m u_0/(m + \tau c|v|^{p-1})`$, which decreases the
+//!   objective and never crosses $`v = 0`$. With the exact gradient and a backtracking line
+//!   search on the exact objective (convex in the drag), the minimiser is the exact one.
 //! - **Momentum-conserving Rayleigh damping**, *this crate's own design* (the paper's abstract
 //!   announces a momentum-conserving modification of any dissipation function, whose
 //!   formulation we cannot read; [`RayleighForm::MomentumConserving`]): Rayleigh damping
@@ -53,8 +58,8 @@ use crate::spring;
 use crate::system::{MassSpringSystem, Vec3};
 use nalgebra::Matrix3;
 
-/// The velocity scale $`\varepsilon`$, m/s, below which the drag's Hessian is capped in Newton
-/// (module doc): $`|v|^{p-1}`$ becomes $`(|v|^2 + \varepsilon^2)^{(p-1)/2}`$.
+/// The velocity scale $`\varepsilon`$, m/s, that keeps the drag's curvature in Newton finite at
+/// rest (module doc): $`|v|^{p-1}`$ becomes $`(|v|^2 + \varepsilon^2)^{(p-1)/2}`$.
 pub const DRAG_SMOOTHING: f64 = 1e-12;
 
 /// Power-law drag $`\mathcal D = \sum_i \frac{c}{p+1}|v_i|^{p+1}`$ on every free node.
@@ -276,11 +281,11 @@ fn drag_gradient(c: f64, p: f64, v: Vec3) -> Vec3 {
     }
 }
 
-/// The drag's Hessian $`\partial^2\mathcal D_i/\partial v^2`$ smoothed at rest (module doc).
-fn drag_hessian(c: f64, p: f64, v: Vec3) -> Matrix3<f64> {
+/// The curvature Newton takes for the drag on one node: its quadratic majorizer's,
+/// $`c\,s^{p-1} I`$, $`s = \sqrt{|v|^2 + \varepsilon^2}`$ (module doc).
+fn drag_curvature(c: f64, p: f64, v: Vec3) -> Matrix3<f64> {
     let s2 = v.norm_squared() + DRAG_SMOOTHING * DRAG_SMOOTHING;
-    let scale = c * s2.powf(0.5 * (p - 1.0));
-    scale * (Matrix3::identity() + (p - 1.0) / s2 * (v * v.transpose()))
+    c * s2.powf(0.5 * (p - 1.0)) * Matrix3::identity()
 }
 
 /// The stage term $`\Psi(x) = \tau\,\mathcal D(x_D, (x - x_a)/\tau)`$ of one stage, with what
@@ -559,7 +564,7 @@ impl StageDissipation {
     }
 
     /// Node `i`'s block of $`\tau^2\nabla^2\Psi`$ besides the mass term at `x`: the drag's
-    /// smoothed Hessian times $`\tau`$ (zero without drag or on a fixed node).
+    /// majorizing curvature times $`\tau`$ (module doc; zero without drag or on a fixed node).
     pub fn node_block(&self, system: &MassSpringSystem, x: &[Vec3], i: usize) -> Matrix3<f64> {
         let PowerLawDrag {
             coefficient: c,
@@ -568,6 +573,6 @@ impl StageDissipation {
         if c == 0.0 || system.nodes()[i].fixed {
             return Matrix3::zeros();
         }
-        self.dt * drag_hessian(c, p, self.velocity(x, i))
+        self.dt * drag_curvature(c, p, self.velocity(x, i))
     }
 }

@@ -26,6 +26,7 @@ pub mod experiments;
 pub mod fast_mass_spring;
 pub mod first_iterate;
 pub mod forensics;
+pub mod integrator_study;
 pub mod linear;
 pub mod local_global;
 pub mod metrics;

@@ -169,15 +169,7 @@ impl SolverId {
                 options: &[FIRST_ITERATE_PREVIOUS, INTEGRATOR],
                 relative_cost: 9.0,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = BackwardEuler::new(system, dt, spec.iterations)?;
-                    integrated(
-                        solver.with_first_iterate(
-                            spec.params.first_iterate_or(FirstIterate::Previous),
-                        ),
-                        spec,
-                    )
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::Pbd => SolverInfo {
                 id: "pbd",
@@ -228,15 +220,7 @@ impl SolverId {
                 options: &[FIRST_ITERATE_PREVIOUS, INTEGRATOR],
                 relative_cost: 1.0,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = FastMassSpring::new(system, dt, spec.iterations)?;
-                    integrated(
-                        solver.with_first_iterate(
-                            spec.params.first_iterate_or(FirstIterate::Previous),
-                        ),
-                        spec,
-                    )
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::AdmmPd => SolverInfo {
                 id: "admm_pd",
@@ -249,15 +233,7 @@ impl SolverId {
                 options: &[FIRST_ITERATE_PREDICTION, INTEGRATOR],
                 relative_cost: 1.2,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = AdmmPd::new(system, dt, spec.iterations)?;
-                    integrated(
-                        solver.with_first_iterate(
-                            spec.params.first_iterate_or(FirstIterate::InertialPrediction),
-                        ),
-                        spec,
-                    )
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::ChebyshevLiu => chebyshev(Base::Liu),
             SolverId::ChebyshevAdmm => chebyshev(Base::Admm),
@@ -282,20 +258,7 @@ impl SolverId {
                 ],
                 relative_cost: 9.0,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = BackwardEuler::dissipative(
-                        system,
-                        dt,
-                        spec.iterations,
-                        spec.params.dissipation(),
-                    )?;
-                    integrated(
-                        solver.with_first_iterate(
-                            spec.params.first_iterate_or(FirstIterate::Previous),
-                        ),
-                        spec,
-                    )
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::DampedAdmm => SolverInfo {
                 id: "damped_admm",
@@ -321,19 +284,7 @@ impl SolverId {
                 ],
                 relative_cost: 1.5,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = DampedAdmm::dissipative(
-                        system,
-                        dt,
-                        spec.iterations,
-                        spec.params.dissipation(),
-                    )?;
-                    let solver = match spec.params.first_iterate {
-                        Some(first_iterate) => solver.with_first_iterate(first_iterate),
-                        None => solver,
-                    };
-                    integrated(solver, spec)
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::XpbdSubsteps => SolverInfo {
                 id: "xpbd_substeps",
@@ -383,15 +334,7 @@ impl SolverId {
                 ],
                 relative_cost: 6.5,
                 accelerates: Some(SolverId::FastMassSpring),
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = Lbfgs::new(system, dt, spec.iterations, spec.params.lbfgs())?;
-                    integrated(
-                        solver.with_first_iterate(
-                            spec.params.first_iterate_or(FirstIterate::InertialPrediction),
-                        ),
-                        spec,
-                    )
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::Vbd => SolverInfo {
                 id: "vbd",
@@ -417,12 +360,7 @@ impl SolverId {
                 ],
                 relative_cost: 8.5,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    integrated(
-                        Vbd::new(system, dt, spec.iterations, spec.params.vbd())?,
-                        spec,
-                    )
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::ExplicitEuler => tutorial_integrator(
                 "explicit_euler",
@@ -494,6 +432,12 @@ impl SolverId {
         self.info().iteration.is_some() && self != SolverId::XpbdSubsteps
     }
 
+    /// Whether it minimises thesis Eq 20's stage problems, and so runs under every
+    /// optimization integrator (the option `integrator`).
+    pub fn is_minimizing(self) -> bool {
+        self.info().options.iter().any(|o| o.name == "integrator")
+    }
+
     /// The tutorial's integrator this solver is, if it is one.
     pub fn integrator(self) -> Option<Integrator> {
         match self {
@@ -552,15 +496,79 @@ const INTEGRATOR: OptionInfo = OptionInfo {
            TR-BDF2 step) or tr-bdf2 [default: backward-euler]",
 };
 
-/// `solver` under the integrator of `spec` ([`Integrated`]).
+/// A minimizing solver under the integrator of `spec` ([`Integrated`]): the builder of every
+/// solver with the option `integrator`.
 fn integrated(
-    solver: impl MinimizingSolver + Send + 'static,
+    system: &MassSpringSystem,
+    dt: f64,
     spec: &SolverSpec,
 ) -> Result<Box<dyn TimeStepper + Send>> {
     Ok(Box::new(Integrated::new(
-        Box::new(solver),
+        stage_solver(system, dt, spec)?,
         spec.params.integrator,
     )?))
+}
+
+/// The minimizing solver of `spec` alone, without an integrator: what solves each stage
+/// problem ([`SolverSpec::build_stage_solver`]).
+fn stage_solver(
+    system: &MassSpringSystem,
+    dt: f64,
+    spec: &SolverSpec,
+) -> Result<Box<dyn MinimizingSolver + Send>> {
+    let params = &spec.params;
+    let iterations = spec.iterations;
+    let mut solver: Box<dyn MinimizingSolver + Send> = match spec.id {
+        SolverId::BackwardEuler => Box::new(
+            BackwardEuler::new(system, dt, iterations)?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous)),
+        ),
+        SolverId::DampedBackwardEuler => Box::new(
+            BackwardEuler::dissipative(system, dt, iterations, params.dissipation())?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous)),
+        ),
+        SolverId::FastMassSpring => Box::new(
+            FastMassSpring::new(system, dt, iterations)?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous)),
+        ),
+        SolverId::AdmmPd => Box::new(
+            AdmmPd::new(system, dt, iterations)?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::InertialPrediction)),
+        ),
+        SolverId::DampedAdmm => {
+            let solver = DampedAdmm::dissipative(system, dt, iterations, params.dissipation())?;
+            Box::new(match params.first_iterate {
+                Some(first_iterate) => solver.with_first_iterate(first_iterate),
+                None => solver,
+            })
+        }
+        SolverId::ChebyshevLiu | SolverId::ChebyshevAdmm => Box::new(Chebyshev::new(
+            system,
+            dt,
+            iterations,
+            params.chebyshev(accelerated_base(spec.id)),
+        )?),
+        SolverId::AndersonLiu | SolverId::AndersonAdmm => Box::new(Anderson::new(
+            system,
+            dt,
+            iterations,
+            params.anderson(accelerated_base(spec.id)),
+        )?),
+        SolverId::Lbfgs => Box::new(
+            Lbfgs::new(system, dt, iterations, params.lbfgs())?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::InertialPrediction)),
+        ),
+        SolverId::Vbd => Box::new(Vbd::new(system, dt, iterations, params.vbd())?),
+        other => {
+            return Err(Error::invalid(
+                "solver",
+                other,
+                "a minimizing solver (one with the option integrator)",
+            ))
+        }
+    };
+    solver.set_stopping(spec.stopping)?;
+    Ok(solver)
 }
 
 /// The first-iterate option of a solver that starts at $`x_n`$ by default.
@@ -636,10 +644,7 @@ fn chebyshev(base: Base) -> SolverInfo {
         ],
         relative_cost: 2.0,
         accelerates: Some(base_solver(base)),
-        builder: Builder::Springs(|system, dt, spec| {
-            let params = spec.params.chebyshev(accelerated_base(spec.id));
-            integrated(Chebyshev::new(system, dt, spec.iterations, params)?, spec)
-        }),
+        builder: Builder::Springs(integrated),
     }
 }
 
@@ -689,10 +694,7 @@ fn anderson(base: Base) -> SolverInfo {
         },
         relative_cost: 12.0,
         accelerates: Some(base_solver(base)),
-        builder: Builder::Springs(|system, dt, spec| {
-            let params = spec.params.anderson(accelerated_base(spec.id));
-            integrated(Anderson::new(system, dt, spec.iterations, params)?, spec)
-        }),
+        builder: Builder::Springs(integrated),
     }
 }
 
@@ -1035,6 +1037,17 @@ impl SolverSpec {
                 self.id
             ),
         ))
+    }
+
+    /// The minimizing solver alone, without its integrator, stopping as `stopping` says: the
+    /// solver of stage problems ([`MinimizingSolver::solve`]); an error for a solver that is
+    /// not one ([`SolverId::is_minimizing`]).
+    pub fn build_stage_solver(
+        &self,
+        system: &MassSpringSystem,
+        dt: f64,
+    ) -> Result<Box<dyn MinimizingSolver + Send>> {
+        stage_solver(system, dt, self)
     }
 
     /// The solver on a mass-spring system with time step `dt`. The tutorial's integrators run
