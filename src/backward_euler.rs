@@ -205,7 +205,7 @@ impl BackwardEuler {
         )
     }
 
-    /// [Brown 2018, dissipation functions] (unverified: abstract only) The same solver on the
+    /// [Brown 2018, dissipation functions] (unverified: no body text or reference code found) The same solver on the
     /// objective with `dissipation`'s stage term $`\Psi`$: Newton on the residual
     /// $`r(v) = M(v - u_0) - \tau(F(x) - \nabla\Psi(x))`$, $`x = x_a + \tau v`$, whose matrix gains
     /// $`\tau^2\nabla^2\Psi`$ (Rayleigh: $`\tau(\alpha M + \beta K(x_D))`$, its right-hand side
@@ -352,8 +352,9 @@ impl BackwardEuler {
                 .collect()
         };
         let mut v = trial(alpha);
-        // False for a NaN objective too.
-        while largest > 1e-8 && alpha > 1e-12 && !(objective(&v) <= phi0) {
+        // A NaN objective does not descend either.
+        let descends = |phi: f64| phi.partial_cmp(&phi0).is_some_and(|o| o.is_le());
+        while largest > 1e-8 && alpha > 1e-12 && !descends(objective(&v)) {
             alpha *= 0.5;
             v = trial(alpha);
         }

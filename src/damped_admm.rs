@@ -45,8 +45,9 @@
 //!   that rest length ([`z_minimisation`]);
 //! - the power-law drag is a block on the nodes themselves, $`z^d_i \approx x_i`$, weights
 //!   $`\omega_d^2 = c/h`$ (the drag's curvature at 1 m/s, in the scaled objective), whose local
-//!   step is the drag's proximal map: with $`r = x_i + \bar u^d_i - x_{n,i}`$, $`z^d_i = x_{n,i}
-//!   + s\,\hat r`$ where $`s \in [0, |r|]`$ solves $`\omega_d^2(s - |r|) + c\,h^{-p}s^p = 0`$
+//!   step is the drag's proximal map: with $`r = x_i + \bar u^d_i - x_{n,i}`$,
+//!   $`z^d_i = x_{n,i} + s\,\hat r`$ where $`s \in [0, |r|]`$ solves
+//!   $`\omega_d^2(s - |r|) + c\,h^{-p}s^p = 0`$
 //!   (safeguarded Newton, [`drag_proximal_length`]); the global matrix gains
 //!   $`\tau^2\omega_d^2`$ on the free nodes' diagonal ([`GlobalSolve::with_node_weights`]).
 //!
@@ -225,7 +226,7 @@ impl DampingSpringBlock {
     }
 }
 
-/// [Brown 2018, power-law dissipation] (unverified: abstract only) The drag's proximal map
+/// [Brown 2018, power-law dissipation] (unverified: no body text or reference code found) The drag's proximal map
 /// along $`r`$: the length $`s \in [0, |r|]`$ of $`\arg\min_w \frac{\kappa}{p+1}|w|^{p+1} +
 /// \frac{\omega^2}{2}|w - r|^2`$, the root of $`\omega^2(s - |r|) + \kappa s^p`$ (increasing and
 /// concave in $`s`$), by Newton's method safeguarded by bisection on the bracket.
@@ -465,7 +466,7 @@ impl DampedAdmm {
         };
         if let Some(extra) = extra {
             for (w, w2) in weights.iter_mut().zip(extra) {
-                *w = *w + w2;
+                *w += w2;
             }
         }
         let nodes = if dissipation.drag.coefficient > 0.0 {

@@ -37,11 +37,8 @@
 //!   announces a momentum-conserving modification of any dissipation function, whose
 //!   formulation we cannot read; [`RayleighForm::MomentumConserving`]): Rayleigh damping
 //!   restricted to relative motion,
-//!   ```math
-//!   \mathcal D = \tfrac12\sum_s (\alpha\,\mu_s + \beta\,k_s)\,\dot l_s^2,\qquad
-//!   \dot l_s = \hat d_s\cdot(v_{a_s} - v_{b_s}),
-//!   ```
-//!   with $`\mu_s`$ the reduced mass of spring $`s`$'s ends (a fixed end counts as infinitely
+//!   $`\mathcal D = \frac12\sum_s (\alpha\,\mu_s + \beta\,k_s)\,\dot l_s^2`$ with
+//!   $`\dot l_s = \hat d_s\cdot(v_{a_s} - v_{b_s})`$ and $`\mu_s`$ the reduced mass of spring $`s`$'s ends (a fixed end counts as infinitely
 //!   heavy) and $`\dot l_s`$ its rate of stretching. For an unstressed spring the $`\beta`$ part
 //!   is Rayleigh's $`\frac\beta2 v^\top Kv`$ exactly; the $`\alpha`$ part damps a two-mass
 //!   spring's stretching at the rate $`\alpha`$ of mass-proportional damping, and no rigid
@@ -183,7 +180,7 @@ impl Dissipation {
         self.drag.coefficient == 0.0
     }
 
-    /// [Brown 2018, dissipation functions] (unverified: abstract only) $`\mathcal D(x, v)`$, W.
+    /// [Brown 2018, dissipation functions] (unverified: no body text or reference code found) $`\mathcal D(x, v)`$, W.
     pub fn value(&self, system: &MassSpringSystem, x: &[Vec3], v: &[Vec3]) -> f64 {
         let RayleighDamping { alpha, beta } = self.rayleigh;
         let free = system.nodes().iter().zip(v).filter(|(n, _)| !n.fixed);
@@ -218,7 +215,7 @@ impl Dissipation {
         rayleigh + drag
     }
 
-    /// [Brown 2018, dissipation functions] (unverified: abstract only) Adds
+    /// [Brown 2018, dissipation functions] (unverified: no body text or reference code found) Adds
     /// $`f_d = -\partial\mathcal D/\partial v`$ at `(x, v)` to `f`; fixed nodes get nothing.
     pub fn add_force(&self, system: &MassSpringSystem, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) {
         let RayleighDamping { alpha, beta } = self.rayleigh;
@@ -380,7 +377,7 @@ impl StageDissipation {
         (x[i] - self.x_n[i]) / self.dt
     }
 
-    /// [Brown 2018, dissipation potential] (unverified: abstract only) $`\Psi(x)`$ at
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) $`\Psi(x)`$ at
     /// positions `x` (module doc), J.
     pub fn potential(&self, system: &MassSpringSystem, x: &[Vec3]) -> f64 {
         let RayleighDamping { alpha, beta } = self.dissipation.rayleigh;
@@ -435,7 +432,7 @@ impl StageDissipation {
         rayleigh + self.dt * drag
     }
 
-    /// [Brown 2018, dissipation potential] (unverified: abstract only) Adds the damping force
+    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) Adds the damping force
     /// $`-\nabla_x\Psi = f_d(x_D, (x - x_a)/\tau)`$ (the momentum-conserving form's at the
     /// lengths' difference) to `f` (free nodes only).
     pub fn add_force(&self, system: &MassSpringSystem, x: &[Vec3], f: &mut [Vec3]) {
@@ -543,9 +540,9 @@ impl StageDissipation {
             exponent: p,
         } = self.dissipation.drag;
         if c > 0.0 {
-            for i in 0..nodes.len() {
+            for (i, v) in v.iter().enumerate() {
                 let force = -drag_gradient(c, p, self.velocity(x, i));
-                add(i, tau * force + self.node_block(system, x, i) * v[i]);
+                add(i, tau * force + self.node_block(system, x, i) * v);
             }
         }
         if self.dissipation.form == RayleighForm::MomentumConserving {

@@ -124,6 +124,9 @@ pub fn order_reference() -> Result<Vec<Vec3>> {
     Ok(exact.samples[samples - 1].clone())
 }
 
+/// Builds a stepper for a system and a time step (an integrator with its solver).
+pub type StepperFor<'a> = dyn Fn(&MassSpringSystem, f64) -> Result<Box<dyn TimeStepper>> + 'a;
+
 /// An integrator's errors against the exact motion and its fitted order (module doc).
 #[derive(Debug, Clone, PartialEq)]
 pub struct OrderStudy {
@@ -139,7 +142,7 @@ impl OrderStudy {
     pub fn of(
         integrator: OptimizationIntegrator,
         exact: &[Vec3],
-        stepper: &dyn Fn(&MassSpringSystem, f64) -> Result<Box<dyn TimeStepper>>,
+        stepper: &StepperFor,
     ) -> Result<Self> {
         let system = GridScene::Rope.system(ORDER_STIFFNESS)?;
         let errors = ORDER_DTS

@@ -12,6 +12,7 @@ use mass_spring_solvers::experiments::{published_rows, run_all, Configuration, P
 use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::report::beyond::BeyondChapter;
+use mass_spring_solvers::report::integrators::IntegratorsChapter;
 use mass_spring_solvers::report::output::{OutputFile, Phases, RunInfo};
 use mass_spring_solvers::report::publish::{fixture, ReportTarget};
 use mass_spring_solvers::report::rest_state::Catenary;
@@ -34,6 +35,9 @@ const SHEET_BUDGET: Duration = Duration::from_secs(60);
 
 /// The budget of the work-precision chapter (issue 14: at most 60 s on 2 cores).
 const WORK_PRECISION_BUDGET: Duration = Duration::from_secs(60);
+
+/// The budget of the optimization-integrators chapter (issue 23: at most 10 s on 2 cores).
+const INTEGRATORS_BUDGET: Duration = Duration::from_secs(10);
 
 /// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
 const FIXTURE_FILES: usize = 400;
@@ -148,6 +152,11 @@ fn run(args: Args) -> Result<String> {
         Some(WORK_PRECISION_BUDGET),
         || WorkPrecisionChapter::compute(&progress("work and precision")),
     )?;
+    let integrators = phases.run(
+        "optimization integrators (parallel)",
+        Some(INTEGRATORS_BUDGET),
+        || IntegratorsChapter::compute(&progress("optimization integrators")),
+    )?;
     let data = ReportData {
         results,
         forensics: Some(forensics),
@@ -157,6 +166,7 @@ fn run(args: Args) -> Result<String> {
         beyond,
         sheet,
         work_precision,
+        integrators,
         sources,
     };
     let mut files = phases.run("rendering (Markdown, SVG, CSV)", None, || render(&data))?;

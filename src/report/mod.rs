@@ -16,6 +16,7 @@ pub mod errata;
 pub mod figures;
 pub mod forensics;
 pub mod format;
+pub mod integrators;
 pub mod output;
 pub mod plot;
 pub mod publish;
@@ -37,6 +38,7 @@ use crate::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
 use crate::registry::SolverId;
 use crate::report::beyond::BeyondChapter;
 use crate::report::format::{short, MarkdownTable};
+use crate::report::integrators::IntegratorsChapter;
 use crate::report::output::OutputFile;
 use crate::report::plot::{layout, Chart, Layout};
 use crate::report::rest_state::Catenary;
@@ -125,6 +127,8 @@ pub struct ReportData {
     pub sheet: SheetChapter,
     /// The timing study: accuracy against counted work.
     pub work_precision: WorkPrecisionChapter,
+    /// The optimization integrators.
+    pub integrators: IntegratorsChapter,
     pub sources: Sources,
 }
 
@@ -165,6 +169,7 @@ pub struct ChapterFigures<'a> {
     pub beyond: &'a [ChapterFigure],
     pub sheet: &'a [ChapterFigure],
     pub work_precision: &'a [ChapterFigure],
+    pub integrators: &'a [ChapterFigure],
 }
 
 /// A figure's two files: `figures/<stem>.svg` and the points it draws, `data/<stem>.csv`.
@@ -182,11 +187,13 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let beyond_figures = data.beyond.figures()?;
     let sheet_figures = data.sheet.figures()?;
     let work_precision_figures = data.work_precision.figures()?;
+    let integrators_figures = data.integrators.figures()?;
     let chapters = ChapterFigures {
         tutorial: &tutorial_figures,
         beyond: &beyond_figures,
         sheet: &sheet_figures,
         work_precision: &work_precision_figures,
+        integrators: &integrators_figures,
     };
     let mut files = vec![OutputFile::text(
         "REPORT.md",
@@ -196,6 +203,7 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     files.extend(data.work_precision.files(&work_precision_figures));
     files.extend(data.tutorial.files(&tutorial_figures));
     files.extend(data.beyond.files(&beyond_figures));
+    files.extend(data.integrators.files(&integrators_figures));
     for f in &figures {
         files.extend(figure_files(&f.stem, &f.svg, &f.csv));
     }
@@ -355,7 +363,8 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
            5 Reproduction summary · 6 Forensic reproduction: evidence classes · 7 Conclusions revisited \
            (Tables 8-12, Figures 5-15) · 8 Analytic catenary · 9 The particle-system tutorial, verified · \
            10 Beyond the thesis: newer solvers · 11 The sheet, one dimension up · 12 Work and \
-           precision · 13 Errata · 14 Equation traceability · 15 Data files · 16 Versions\n\n";
+           precision · 13 Optimization integrators · 14 Errata · 15 Equation traceability · 16 Data \
+           files · 17 Versions\n\n";
 
     md += "## 1. Mass-spring systems (§2.1)\n\n";
     md += &figure_md(figures, 1);
@@ -450,14 +459,15 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &data.beyond.section(10, chapters.beyond);
     md += &data.sheet.section(11, chapters.sheet, &data.beyond.grid);
     md += &data.work_precision.section(12, chapters.work_precision);
+    md += &data.integrators.section(13, chapters.integrators);
 
-    md += "## 13. Errata\n\n";
+    md += "## 14. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 14. Equation traceability\n\n";
+    md += "## 15. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -470,7 +480,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 14.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 15.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -483,7 +493,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         );
     }
 
-    md += "### 14.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
+    md += "### 15.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
            implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
            cannot mistake for a thesis equation. Built at report time from those tags. The column \
            \"verified against\" says how each tag was checked (`docs/papers.md`): against the paper's text \
@@ -493,7 +503,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &traceability::paper_table(&data.sources.paper_tags).render();
     md += "\n";
 
-    md += "## 15. Data files\n\n";
+    md += "## 16. Data files\n\n";
     md += &format!(
         "- [`data/results.csv`](data/results.csv): every row run, columns `{}` (the columns of \
          `data/thesis_results.csv`, `half_period_s` under the thesis convention, plus the exact convention); \
@@ -525,16 +535,22 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
          - [`data/work_precision.csv`](data/work_precision.csv): every configuration of the work-precision \
          sweep (section 12), each error kind, with its counted flops.\n\
          - [`data/parity.csv`](data/parity.csv): every published row with its class and the published and our \
-         peak count, T/2 and rest-state error (Figure 16).\n\n",
+         peak count, T/2 and rest-state error (Figure 16).\n\
+         - [`data/integrators.csv`](data/integrators.csv): `{}`, each optimization integrator's fitted order and \
+         numerical damping per period (section 13).\n\
+         - [`data/integrator_costs.csv`](data/integrator_costs.csv): `{}`, each minimizing solver's cost per step \
+         under each integrator (section 13.3).\n\n",
         data::RESULTS_HEADER,
         data::REPRODUCTION_HEADER.join(","),
         data::CONFIGURATIONS_HEADER.join(","),
         data::LIU_GRID_HEADER.join(","),
         data::GRAVITY_HEADER.join(","),
-        beyond::BEYOND_HEADER
+        beyond::BEYOND_HEADER,
+        integrators::INTEGRATORS_HEADER.join(","),
+        integrators::COSTS_HEADER.join(","),
     );
 
-    md += "## 16. Crate and dependency versions\n\n";
+    md += "## 17. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

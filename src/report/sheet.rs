@@ -181,6 +181,8 @@ impl SheetChapter {
             full(SHEET_MAX_TIME),
             n = SHEET_NODES_PER_SIDE,
         );
+        md += crate::report::integrators::UNDER_BACKWARD_EULER;
+        md += "\n\n";
 
         md += &format!("### {number}.1 The exact equilibrium\n\n");
         md +=

@@ -12,6 +12,7 @@ use mass_spring_solvers::beyond::{grid_rows, GridRow, GridScene};
 use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::beyond::BeyondChapter;
+use mass_spring_solvers::report::integrators::IntegratorsChapter;
 use mass_spring_solvers::report::output::OutputFile;
 use mass_spring_solvers::report::plot::Layout;
 use mass_spring_solvers::report::publish::write_report;
@@ -69,6 +70,8 @@ fn data() -> &'static ReportData {
             beyond,
             sheet,
             work_precision,
+            integrators: IntegratorsChapter::compute(&|_, _| {})
+                .expect("the optimization-integrators chapter runs"),
             sources,
         }
     })
@@ -293,7 +296,9 @@ fn every_figure() -> Vec<(String, Layout, String)> {
     let beyond = data().beyond.figures().unwrap();
     let sheet = data().sheet.figures().unwrap();
     let work_precision = data().work_precision.figures().unwrap();
+    let integrators = data().integrators.figures().unwrap();
     assert_eq!(beyond.len() + sheet.len(), 2);
+    assert_eq!(integrators.len(), 1);
     thesis
         .into_iter()
         .map(|f| (f.stem, f.layout, f.svg))
@@ -303,6 +308,7 @@ fn every_figure() -> Vec<(String, Layout, String)> {
                 .chain(beyond)
                 .chain(sheet)
                 .chain(work_precision)
+                .chain(integrators)
                 .map(|f| (f.stem.to_string(), f.layout, f.svg)),
         )
         .collect()
