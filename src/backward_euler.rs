@@ -15,7 +15,7 @@
 //! search on the incremental potential of Eq (20): it converges at any $`dt\sqrt{k/m}`$ and is
 //! the oracle the other solvers are tested against.
 
-use crate::boundary::{fixed_unknowns, ConstrainedSystem};
+use crate::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::converged_stage::converged_stage;
 use crate::damping::RayleighDamping;
 use crate::dissipation::{Dissipation, StageDissipation};
@@ -225,12 +225,6 @@ impl BackwardEuler {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
         let n = system.len();
-        let fixed_nodes = system
-            .nodes()
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| n.fixed)
-            .map(|(i, _)| i);
         Ok(Self {
             system: system.clone(),
             dt,
@@ -238,7 +232,7 @@ impl BackwardEuler {
             dissipation: StageDissipation::new(system, dissipation),
             implicit: ImplicitMatrix::new(system),
             solve: None,
-            fixed: fixed_unknowns(fixed_nodes, 3),
+            fixed: fixed_node_unknowns(system, 3),
             jacobians: vec![Matrix3::zeros(); system.springs().len()],
             forces: vec![Vec3::zeros(); n],
             x_k: vec![Vec3::zeros(); n],
@@ -331,12 +325,7 @@ impl BackwardEuler {
                 .zip(v)
                 .map(|(x, v)| position_update(x, v, dt))
                 .collect();
-            let y: Vec<Vec3> = state
-                .x
-                .iter()
-                .zip(&state.v)
-                .map(|(x, v)| x + dt * v)
-                .collect();
+            let y = inertia(state, dt);
             incremental_potential(&self.system, &y, &x, dt)
                 + self.dissipation.potential(&self.system, &x)
         };
@@ -461,6 +450,16 @@ impl Default for ConvergedStepOptions {
             max_iterations: 200,
         }
     }
+}
+
+/// $`y = x_n + dt\,v_n`$, the inertial term's centre in Eq (20) (gravity is in the potential).
+pub fn inertia(state: &State, dt: f64) -> Vec<Vec3> {
+    state
+        .x
+        .iter()
+        .zip(&state.v)
+        .map(|(x, v)| x + dt * v)
+        .collect()
 }
 
 /// The incremental potential of Eq (20): $`\frac{1}{2dt^2}(x - y)^\top M (x - y) + E(x)`$,

@@ -64,6 +64,7 @@
 //! Measured: the report's section 10 (iterations to 1e-6 m from the inertial prediction, and
 //! the scan of $`\rho`$), `tests/accelerated.rs`.
 
+use crate::backward_euler::inertia;
 use crate::error::{Error, Result};
 use crate::first_iterate::FirstIterate;
 use crate::local_global::{AdmmMerit, Base, LocalGlobal};
@@ -249,12 +250,7 @@ pub fn gradient_ratio(
     let mut iteration = LocalGlobal::new(system, dt, base, first_iterate, AdmmMerit::default())?;
     iteration.begin(state);
     let n = system.len();
-    let y: Vec<Vec3> = state
-        .x
-        .iter()
-        .zip(&state.v)
-        .map(|(x, v)| x + dt * v)
-        .collect();
+    let y = inertia(state, dt);
     let (mut forces, mut gradient) = (vec![Vec3::zeros(); n], vec![0.0; 3 * n]);
     let mut gradient_norm = |iteration: &LocalGlobal| {
         let x: Vec<Vec3> = iteration.positions().collect();

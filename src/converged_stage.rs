@@ -11,8 +11,8 @@
 //! smoothed at rest) with a backtracking line search on the objective; the first iterate is
 //! $`x_a + \tau u_0`$.
 
-use crate::backward_euler::{incremental_potential, ConvergedStepOptions, ImplicitMatrix};
-use crate::boundary::{fixed_unknowns, ConstrainedSystem};
+use crate::backward_euler::{incremental_potential, inertia, ConvergedStepOptions, ImplicitMatrix};
+use crate::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::dissipation::{Dissipation, StageDissipation};
 use crate::error::{require_positive, Error, Result};
 use crate::optimization_integrator::{MinimizingSolver, StageProblem};
@@ -41,25 +41,14 @@ pub fn converged_stage(
     dissipation.validate()?;
     system.require_undamped_springs()?;
     let n = system.len();
-    let y: Vec<Vec3> = state
-        .x
-        .iter()
-        .zip(&state.v)
-        .map(|(x, v)| x + dt * v)
-        .collect();
+    let y = inertia(state, dt);
     let mut x: Vec<Vec3> = system
         .nodes()
         .iter()
         .enumerate()
         .map(|(i, node)| if node.fixed { state.x[i] } else { y[i] })
         .collect();
-    let fixed_nodes = system
-        .nodes()
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| n.fixed)
-        .map(|(i, _)| i);
-    let fixed = fixed_unknowns(fixed_nodes, 3);
+    let fixed = fixed_node_unknowns(system, 3);
     let mut dissipation = StageDissipation::new(system, dissipation);
     dissipation.start(system, &state.x, problem.frozen_positions(state), dt);
     let objective =

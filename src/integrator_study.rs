@@ -31,7 +31,7 @@ use crate::registry::{SolverId, SolverSpec};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
 use crate::work_precision::{
-    flops_setup, logged_flops, rk4_stability_limit, Case, ExactMotion,
+    flops_setup, logged_flops, rk4_stability_limit, whole_steps, Case, ExactMotion,
     REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
 };
 
@@ -85,31 +85,22 @@ pub fn largest_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The least-squares slope of $`\log y`$ against $`\log x`$.
-pub fn fitted_slope(points: &[(f64, f64)]) -> f64 {
-    let logs: Vec<(f64, f64)> = points.iter().map(|(x, y)| (x.ln(), y.ln())).collect();
-    let n = logs.len() as f64;
-    let (mx, my) = logs
+/// The least-squares slope of $`y`$ against $`x`$.
+pub fn least_squares_slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (mx, my) = points
         .iter()
         .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-    let (sxy, sxx) = logs.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+    let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
         (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
     });
     sxy / sxx
 }
 
-/// Steps of `dt` in `time`, an error unless `dt` divides it.
-fn steps_in(time: f64, dt: f64) -> Result<u64> {
-    let ratio = time / dt;
-    if (ratio - ratio.round()).abs() < 1e-9 * ratio && ratio.round() >= 1.0 {
-        Ok(ratio.round() as u64)
-    } else {
-        Err(Error::invalid(
-            "dt",
-            dt,
-            &format!("{time} s divided by a whole number"),
-        ))
-    }
+/// The least-squares slope of $`\log y`$ against $`\log x`$.
+pub fn fitted_slope(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points.iter().map(|(x, y)| (x.ln(), y.ln())).collect();
+    least_squares_slope(&logs)
 }
 
 /// The exact positions of the order study: the rope at [`ORDER_STIFFNESS`] at
@@ -119,7 +110,7 @@ pub fn order_reference() -> Result<Vec<Vec3>> {
         scene: GridScene::Rope,
         stiffness: ORDER_STIFFNESS,
     };
-    let samples = steps_in(ORDER_TIME_S, SAMPLE_INTERVAL_S)? as usize;
+    let samples = whole_steps(ORDER_TIME_S, SAMPLE_INTERVAL_S)? as usize;
     let exact = ExactMotion::compute_samples(case, REFERENCE_STABILITY_FRACTION, samples)?;
     Ok(exact.samples[samples - 1].clone())
 }
@@ -152,7 +143,7 @@ impl OrderStudy {
                 let end = run_steps(
                     s.as_mut(),
                     system.initial_state(),
-                    steps_in(ORDER_TIME_S, dt)?,
+                    whole_steps(ORDER_TIME_S, dt)?,
                 )?;
                 Ok((dt, largest_distance(&end.x, exact)))
             })
@@ -271,14 +262,7 @@ pub fn amplitude_rate(
         stepper.step(&mut state)?;
         samples.push((j as f64 * dt, mode.amplitude(stepper.system(), &state).ln()));
     }
-    let n = samples.len() as f64;
-    let (mt, ma) = samples
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (t, y)| (a + t / n, b + y / n));
-    let (sty, stt) = samples.iter().fold((0.0, 0.0), |(a, b), (t, y)| {
-        (a + (t - mt) * (y - ma), b + (t - mt) * (t - mt))
-    });
-    Ok(sty / stt)
+    Ok(least_squares_slope(&samples))
 }
 
 /// An integrator's numerical damping of the rope's lowest mode (module doc).
@@ -373,7 +357,7 @@ impl CostRow {
     pub fn compute(id: SolverId, integrator: OptimizationIntegrator) -> Result<Self> {
         let system = GridScene::Rope.system(COST_STIFFNESS)?;
         let spec = cost_spec(id, integrator)?;
-        let steps = steps_in(COST_TIME_S, COST_DT)?;
+        let steps = whole_steps(COST_TIME_S, COST_DT)?;
         let mut solver = spec.build(&system, COST_DT)?;
         let mut exact = exact_stages(&system, COST_DT, integrator, spec.params.dissipation())?;
         let (mut state, mut oracle) = (system.initial_state(), system.initial_state());

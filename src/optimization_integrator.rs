@@ -280,6 +280,26 @@ impl<T> PerStageStep<T> {
     }
 }
 
+/// Sets the pseudo-state `stage` of a stage from `state` $`= (x_n, v_n)`$: `free(i, m_i,
+/// stage)` gives $`(x_a, u_0)`$ of free node `i` (from the stage's previous contents, for a
+/// stage that follows another); a fixed node keeps $`x_a = x_n`$, $`u_0 = 0`$ exactly.
+fn set_pseudo_state(
+    system: &MassSpringSystem,
+    state: &State,
+    stage: &mut State,
+    free: impl Fn(usize, f64, &State) -> (Vec3, Vec3),
+) {
+    for (i, node) in system.nodes().iter().enumerate() {
+        let (x, v) = if node.fixed {
+            (state.x[i], Vec3::zeros())
+        } else {
+            free(i, node.mass, stage)
+        };
+        stage.x[i] = x;
+        stage.v[i] = v;
+    }
+}
+
 /// A minimizing solver under an integrator: the [`TimeStepper`] that builds each step's stage
 /// problems and turns their solutions into the next state (module doc).
 pub struct Integrated {
@@ -361,15 +381,12 @@ impl Integrated {
             slot: 0,
             frozen: Some(&state.x),
         };
-        for (i, node) in self.solver.system().nodes().iter().enumerate() {
-            if node.fixed {
-                self.stage.x[i] = state.x[i];
-                self.stage.v[i] = Vec3::zeros();
-            } else {
-                self.stage.x[i] = (4.0 * state.x[i] - previous.x[i]) / 3.0;
-                self.stage.v[i] = (4.0 * state.v[i] - previous.v[i]) / 3.0;
-            }
-        }
+        set_pseudo_state(self.solver.system(), state, &mut self.stage, |i, _, _| {
+            (
+                (4.0 * state.x[i] - previous.x[i]) / 3.0,
+                (4.0 * state.v[i] - previous.v[i]) / 3.0,
+            )
+        });
         self.solver.solve(&problem, &mut self.stage)?;
         state.clone_from(&self.stage);
         Ok(())
@@ -383,15 +400,13 @@ impl Integrated {
         if let Some(d) = self.solver.dissipation() {
             d.add_force(system, &state.x, &state.v, &mut self.forces);
         }
-        for (i, node) in system.nodes().iter().enumerate() {
-            if node.fixed {
-                self.stage.x[i] = state.x[i];
-                self.stage.v[i] = Vec3::zeros();
-            } else {
-                self.stage.x[i] = state.x[i] + tau * state.v[i];
-                self.stage.v[i] = state.v[i] + tau / node.mass * self.forces[i];
-            }
-        }
+        let forces = &self.forces;
+        set_pseudo_state(system, state, &mut self.stage, |i, mass, _| {
+            (
+                state.x[i] + tau * state.v[i],
+                state.v[i] + tau / mass * forces[i],
+            )
+        });
         let trapezoid = StageProblem {
             tau,
             step: self.h,
@@ -402,15 +417,17 @@ impl Integrated {
         // Stage 2 from (x_n, v_n) and (x_γ, v_γ); its dissipation frozen at x_γ.
         let (a, b, _) = tr_bdf2_coefficients();
         self.frozen.copy_from_slice(&self.stage.x);
-        for (i, node) in self.solver.system().nodes().iter().enumerate() {
-            if node.fixed {
-                self.stage.x[i] = state.x[i];
-                self.stage.v[i] = Vec3::zeros();
-            } else {
-                self.stage.x[i] = a * self.stage.x[i] - b * state.x[i];
-                self.stage.v[i] = a * self.stage.v[i] - b * state.v[i];
-            }
-        }
+        set_pseudo_state(
+            self.solver.system(),
+            state,
+            &mut self.stage,
+            |i, _, gamma| {
+                (
+                    a * gamma.x[i] - b * state.x[i],
+                    a * gamma.v[i] - b * state.v[i],
+                )
+            },
+        );
         let bdf2 = StageProblem {
             tau,
             step: self.h,

@@ -19,7 +19,7 @@
 //! ([`to_columns`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
 //! [`ConstrainedSystem`] in the precomputation; each solve then carries their positions.
 
-use crate::boundary::{fixed_unknowns, ConstrainedSystem};
+use crate::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::linear::SymmetricMatrix;
 use crate::system::{MassSpringSystem, State, Vec3};
@@ -285,13 +285,7 @@ impl GlobalSolve {
             require_non_negative(format!("node_weights[{j}]"), w)?;
             a.add(j, j, dt * dt * w);
         }
-        let fixed_nodes = system
-            .nodes()
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| n.fixed)
-            .map(|(i, _)| i);
-        let fixed = fixed_unknowns(fixed_nodes, 1);
+        let fixed = fixed_node_unknowns(system, 1);
         Ok(Self {
             nodes: system.len(),
             solve: ConstrainedSystem::for_three_columns(&mut a, &fixed)?,

@@ -72,6 +72,7 @@
 //! the full 24 unknowns. What slows both is the Laplacian's isotropic stiffness: across a
 //! spring's axis $`H_0`$ has $`k`$, the true Hessian $`k(1 - l_0/l)`$, smaller by the strain.
 
+use crate::backward_euler::inertia;
 use crate::error::{Error, Result};
 use crate::first_iterate::{FirstIterate, StepStart};
 use crate::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
@@ -413,12 +414,7 @@ impl MinimizingSolver for Lbfgs {
         let (dt, n) = (problem.tau, state.x.len());
         // y = xⁿ + h·vⁿ of Eq 20 (gravity is in E); x₀ = y + h²M⁻¹f_ext by default, the
         // authors' code's start.
-        let y: Vec<Vec3> = state
-            .x
-            .iter()
-            .zip(&state.v)
-            .map(|(x, v)| x + dt * v)
-            .collect();
+        let y = inertia(state, dt);
         let mut x = self
             .start
             .first_iterate(&self.system, state, problem)

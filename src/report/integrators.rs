@@ -42,7 +42,7 @@ pub const DAMPING_CASE: &str = "rope_k1e6_lowest_mode_dt0.01s";
 /// "every table that shows a run says its integrator").
 pub const UNDER_BACKWARD_EULER: &str = "Integrator: every minimizing solver in this section's \
      tables runs under Backward Euler, the thesis's (section 13 runs them under the others); PBD, \
-     XPBD and XPBD with substeps integrate by their own schemes.";
+     the XPBD family and the tutorial's integrators integrate by their own schemes.";
 
 /// The figure's file stem.
 pub const ORDER_FIGURE: &str = "integrator_orders";
