@@ -22,12 +22,17 @@
 //! $`\omega_i^2 = k_i`$; the general form is used so that any weights stay correct.
 //!
 //!
+//! Under an optimization integrator ([`crate::optimization_integrator`]) each stage is the same
+//! iteration with $`dt`$ the stage's $`\tau`$ and $`(x_n, v_n)`$ its pseudo-state; $`A`$ is
+//! factored once per distinct $`\tau`$.
+//!
 //! The labelled departures that explain the published numbers (start points, carried dual,
 //! other weights, fixed-node handling, stale right-hand side) are not here: they are built
 //! from this module's building blocks in [`crate::forensics::admm_variants`].
 
 use crate::error::{require_positive, Error, Result};
 use crate::first_iterate::{FirstIterate, StepStart};
+use crate::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
 use crate::projective::{
     finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve,
     SpringIncidence,
@@ -115,6 +120,14 @@ impl AdmmIterate {
     /// The weights $`\omega_i`$.
     pub fn omega(&self) -> &[f64] {
         &self.omega
+    }
+
+    /// The global step's factors $`dt^2\omega_i^2`$ for another time step `dt` (a stage's
+    /// $`\tau`$).
+    pub fn set_step(&mut self, dt: f64) {
+        for (f, w) in self.dt2_omega2.iter_mut().zip(&self.omega) {
+            *f = dt * dt * (w * w);
+        }
     }
 
     /// Line 2.1: $`x_n`$, and $`\tilde x = x_n + dt\,v_n + dt^2 M^{-1} f_{ext}`$ (Eq 35's
@@ -211,8 +224,10 @@ pub struct AdmmPd {
     system: MassSpringSystem,
     dt: f64,
     iterations: usize,
-    /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (line 1.5).
-    a: GlobalSolve,
+    /// $`A = M + dt^2 D^\top W^\top W D`$ of each stage step, factored once (line 1.5).
+    a: PerStageStep<GlobalSolve>,
+    /// The current stage's $`dt`$ ($`\tau`$), s.
+    tau: f64,
     iterate: AdmmIterate,
     /// Where each step starts: $`x^0 = \tilde x`$ (line 2.1) by default.
     start: StepStart,
@@ -236,7 +251,8 @@ impl AdmmPd {
             system: system.clone(),
             dt,
             iterations,
-            a: GlobalSolve::new(system, dt, &omega2)?,
+            a: PerStageStep::new(dt, GlobalSolve::new(system, dt, &omega2)?),
+            tau: dt,
             iterate: AdmmIterate::new(system, dt, omega),
             start: StepStart::new(FirstIterate::InertialPrediction),
             convergence: Convergence::default(),
@@ -269,7 +285,23 @@ impl AdmmPd {
     /// solve.
     pub fn global_step(&mut self) {
         self.iterate.global_rhs();
-        self.a.solve(&mut self.iterate.x, &self.iterate.x_n);
+        self.a
+            .current()
+            .solve(&mut self.iterate.x, &self.iterate.x_n);
+    }
+
+    /// Makes `tau` the current stage step: its matrix (factored if new) and factors.
+    fn select(&mut self, tau: f64) -> Result<()> {
+        let (system, omega) = (&self.system, self.iterate.omega());
+        self.a.select(tau, |tau| {
+            let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
+            GlobalSolve::new(system, tau, &omega2)
+        })?;
+        if tau != self.tau {
+            self.tau = tau;
+            self.iterate.set_step(tau);
+        }
+        Ok(())
     }
 }
 
@@ -294,14 +326,22 @@ impl TimeStepper for AdmmPd {
         Some(&mut self.convergence)
     }
 
+    fn step(&mut self, state: &mut State) -> Result<()> {
+        self.solve(&StageProblem::backward_euler(self.dt), state)
+    }
+}
+
+impl MinimizingSolver for AdmmPd {
     /// Algorithm 4, run-time part.
     // region: step
-    fn step(&mut self, state: &mut State) -> Result<()> {
+    fn solve(&mut self, problem: &StageProblem, state: &mut State) -> Result<()> {
+        let dt = problem.tau;
+        self.select(dt)?;
         let it = &mut self.iterate;
         // 2.1: x̃, and x⁰ = x̃ (or another first iterate).
-        it.predict(&self.system, state, self.dt);
+        it.predict(&self.system, state, dt);
         to_columns(
-            self.start.first_iterate(&self.system, state, self.dt),
+            self.start.first_iterate(&self.system, state, problem),
             &mut it.x,
         );
         // 2.2: ū = 0 every step.
@@ -320,8 +360,12 @@ impl TimeStepper for AdmmPd {
         }
         self.convergence.end_step(0);
         // 2.11
-        finish_step(state, &self.iterate.x, self.dt);
+        finish_step(state, &self.iterate.x, dt);
         Ok(())
     }
     // endregion: step
+
+    fn prepare(&mut self, tau: f64) -> Result<()> {
+        self.select(tau)
+    }
 }

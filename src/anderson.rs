@@ -57,6 +57,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::{Error, Result};
 use crate::first_iterate::FirstIterate;
 use crate::local_global::{AdmmMerit, Base, LocalGlobal, Merit};
+use crate::optimization_integrator::{MinimizingSolver, StageProblem};
 use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State};
@@ -343,15 +344,21 @@ impl TimeStepper for Anderson {
         Some(&mut self.convergence)
     }
 
+    fn step(&mut self, state: &mut State) -> Result<()> {
+        self.solve(&StageProblem::backward_euler(self.iteration.dt()), state)
+    }
+}
+
+impl MinimizingSolver for Anderson {
     /// [Peng 2018, safeguarded Anderson acceleration] Checked against bldeng/AASolver `DynamicsSolver.h`:
     /// the energy safeguard for Liu 2013 as AASolver applies it (the paper's body unread), and
     /// for ADMM Zhang et al.'s primal residual ([`AdmmMerit`]).
     // region: step
-    fn step(&mut self, state: &mut State) -> Result<()> {
+    fn solve(&mut self, problem: &StageProblem, state: &mut State) -> Result<()> {
         let it = &mut self.iteration;
         let budget = self.iterations;
         self.accepted.clear();
-        it.begin(state);
+        it.begin_stage(state, problem)?;
         let (mixing, v_default) = (&mut self.mixing, &mut self.v_default);
         mixing.restart(it.variable());
         // G of the last accepted point: the fallback, and the step's result.
@@ -402,4 +409,8 @@ impl TimeStepper for Anderson {
         finished
     }
     // endregion: step
+
+    fn prepare(&mut self, tau: f64) -> Result<()> {
+        self.iteration.prepare(tau)
+    }
 }

@@ -15,11 +15,14 @@
 //! search on the incremental potential of Eq (20): it converges at any $`dt\sqrt{k/m}`$ and is
 //! the oracle the other solvers are tested against.
 
-use crate::boundary::{fixed_unknowns, ConstrainedSystem};
-use crate::damping::{RayleighDamping, StepDissipation};
+use crate::boundary::{fixed_node_unknowns, ConstrainedSystem};
+use crate::converged_stage::converged_stage;
+use crate::damping::RayleighDamping;
+use crate::dissipation::{Dissipation, StageDissipation};
 use crate::error::{require_positive, Error, Result};
 use crate::first_iterate::{FirstIterate, StepStart};
 use crate::linear::SymmetricMatrix;
+use crate::optimization_integrator::{MinimizingSolver, StageProblem};
 use crate::solver::TimeStepper;
 use crate::spring;
 use crate::stopping::Convergence;
@@ -68,16 +71,18 @@ pub fn velocity_residual(
 
 /// The sparse $`3n\times3n`$ matrix $`M - dt^2 K`$ with precomputed value slots for fast assembly.
 #[derive(Debug, Clone)]
-struct ImplicitMatrix {
-    matrix: SymmetricMatrix,
+pub(crate) struct ImplicitMatrix {
+    pub(crate) matrix: SymmetricMatrix,
     /// Slots of the diagonal entries (3 per node).
     diagonal: Vec<usize>,
+    /// Slots of each node's 3×3 block, row-major.
+    node_blocks: Vec<[usize; 9]>,
     /// Slots of each spring's blocks (a,a), (a,b), (b,a), (b,b), row-major 3×3.
     spring_blocks: Vec<[[usize; 9]; 4]>,
 }
 
 impl ImplicitMatrix {
-    fn new(system: &MassSpringSystem) -> Self {
+    pub(crate) fn new(system: &MassSpringSystem) -> Self {
         let edges: Vec<_> = system.springs().iter().map(|s| (s.a, s.b)).collect();
         let matrix = SymmetricMatrix::from_node_graph(system.len(), 3, &edges);
         let diagonal = (0..3 * system.len())
@@ -98,22 +103,28 @@ impl ImplicitMatrix {
                 ]
             })
             .collect();
+        let node_blocks = (0..system.len()).map(|i| block(i, i)).collect();
         Self {
             matrix,
             diagonal,
+            node_blocks,
             spring_blocks,
         }
     }
 
     /// Eq. (12): the left-hand side $`A = M - dt^2\,\frac{dF}{dx}`$, from the springs' force
-    /// Jacobians (Eq 4) given per spring; with Rayleigh damping, plus $`h^2`$ times the
-    /// dissipation's Hessian, $`\alpha h M + \beta h K(x_n)`$ ([`StepDissipation`]).
-    fn assemble(
+    /// Jacobians (Eq 4) given per spring; with a dissipation, plus $`h^2`$ times its stage
+    /// term's Hessian at `x` ([`StageDissipation`]): with Rayleigh damping
+    /// $`\alpha h M + \beta h K(x_n)`$. `definite` projects the momentum-conserving form's
+    /// blocks as the springs' are.
+    pub(crate) fn assemble(
         &mut self,
         system: &MassSpringSystem,
         dt: f64,
         jacobians: &[Matrix3<f64>],
-        dissipation: &StepDissipation,
+        dissipation: &StageDissipation,
+        x: &[Vec3],
+        definite: bool,
     ) {
         let values = self.matrix.values_mut();
         values.fill(0.0);
@@ -123,10 +134,18 @@ impl ImplicitMatrix {
                 values[self.diagonal[3 * i + c]] = node.mass * mass_factor;
             }
         }
+        if !dissipation.dissipation().is_smooth() {
+            for (i, slots) in self.node_blocks.iter().enumerate() {
+                let block = dissipation.node_block(system, x, i);
+                for (rc, &slot) in slots.iter().enumerate() {
+                    values[slot] += block[(rc / 3, rc % 3)];
+                }
+            }
+        }
         let dt2 = dt * dt;
         for (i, ([aa, ab, ba, bb], jac)) in self.spring_blocks.iter().zip(jacobians).enumerate() {
             // The damping block enters like a force Jacobian of the opposite sign.
-            let jac = dt2 * jac - dissipation.spring_block(i);
+            let jac = dt2 * jac - dissipation.spring_block(system, x, i, definite);
             // dF_a/dx_a = dF_b/dx_b = J and dF_a/dx_b = dF_b/dx_a = -J.
             for rc in 0..9 {
                 let dt2_j = jac[(rc / 3, rc % 3)];
@@ -140,13 +159,14 @@ impl ImplicitMatrix {
 }
 
 /// Backward Euler with a fixed number of Newton-Raphson iterations per step (the thesis's
-/// reference solver), optionally with Rayleigh damping ([`crate::damping`]).
+/// reference solver), optionally with a dissipation ([`crate::dissipation`]); under an
+/// optimization integrator, the same Newton iteration on each stage problem.
 #[derive(Debug, Clone)]
 pub struct BackwardEuler {
     system: MassSpringSystem,
     dt: f64,
     newton_iterations: usize,
-    dissipation: StepDissipation,
+    dissipation: StageDissipation,
     implicit: ImplicitMatrix,
     solve: Option<ConstrainedSystem>,
     fixed: Vec<usize>,
@@ -165,7 +185,7 @@ pub struct BackwardEuler {
 impl BackwardEuler {
     /// A solver for `system` with time step `dt` (s, > 0) and `newton_iterations` (>= 1).
     pub fn new(system: &MassSpringSystem, dt: f64, newton_iterations: usize) -> Result<Self> {
-        Self::damped(system, dt, newton_iterations, RayleighDamping::NONE)
+        Self::dissipative(system, dt, newton_iterations, Dissipation::NONE)
     }
 
     /// [Brown 2018, Rayleigh damping] (unverified: no body text or reference code found) The same solver with the damping force
@@ -177,27 +197,42 @@ impl BackwardEuler {
         newton_iterations: usize,
         damping: RayleighDamping,
     ) -> Result<Self> {
+        Self::dissipative(
+            system,
+            dt,
+            newton_iterations,
+            Dissipation::rayleigh(damping),
+        )
+    }
+
+    /// [Brown 2018, dissipation functions] (unverified: no body text or reference code found) The same solver on the
+    /// objective with `dissipation`'s stage term $`\Psi`$: Newton on the residual
+    /// $`r(v) = M(v - u_0) - \tau(F(x) - \nabla\Psi(x))`$, $`x = x_a + \tau v`$, whose matrix gains
+    /// $`\tau^2\nabla^2\Psi`$ (Rayleigh: $`\tau(\alpha M + \beta K(x_D))`$, its right-hand side
+    /// unchanged; the drag's Hessian smoothed, [`crate::dissipation`]). With drag, the stage
+    /// term is not smooth at rest and each Newton update is backtracked (halved) until the
+    /// stage objective does not rise.
+    pub fn dissipative(
+        system: &MassSpringSystem,
+        dt: f64,
+        newton_iterations: usize,
+        dissipation: Dissipation,
+    ) -> Result<Self> {
         require_positive("dt", dt)?;
-        damping.validate()?;
+        dissipation.validate()?;
         system.require_undamped_springs()?;
         if newton_iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
         let n = system.len();
-        let fixed_nodes = system
-            .nodes()
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| n.fixed)
-            .map(|(i, _)| i);
         Ok(Self {
             system: system.clone(),
             dt,
             newton_iterations,
-            dissipation: StepDissipation::new(system, damping, dt),
+            dissipation: StageDissipation::new(system, dissipation),
             implicit: ImplicitMatrix::new(system),
             solve: None,
-            fixed: fixed_unknowns(fixed_nodes, 3),
+            fixed: fixed_node_unknowns(system, 3),
             jacobians: vec![Matrix3::zeros(); system.springs().len()],
             forces: vec![Vec3::zeros(); n],
             x_k: vec![Vec3::zeros(); n],
@@ -226,9 +261,10 @@ impl BackwardEuler {
     ///
     /// With $`F(x) \approx F(x_k) + K_k (x - x_k)`$ (Eq 10) at $`x = x_n + dt\,v`$,
     /// $`(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)`$. For $`x_k = x_n`$
-    /// this is Eq (12) as printed.
-    fn newton_iteration(&mut self, state: &State) -> Result<()> {
-        let dt = self.dt;
+    /// this is Eq (12) as printed. On a stage problem, $`(x_n, v_n, dt)`$ is the pseudo-state
+    /// `state` and $`\tau`$ (`dt`), and a non-quadratic dissipation adds its linearisation to
+    /// the right-hand side ([`StageDissipation::add_newton_rhs`]).
+    fn newton_iteration(&mut self, state: &State, dt: f64) -> Result<()> {
         for ((x_k, x_n), v_k) in self.x_k.iter_mut().zip(&state.x).zip(&self.v_k) {
             *x_k = position_update(x_n, v_k, dt);
         }
@@ -249,8 +285,16 @@ impl BackwardEuler {
                 self.rhs[3 * s.b + c] -= k_dx[c];
             }
         }
-        self.implicit
-            .assemble(&self.system, dt, &self.jacobians, &self.dissipation);
+        self.dissipation
+            .add_newton_rhs(&self.system, x_k, &self.v_k, &mut self.rhs);
+        self.implicit.assemble(
+            &self.system,
+            dt,
+            &self.jacobians,
+            &self.dissipation,
+            x_k,
+            false,
+        );
         match &mut self.solve {
             Some(solve) => solve.refactor(&mut self.implicit.matrix)?,
             None => {
@@ -265,30 +309,73 @@ impl BackwardEuler {
             .as_ref()
             .expect("factored")
             .solve(&mut self.rhs, &self.zeros, 1);
-        for (i, v_k) in self.v_k.iter_mut().enumerate() {
-            *v_k = Vec3::new(self.rhs[3 * i], self.rhs[3 * i + 1], self.rhs[3 * i + 2]);
+        let next = |i: usize| Vec3::new(self.rhs[3 * i], self.rhs[3 * i + 1], self.rhs[3 * i + 2]);
+        if self.dissipation.dissipation().is_smooth() {
+            for (i, v_k) in self.v_k.iter_mut().enumerate() {
+                *v_k = next(i);
+            }
+            return Ok(());
         }
+        // The drag's stage term is not smooth at rest: backtrack the update until the stage
+        // objective does not rise (full steps once the update is below round-off's reach).
+        let objective = |v: &[Vec3]| -> f64 {
+            let x: Vec<Vec3> = state
+                .x
+                .iter()
+                .zip(v)
+                .map(|(x, v)| position_update(x, v, dt))
+                .collect();
+            let y = inertia(state, dt);
+            incremental_potential(&self.system, &y, &x, dt)
+                + self.dissipation.potential(&self.system, &x)
+        };
+        let update: Vec<Vec3> = (0..self.v_k.len()).map(|i| next(i) - self.v_k[i]).collect();
+        let largest = update.iter().fold(0.0_f64, |m, u| m.max(u.amax())) * dt;
+        let phi0 = objective(&self.v_k);
+        let mut alpha = 1.0;
+        let trial = |alpha: f64| -> Vec<Vec3> {
+            self.v_k
+                .iter()
+                .zip(&update)
+                .map(|(v, u)| v + alpha * u)
+                .collect()
+        };
+        let mut v = trial(alpha);
+        // A NaN objective does not descend either.
+        let descends = |phi: f64| phi.partial_cmp(&phi0).is_some_and(|o| o.is_le());
+        while largest > 1e-8 && alpha > 1e-12 && !descends(objective(&v)) {
+            alpha *= 0.5;
+            v = trial(alpha);
+        }
+        self.v_k = v;
         Ok(())
     }
 }
 
 impl TimeStepper for BackwardEuler {
     fn name(&self) -> String {
-        let damping = self.dissipation.damping();
-        let RayleighDamping { alpha, beta } = damping;
-        if damping.is_none() {
-            format!(
-                "Backward Euler ({})",
-                self.convergence
-                    .iterations_label(self.newton_iterations, "Newton iterations")
-            )
-        } else {
-            format!(
-                "Backward Euler ({}, alpha {alpha} 1/s, beta {beta} s)",
-                self.convergence
-                    .iterations_label(self.newton_iterations, "Newton iterations")
-            )
+        let iterations = self
+            .convergence
+            .iterations_label(self.newton_iterations, "Newton iterations");
+        let RayleighDamping { alpha, beta } = self.dissipation.damping();
+        let d = self.dissipation.dissipation();
+        if d.is_none() {
+            return format!("Backward Euler ({iterations})");
         }
+        let mut parts = vec![iterations];
+        if !d.rayleigh.is_none() {
+            parts.push(format!("alpha {alpha} 1/s, beta {beta} s"));
+            if d.form != crate::dissipation::RayleighForm::Classical {
+                parts.push(format!("{} Rayleigh", d.form.key()));
+            }
+        }
+        if d.drag.coefficient > 0.0 {
+            parts.push(format!(
+                "drag {} |v|^{}",
+                d.drag.coefficient, d.drag.exponent
+            ));
+        }
+        format!("Backward Euler ({})", parts.join(", "))
     }
 
     fn dt(&self) -> f64 {
@@ -303,19 +390,26 @@ impl TimeStepper for BackwardEuler {
         Some(&mut self.convergence)
     }
 
-    // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
+        self.solve(&StageProblem::backward_euler(self.dt), state)
+    }
+}
+
+impl MinimizingSolver for BackwardEuler {
+    // region: step
+    fn solve(&mut self, problem: &StageProblem, state: &mut State) -> Result<()> {
+        let dt = problem.tau;
         // v_0 = (x⁰ − x_n)/dt; the default x⁰ = x_n gives v_0 = 0 and Eq (12) as printed.
-        let x0 = self.start.first_iterate(&self.system, state, self.dt);
+        let x0 = self.start.first_iterate(&self.system, state, problem);
         for ((v, x0), x_n) in self.v_k.iter_mut().zip(x0).zip(&state.x) {
-            *v = (x0 - x_n) / self.dt;
+            *v = (x0 - x_n) / dt;
         }
-        self.dissipation.start(&self.system, &state.x);
+        let frozen = problem.frozen_positions(state);
+        self.dissipation.start(&self.system, &state.x, frozen, dt);
         self.convergence.begin(state.x.iter().copied());
         // Stopping early only in the tolerance mode, on the positions of Eq (9).
         for _ in 0..self.newton_iterations {
-            self.newton_iteration(state)?;
-            let dt = self.dt;
+            self.newton_iteration(state, dt)?;
             let x_k = state
                 .x
                 .iter()
@@ -327,12 +421,17 @@ impl TimeStepper for BackwardEuler {
         }
         self.convergence.end_step(0);
         for ((x, v), v_next) in state.x.iter_mut().zip(state.v.iter_mut()).zip(&self.v_k) {
-            *x = position_update(x, v_next, self.dt);
+            *x = position_update(x, v_next, dt);
             *v = *v_next;
         }
         Ok(())
     }
     // endregion: step
+
+    fn dissipation(&self) -> Option<&Dissipation> {
+        let d = self.dissipation.dissipation();
+        (!d.is_none()).then_some(d)
+    }
 }
 
 /// Settings of [`converged_step`].
@@ -351,6 +450,16 @@ impl Default for ConvergedStepOptions {
             max_iterations: 200,
         }
     }
+}
+
+/// $`y = x_n + dt\,v_n`$, the inertial term's centre in Eq (20) (gravity is in the potential).
+pub fn inertia(state: &State, dt: f64) -> Vec<Vec3> {
+    state
+        .x
+        .iter()
+        .zip(&state.v)
+        .map(|(x, v)| x + dt * v)
+        .collect()
 }
 
 /// The incremental potential of Eq (20): $`\frac{1}{2dt^2}(x - y)^\top M (x - y) + E(x)`$,
@@ -398,108 +507,13 @@ pub fn damped_converged_step(
     options: ConvergedStepOptions,
 ) -> Result<State> {
     require_positive("dt", dt)?;
-    damping.validate()?;
-    system.require_undamped_springs()?;
-    let n = system.len();
-    let y: Vec<Vec3> = state
-        .x
-        .iter()
-        .zip(&state.v)
-        .map(|(x, v)| x + dt * v)
-        .collect();
-    let mut x: Vec<Vec3> = system
-        .nodes()
-        .iter()
-        .enumerate()
-        .map(|(i, node)| if node.fixed { state.x[i] } else { y[i] })
-        .collect();
-    let fixed_nodes = system
-        .nodes()
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| n.fixed)
-        .map(|(i, _)| i);
-    let fixed = fixed_unknowns(fixed_nodes, 3);
-    let mut dissipation = StepDissipation::new(system, damping, dt);
-    dissipation.start(system, &state.x);
-    let objective =
-        |x: &[Vec3]| incremental_potential(system, &y, x, dt) + dissipation.potential(system, x);
-    let mut implicit = ImplicitMatrix::new(system);
-    let mut solve: Option<ConstrainedSystem> = None;
-    let mut forces = vec![Vec3::zeros(); n];
-    let zeros = vec![0.0; 3 * n];
-    let mut jacobians = vec![Matrix3::zeros(); system.springs().len()];
-    for iteration in 0..options.max_iterations {
-        for (jac, s) in jacobians.iter_mut().zip(system.springs()) {
-            *jac = spring::force_jacobian_definite(&x[s.a], &x[s.b], s.rest_length, s.stiffness);
-        }
-        implicit.assemble(system, dt, &jacobians, &dissipation);
-        match &mut solve {
-            Some(solve) => solve.refactor(&mut implicit.matrix)?,
-            None => solve = Some(ConstrainedSystem::new(&mut implicit.matrix, &fixed)?),
-        }
-        // (M − dt²K̃) Δx = −dt²·∇Φ = dt²F(x) − M(x − y), F including the damping force.
-        system.forces(&x, &mut forces);
-        dissipation.add_force(system, &x, &mut forces);
-        let mut dx: Vec<f64> = (0..3 * n)
-            .map(|r| {
-                let (i, c) = (r / 3, r % 3);
-                dt * dt * forces[i][c] - system.nodes()[i].mass * (x[i][c] - y[i][c])
-            })
-            .collect();
-        solve.as_ref().expect("factored").solve(&mut dx, &zeros, 1);
-        let step_norm = dx.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
-        let trial = |alpha: f64| -> Vec<Vec3> {
-            x.iter()
-                .enumerate()
-                .map(|(i, xi)| xi + alpha * Vec3::new(dx[3 * i], dx[3 * i + 1], dx[3 * i + 2]))
-                .collect()
-        };
-        // Near the solution the potential's differences drown in round-off: take full steps.
-        let mut alpha = 1.0;
-        if step_norm > 1e-8 {
-            let phi0 = objective(&x);
-            // False for a NaN potential too.
-            let descends = |phi: f64| phi <= phi0;
-            let mut phi = objective(&trial(alpha));
-            while alpha > 1e-12 && !descends(phi) {
-                alpha *= 0.5;
-                phi = objective(&trial(alpha));
-            }
-            if !descends(phi) {
-                return Err(Error::NotConverged {
-                    what: "converged Backward Euler step".into(),
-                    detail: format!(
-                        "the line search stalled at Newton iteration {}: the potential {phi0:e} \
-                         does not decrease along the Newton step ({step_norm:e} m) down to a \
-                         fraction {alpha:e} of it",
-                        iteration + 1
-                    ),
-                });
-            }
-        }
-        x = trial(alpha);
-        if alpha * step_norm <= options.tolerance {
-            let v = x
-                .iter()
-                .zip(&state.x)
-                .map(|(x1, x0)| (x1 - x0) / dt)
-                .collect();
-            return Ok(State { x, v });
-        }
-        if iteration + 1 == options.max_iterations {
-            return Err(Error::NotConverged {
-                what: "converged Backward Euler step".into(),
-                detail: format!(
-                    "largest update {:e} m after {} iterations (tolerance {:e} m)",
-                    alpha * step_norm,
-                    options.max_iterations,
-                    options.tolerance
-                ),
-            });
-        }
-    }
-    Err(Error::invalid("max_iterations", 0, "an integer >= 1"))
+    converged_stage(
+        system,
+        state,
+        &StageProblem::backward_euler(dt),
+        Dissipation::rayleigh(damping),
+        options,
+    )
 }
 
 /// The static equilibrium $`F(x) = 0`$ of a system, by a proximal-point iteration: converged

@@ -9,6 +9,7 @@
 
 use crate::error::Result;
 use crate::linear::{Factorization, SymmetricMatrix};
+use crate::system::MassSpringSystem;
 
 /// A factored system $`Ax = b`$ whose fixed unknowns are imposed by Eqs 44-47.
 #[derive(Debug, Clone)]
@@ -131,6 +132,17 @@ impl ImpositionSlots {
             values[slot] = 1.0;
         }
     }
+}
+
+/// The unknowns of `system`'s fixed nodes, for systems with `block` unknowns per node.
+pub fn fixed_node_unknowns(system: &MassSpringSystem, block: usize) -> Vec<usize> {
+    let fixed_nodes = system
+        .nodes()
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.fixed)
+        .map(|(i, _)| i);
+    fixed_unknowns(fixed_nodes, block)
 }
 
 /// The unknowns of the fixed nodes, for systems with `block` unknowns per node.

@@ -1,7 +1,8 @@
 //! Rayleigh damping as a dissipation potential of the optimisation integrators (Brown, Overby,
 //! Forootaninia, Narain 2018, "Accurate Dissipative Forces in Optimization Integrators", ACM
-//! Trans. Graph. 37(6), art. 282), shared by the damped Backward Euler step, its converged
-//! oracle ([`crate::backward_euler`]) and the damped ADMM-PD ([`crate::damped_admm`]).
+//! Trans. Graph. 37(6), art. 282), one of the dissipation functions of [`crate::dissipation`]
+//! (whose stage term the damped Backward Euler step, its converged oracle
+//! ([`crate::backward_euler`]) and the damped ADMM-PD ([`crate::damped_admm`]) minimise).
 //!
 //! The paper writes a dissipative force as minus the velocity gradient of a Rayleigh
 //! dissipation function $`\mathcal D(x, v) \ge 0`$, convex in $`v`$:
@@ -39,9 +40,8 @@
 //!   stiffness-proportional force of a rigid motion of an unstressed rope is then zero. A
 //!   stiffness frozen at the rest configuration would damp rigid rotation.
 //! - The mass-proportional term damps every motion, rigid motion included ($`-\alpha M v`$, a
-//!   drag against the still frame); the paper's momentum-conserving modification of
-//!   $`\mathcal D`$ is not implemented (the thesis rope is anchored, so it has no free momentum
-//!   to conserve).
+//!   drag against the still frame); [`crate::dissipation`] has this crate's momentum-conserving
+//!   variant, which damps relative motion only.
 //!
 //! The modal damping ratio of this model is the classical $`\zeta = \alpha/(2\omega) +
 //! \beta\omega/2`$ for a mode $`K\phi = \omega^2 M\phi`$ (tested in `tests/damping.rs`).
@@ -136,121 +136,4 @@ pub fn rayleigh_force(
         }
     }
     f
-}
-
-/// The dissipation of one time step: $`h\,\mathcal D(x_n, (x - x_n)/h)`$ with everything that
-/// is frozen at the step's start ($`x_n`$, the springs' $`d_{n,i}`$ and $`H_i(x_n)`$).
-#[derive(Debug, Clone)]
-pub struct StepDissipation {
-    damping: RayleighDamping,
-    dt: f64,
-    x_n: Vec<Vec3>,
-    /// $`d_{n,i}`$, one per spring.
-    d_n: Vec<Vec3>,
-    /// $`H_i(x_n)`$, one per spring (zero when $`\beta = 0`$: not needed).
-    hessians: Vec<Matrix3<f64>>,
-}
-
-impl StepDissipation {
-    /// Buffers for `system` (call [`Self::start`] at each step).
-    pub fn new(system: &MassSpringSystem, damping: RayleighDamping, dt: f64) -> Self {
-        let s = system.springs().len();
-        Self {
-            damping,
-            dt,
-            x_n: vec![Vec3::zeros(); system.len()],
-            d_n: vec![Vec3::zeros(); s],
-            hessians: vec![Matrix3::zeros(); s],
-        }
-    }
-
-    /// The damping coefficients.
-    pub fn damping(&self) -> RayleighDamping {
-        self.damping
-    }
-
-    /// Freezes $`x_n`$, $`d_{n,i}`$ and $`H_i(x_n)`$ at the start of a step.
-    pub fn start(&mut self, system: &MassSpringSystem, x_n: &[Vec3]) {
-        self.x_n.copy_from_slice(x_n);
-        if self.damping.beta == 0.0 {
-            return;
-        }
-        for (i, (d, h)) in self.d_n.iter_mut().zip(&mut self.hessians).enumerate() {
-            let s = &system.springs()[i];
-            *d = x_n[s.a] - x_n[s.b];
-            *h = spring_hessian(system, x_n, i);
-        }
-    }
-
-    /// $`d_{n,i}`$ of spring `i`.
-    pub fn spring_vector(&self, i: usize) -> Vec3 {
-        self.d_n[i]
-    }
-
-    /// $`H_i(x_n)`$ of spring `i`.
-    pub fn hessian(&self, i: usize) -> &Matrix3<f64> {
-        &self.hessians[i]
-    }
-
-    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) $`h\,\mathcal D = \frac{\alpha}{2h}|x - x_n|_M^2 +
-    /// \frac{\beta}{2h}\sum_i (d_i - d_{n,i})^\top H_i (d_i - d_{n,i})`$ at positions `x`.
-    pub fn potential(&self, system: &MassSpringSystem, x: &[Vec3]) -> f64 {
-        let RayleighDamping { alpha, beta } = self.damping;
-        let mass: f64 = system
-            .nodes()
-            .iter()
-            .zip(x.iter().zip(&self.x_n))
-            .map(|(node, (x, x_n))| node.mass * (x - x_n).norm_squared())
-            .sum();
-        let stiffness: f64 = if beta == 0.0 {
-            0.0
-        } else {
-            system
-                .springs()
-                .iter()
-                .zip(self.d_n.iter().zip(&self.hessians))
-                .map(|(s, (d_n, h))| {
-                    let e = x[s.a] - x[s.b] - d_n;
-                    e.dot(&(h * e))
-                })
-                .sum()
-        };
-        (alpha * mass + beta * stiffness) / (2.0 * self.dt)
-    }
-
-    /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) Adds the damping force at $`v = (x - x_n)/h`$,
-    /// $`-\nabla_x h\,\mathcal D = -(\alpha M + \beta K(x_n))(x - x_n)/h`$, to `f` (free nodes only).
-    pub fn add_force(&self, system: &MassSpringSystem, x: &[Vec3], f: &mut [Vec3]) {
-        let RayleighDamping { alpha, beta } = self.damping;
-        let h = self.dt;
-        let nodes = system.nodes();
-        for (i, node) in nodes.iter().enumerate() {
-            if !node.fixed {
-                f[i] -= alpha * node.mass * (x[i] - self.x_n[i]) / h;
-            }
-        }
-        if beta == 0.0 {
-            return;
-        }
-        for (i, s) in system.springs().iter().enumerate() {
-            let f_a = -beta * (self.hessians[i] * (x[s.a] - x[s.b] - self.d_n[i])) / h;
-            if !nodes[s.a].fixed {
-                f[s.a] += f_a;
-            }
-            if !nodes[s.b].fixed {
-                f[s.b] -= f_a;
-            }
-        }
-    }
-
-    /// The factor of $`M`$ in $`h^2\nabla^2\Phi`$: $`1 + \alpha h`$.
-    pub fn mass_factor(&self) -> f64 {
-        1.0 + self.damping.alpha * self.dt
-    }
-
-    /// Spring `i`'s block of $`h^2\nabla^2(h\,\mathcal D)`$ besides the mass term:
-    /// $`\beta h\,H_i(x_n)`$, entering as $`D_i^\top(\beta h H_i)D_i`$.
-    pub fn spring_block(&self, i: usize) -> Matrix3<f64> {
-        (self.damping.beta * self.dt) * self.hessians[i]
-    }
 }

@@ -23,9 +23,14 @@
 //! The comparisons beyond the thesis start it, like every solver, from the inertial prediction
 //! ([`FirstIterate::InertialPrediction`]). With many iterations the step converges to the
 //! Backward Euler step of Eq (20) whatever the start.
+//!
+//! Under an optimization integrator ([`crate::optimization_integrator`]) each stage is the same
+//! iteration with $`dt`$ the stage's $`\tau`$ and $`(x_n, v_n)`$ its pseudo-state; $`A`$ and
+//! $`dt^2 f_{ext}`$ are built once per distinct $`\tau`$.
 
 use crate::error::{require_positive, Error, Result};
 use crate::first_iterate::StepStart;
+use crate::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
 use crate::projective::{
     finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve,
     SpringIncidence,
@@ -48,10 +53,10 @@ pub struct FastMassSpring {
     /// $`J`$ of Eqs (26), (53), stored per spring.
     j: SpringIncidence,
     rest_lengths: Vec<f64>,
-    /// $`A = M + dt^2 L`$, factored once (Algorithm 3 line 1.4).
-    a: GlobalSolve,
-    /// $`dt^2 f_{ext}`$, column-major.
-    dt2_f_ext: Vec<f64>,
+    /// $`A`$ and $`dt^2 f_{ext}`$ of each stage step, the current one's $`dt`$ in `tau`.
+    stage_steps: PerStageStep<LiuStageStep>,
+    /// The current stage's $`dt`$ ($`\tau`$), s.
+    tau: f64,
     // Per-step buffers (column-major, 3n), so that a step allocates nothing.
     x_n: Vec<f64>,
     b: Vec<f64>,
@@ -64,6 +69,30 @@ pub struct FastMassSpring {
     convergence: Convergence,
 }
 
+/// What Liu's iteration prefactors for one step $`dt`$.
+#[derive(Debug, Clone)]
+struct LiuStageStep {
+    /// $`A = M + dt^2 L`$, factored once (Algorithm 3 line 1.4).
+    a: GlobalSolve,
+    /// $`dt^2 f_{ext}`$, column-major.
+    dt2_f_ext: Vec<f64>,
+}
+
+impl LiuStageStep {
+    /// Algorithm 3, line 1.4, and $`dt^2 f_{ext}`$.
+    fn new(system: &MassSpringSystem, dt: f64) -> Result<Self> {
+        let n = system.len();
+        let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+        let mut dt2_f_ext = vec![0.0; 3 * n];
+        let f_ext: Vec<Vec3> = (0..n).map(|i| dt * dt * system.external_force(i)).collect();
+        to_columns(&f_ext, &mut dt2_f_ext);
+        Ok(Self {
+            a: GlobalSolve::new(system, dt, &k)?,
+            dt2_f_ext,
+        })
+    }
+}
+
 impl FastMassSpring {
     /// The solver for `system` with time step `dt` (s, > 0) and `iterations` (>= 1)
     /// local/global iterations per step. Algorithm 3, lines 1.1-1.4.
@@ -74,10 +103,6 @@ impl FastMassSpring {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
         let n = system.len();
-        let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
-        let mut dt2_f_ext = vec![0.0; 3 * n];
-        let f_ext: Vec<Vec3> = (0..n).map(|i| dt * dt * system.external_force(i)).collect();
-        to_columns(&f_ext, &mut dt2_f_ext);
         Ok(Self {
             system: system.clone(),
             dt,
@@ -85,8 +110,8 @@ impl FastMassSpring {
             start: StepStart::new(FirstIterate::default()),
             j: incidence_matrix(system),
             rest_lengths: system.springs().iter().map(|s| s.rest_length).collect(),
-            a: GlobalSolve::new(system, dt, &k)?,
-            dt2_f_ext,
+            stage_steps: PerStageStep::new(dt, LiuStageStep::new(system, dt)?),
+            tau: dt,
             x_n: vec![0.0; 3 * n],
             b: vec![0.0; 3 * n],
             x: vec![0.0; 3 * n],
@@ -116,10 +141,27 @@ impl FastMassSpring {
     /// iterate set where [`FirstIterate`] says (Algorithm 3 is silent; see the module doc).
     /// The accelerated solvers of [`crate::chebyshev`] and [`crate::anderson`] start from here.
     pub fn begin_step(&mut self, state: &State) {
-        to_columns(&state.x, &mut self.x_n);
-        self.inertial_rhs(state);
-        let x0 = self.start.first_iterate(&self.system, state, self.dt);
+        self.begin_stage(state, &StageProblem::backward_euler(self.dt))
+            .expect("the solver's own step is prefactored when it is built");
+    }
+
+    /// [`Self::begin_step`] for a stage problem from its pseudo-state `stage`, with the
+    /// matrix of its $`\tau`$ (built if new).
+    pub fn begin_stage(&mut self, stage: &State, problem: &StageProblem) -> Result<()> {
+        let system = &self.system;
+        self.stage_steps
+            .select(problem.tau, |tau| LiuStageStep::new(system, tau))?;
+        self.tau = problem.tau;
+        to_columns(&stage.x, &mut self.x_n);
+        self.inertial_rhs(stage);
+        let x0 = self.start.first_iterate(&self.system, stage, problem);
         to_columns(x0, &mut self.x);
+        Ok(())
+    }
+
+    /// The current stage's $`dt`$, s.
+    pub fn stage_step(&self) -> f64 {
+        self.tau
     }
 
     /// Algorithm 3 lines 2.2-2.8 once: the local step, then the global step, from the current
@@ -144,6 +186,7 @@ impl FastMassSpring {
     /// (printed: $`b = M x + f_{ext}\,dt^2`$, subtracted in Eq 29).
     fn inertial_rhs(&mut self, state: &State) {
         let n = state.x.len();
+        let (dt, dt2_f_ext) = (self.tau, &self.stage_steps.current().dt2_f_ext);
         for (i, ((x, v), node)) in state
             .x
             .iter()
@@ -151,9 +194,9 @@ impl FastMassSpring {
             .zip(self.system.nodes())
             .enumerate()
         {
-            let y = x + self.dt * v;
+            let y = x + dt * v;
             for c in 0..3 {
-                self.b[c * n + i] = node.mass * y[c] + self.dt2_f_ext[c * n + i];
+                self.b[c * n + i] = node.mass * y[c] + dt2_f_ext[c * n + i];
             }
         }
     }
@@ -171,12 +214,12 @@ impl FastMassSpring {
     /// Eq. (29): consistent form $`(M + dt^2 L)\,x = b + dt^2 J d`$, solved with the
     /// prefactored $`A`$ for the three coordinates at once; fixed nodes stay at $`x_n`$.
     pub fn global_step(&mut self) {
-        let dt2 = self.dt * self.dt;
+        let dt2 = self.tau * self.tau;
         self.x.copy_from_slice(&self.b);
         for (i, &d) in self.d.iter().enumerate() {
             self.j.add_row_transposed(i, dt2 * d, &mut self.x);
         }
-        self.a.solve(&mut self.x, &self.x_n);
+        self.stage_steps.current().a.solve(&mut self.x, &self.x_n);
     }
 }
 
@@ -201,11 +244,17 @@ impl TimeStepper for FastMassSpring {
         Some(&mut self.convergence)
     }
 
+    fn step(&mut self, state: &mut State) -> Result<()> {
+        self.solve(&StageProblem::backward_euler(self.dt), state)
+    }
+}
+
+impl MinimizingSolver for FastMassSpring {
     /// Algorithm 3, run-time part.
     // region: step
-    fn step(&mut self, state: &mut State) -> Result<()> {
+    fn solve(&mut self, problem: &StageProblem, state: &mut State) -> Result<()> {
         // 2.1 and the first iterate.
-        self.begin_step(state);
+        self.begin_stage(state, problem)?;
         self.convergence.begin(nodes_of_columns(&self.x));
         // 2.2-2.8, stopping early only in the tolerance mode.
         for _ in 0..self.iterations {
@@ -216,8 +265,15 @@ impl TimeStepper for FastMassSpring {
         }
         self.convergence.end_step(0);
         // Erratum: Algorithm 3 omits the velocity update.
-        finish_step(state, &self.x, self.dt);
+        finish_step(state, &self.x, problem.tau);
         Ok(())
     }
     // endregion: step
+
+    fn prepare(&mut self, tau: f64) -> Result<()> {
+        let system = &self.system;
+        self.stage_steps
+            .select(tau, |tau| LiuStageStep::new(system, tau))
+            .map(|_| ())
+    }
 }

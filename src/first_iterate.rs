@@ -22,11 +22,17 @@
 //! keeps the one thing the adaptive guess carries across steps, the velocity at the start of
 //! the previous step; with the other three a step depends on its state only.
 //!
-//! The later "optimization integrators" refactor generalises the stage problem
-//! ($`\hat y`$ and the weight of the inertial term): this type is where its first iterate
-//! lives, as a function of the stage's own prediction.
+//! Under an optimization integrator ([`crate::optimization_integrator`]) a step is one or more
+//! stage problems, each a Backward Euler step of length $`\tau`$ from a pseudo-state
+//! $`(x_a, u_0)`$: the rules apply to it unchanged, as predictions of the stage's velocity,
+//! (a) $`u = 0`$ ($`x^0 = x_a`$, the stage's anchor: $`x_n`$ under Backward Euler and the
+//! midpoint), (b) $`u = u_0`$, (c) $`u = u_0 + \tau M^{-1}f_{ext}`$, the stage's inertial
+//! prediction $`\hat y`$, and (d) the adaptive one, whose acceleration is measured between the
+//! same stage of consecutive steps, a step $`h`$ apart. Under Backward Euler,
+//! $`(x_a, u_0, \tau) = (x_n, v_n, h)`$ and every rule is as above.
 
 use crate::error::{Error, Result};
+use crate::optimization_integrator::StageProblem;
 use crate::system::{MassSpringSystem, State, Vec3};
 
 /// The first iterate of a step (module doc).
@@ -120,23 +126,24 @@ pub fn adaptive_scale(a_t: Vec3, a_ext: Vec3) -> f64 {
     }
 }
 
-/// The first iterate of each step under a [`FirstIterate`] rule, with the adaptive guess's
+/// The first iterate of each stage under a [`FirstIterate`] rule, with the adaptive guess's
 /// history.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepStart {
     rule: FirstIterate,
-    /// $`v^{t-1}`$: the velocity at the start of the previous step (adaptive guess only).
-    previous_velocity: Option<Vec<Vec3>>,
+    /// $`v^{t-1}`$: the velocity of each stage slot's previous pseudo-state (adaptive guess
+    /// only).
+    previous_velocity: Vec<Option<Vec<Vec3>>>,
     /// The last first iterate, one entry per node.
     x: Vec<Vec3>,
 }
 
 impl StepStart {
-    /// Steps starting at `rule`, with no history.
+    /// Stages starting at `rule`, with no history.
     pub fn new(rule: FirstIterate) -> Self {
         Self {
             rule,
-            previous_velocity: None,
+            previous_velocity: Vec::new(),
             x: Vec::new(),
         }
     }
@@ -146,31 +153,41 @@ impl StepStart {
         self.rule
     }
 
-    /// The first iterate of a step of `dt` from `state`, one entry per node. The adaptive
-    /// guess of a step without history is the inertial prediction (TinyVBD's first frame), and
-    /// it records `state.v` for the next step.
-    pub fn first_iterate(&mut self, system: &MassSpringSystem, state: &State, dt: f64) -> &[Vec3] {
+    /// The first iterate of `problem` from the pseudo-state `stage` (a step of `dt` from a
+    /// state under Backward Euler), one entry per node. The adaptive guess of a stage without
+    /// history is the inertial prediction (TinyVBD's first frame), and it records `stage.v`
+    /// for the same stage of the next step.
+    pub fn first_iterate(
+        &mut self,
+        system: &MassSpringSystem,
+        stage: &State,
+        problem: &StageProblem,
+    ) -> &[Vec3] {
+        let (dt, slot) = (problem.tau, problem.slot);
         let a_ext = system.gravity();
-        self.x.resize(state.x.len(), Vec3::zeros());
+        if self.previous_velocity.len() <= slot {
+            self.previous_velocity.resize(slot + 1, None);
+        }
+        self.x.resize(stage.x.len(), Vec3::zeros());
         for (i, x) in self.x.iter_mut().enumerate() {
             let node = &system.nodes()[i];
             *x = match self.rule {
-                _ if node.fixed => state.x[i],
-                FirstIterate::Previous => state.x[i],
-                FirstIterate::Inertial => state.x[i] + dt * state.v[i],
-                FirstIterate::InertialPrediction => inertial_prediction(system, state, dt, i),
-                FirstIterate::Adaptive => match &self.previous_velocity {
+                _ if node.fixed => stage.x[i],
+                FirstIterate::Previous => stage.x[i],
+                FirstIterate::Inertial => stage.x[i] + dt * stage.v[i],
+                FirstIterate::InertialPrediction => inertial_prediction(system, stage, dt, i),
+                FirstIterate::Adaptive => match &self.previous_velocity[slot] {
                     Some(previous) => {
-                        let a_t = (state.v[i] - previous[i]) / dt;
+                        let a_t = (stage.v[i] - previous[i]) / problem.step;
                         let a_tilde = adaptive_scale(a_t, a_ext) * a_ext;
-                        state.x[i] + dt * state.v[i] + dt * dt * a_tilde
+                        stage.x[i] + dt * stage.v[i] + dt * dt * a_tilde
                     }
-                    None => inertial_prediction(system, state, dt, i),
+                    None => inertial_prediction(system, stage, dt, i),
                 },
             };
         }
         if self.rule == FirstIterate::Adaptive {
-            self.previous_velocity = Some(state.v.clone());
+            self.previous_velocity[slot] = Some(stage.v.clone());
         }
         &self.x
     }

@@ -29,7 +29,8 @@
 //! ([`crate::first_iterate`]), the accelerating papers' own being the inertial prediction
 //! (Wang 2015's Algorithm 1, AASolver, AA-ADMM); ADMM's $`\bar u`$ starts at 0 (line 2.2).
 //! Unaccelerated, both reproduce their base solver's step from the same first iterate bit for
-//! bit.
+//! bit. On a stage problem of an optimization integrator ([`crate::optimization_integrator`])
+//! both are the same map with $`dt`$ the stage's $`\tau`$, from its pseudo-state.
 
 use std::str::FromStr;
 
@@ -38,6 +39,7 @@ use crate::backward_euler::incremental_potential;
 use crate::error::{require_positive, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
 use crate::first_iterate::{FirstIterate, StepStart};
+use crate::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
 use crate::projective::{finish_step, node_of_columns, nodes_of_columns, to_columns, GlobalSolve};
 use crate::system::{MassSpringSystem, State, Vec3};
 
@@ -143,8 +145,9 @@ enum Iteration {
         x: Vec<Vec3>,
     },
     Admm {
-        /// $`A = M + dt^2 D^\top W^\top W D`$, factored once (Algorithm 4 line 1.5).
-        a: Box<GlobalSolve>,
+        /// $`A = M + dt^2 D^\top W^\top W D`$ of each stage step, factored once (Algorithm 4
+        /// line 1.5).
+        a: Box<PerStageStep<GlobalSolve>>,
         iterate: Box<AdmmIterate>,
         start: StepStart,
         merit: AdmmMerit,
@@ -159,6 +162,8 @@ enum Iteration {
 pub struct LocalGlobal {
     system: MassSpringSystem,
     dt: f64,
+    /// The current stage's $`dt`$ ($`\tau`$), s.
+    tau: f64,
     base: Base,
     iteration: Iteration,
     /// The variable $`v`$: column-major positions (Liu), or those then $`\bar u`$, three
@@ -199,7 +204,10 @@ impl LocalGlobal {
                 let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
                 (
                     Iteration::Admm {
-                        a: Box::new(GlobalSolve::new(system, dt, &omega2)?),
+                        a: Box::new(PerStageStep::new(
+                            dt,
+                            GlobalSolve::new(system, dt, &omega2)?,
+                        )),
                         iterate: Box::new(AdmmIterate::new(system, dt, omega)),
                         start: StepStart::new(first_iterate),
                         merit,
@@ -213,6 +221,7 @@ impl LocalGlobal {
         Ok(Self {
             system: system.clone(),
             dt,
+            tau: dt,
             base,
             iteration,
             v,
@@ -244,25 +253,55 @@ impl LocalGlobal {
     /// and [`FastMassSpring::begin_step`]); for ADMM, $`\tilde x`$ (line 2.1), the first
     /// iterate and $`\bar u = 0`$ (line 2.2).
     pub fn begin(&mut self, state: &State) {
+        self.begin_stage(state, &StageProblem::backward_euler(self.dt))
+            .expect("the iteration's own step is prefactored when it is built");
+    }
+
+    /// [`Self::begin`] for a stage problem from its pseudo-state `stage`, with the matrix of
+    /// its $`\tau`$ (factored if new).
+    pub fn begin_stage(&mut self, stage: &State, problem: &StageProblem) -> Result<()> {
         self.solves = 0;
+        let dt = problem.tau;
+        self.prepare(dt)?;
         match &mut self.iteration {
             Iteration::Liu { solver, y, .. } => {
-                solver.begin_step(state);
-                for ((y, x), v) in y.iter_mut().zip(&state.x).zip(&state.v) {
-                    *y = x + self.dt * v;
+                solver.begin_stage(stage, problem)?;
+                for ((y, x), v) in y.iter_mut().zip(&stage.x).zip(&stage.v) {
+                    *y = x + dt * v;
                 }
                 self.v.copy_from_slice(solver.positions());
             }
             Iteration::Admm { iterate, start, .. } => {
-                iterate.predict(&self.system, state, self.dt);
+                iterate.predict(&self.system, stage, dt);
                 let n = iterate.x.len();
                 to_columns(
-                    start.first_iterate(&self.system, state, self.dt),
+                    start.first_iterate(&self.system, stage, problem),
                     &mut self.v[..n],
                 );
                 self.v[n..].fill(0.0);
             }
         }
+        Ok(())
+    }
+
+    /// Makes `tau` the current stage step, prefactoring its matrices if new.
+    pub fn prepare(&mut self, tau: f64) -> Result<()> {
+        let system = &self.system;
+        match &mut self.iteration {
+            Iteration::Liu { solver, .. } => solver.prepare(tau)?,
+            Iteration::Admm { a, iterate, .. } => {
+                let omega = iterate.omega();
+                a.select(tau, |tau| {
+                    let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
+                    GlobalSolve::new(system, tau, &omega2)
+                })?;
+                if tau != self.tau {
+                    iterate.set_step(tau);
+                }
+            }
+        }
+        self.tau = tau;
+        Ok(())
     }
 
     /// The variable $`v`$ (layout in the field's doc).
@@ -292,7 +331,7 @@ impl LocalGlobal {
                 for (i, x) in x.iter_mut().enumerate() {
                     *x = node_of_columns(&self.v, n, i);
                 }
-                let merit = incremental_potential(&self.system, y, x, self.dt);
+                let merit = incremental_potential(&self.system, y, x, self.tau);
                 if merit > threshold {
                     return Merit::Rejected(merit);
                 }
@@ -326,7 +365,7 @@ impl LocalGlobal {
                 }
                 // 2.8-2.9.
                 iterate.global_rhs();
-                a.solve(&mut iterate.x, &iterate.x_n);
+                a.current().solve(&mut iterate.x, &iterate.x_n);
                 self.solves += 1;
                 let merit = match rule {
                     AdmmMerit::PrimalResidual => primal,
@@ -355,7 +394,7 @@ impl LocalGlobal {
                 ),
             });
         }
-        finish_step(state, x, self.dt);
+        finish_step(state, x, self.tau);
         Ok(())
     }
 }

@@ -19,7 +19,7 @@
 //! ([`to_columns`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
 //! [`ConstrainedSystem`] in the precomputation; each solve then carries their positions.
 
-use crate::boundary::{fixed_unknowns, ConstrainedSystem};
+use crate::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::linear::SymmetricMatrix;
 use crate::system::{MassSpringSystem, State, Vec3};
@@ -268,14 +268,24 @@ impl GlobalSolve {
     /// Builds and factors $`A = M + dt^2 \sum_i w_i D_i^\top D_i`$ for `system` (per-spring
     /// `weights` >= 0, `dt` > 0).
     pub fn new(system: &MassSpringSystem, dt: f64, weights: &[f64]) -> Result<Self> {
+        Self::with_node_weights(system, dt, weights, &[])
+    }
+
+    /// [`Self::new`] with per-node weights too (none, or one per node, >= 0):
+    /// $`A = M + dt^2 (\sum_i w_i D_i^\top D_i + \mathrm{diag}(w'))`$, for a block of ADMM's
+    /// $`g`$ on the nodes themselves (the damped ADMM's drag).
+    pub fn with_node_weights(
+        system: &MassSpringSystem,
+        dt: f64,
+        weights: &[f64],
+        node_weights: &[f64],
+    ) -> Result<Self> {
         let mut a = system_matrix(system, dt, weights)?;
-        let fixed_nodes = system
-            .nodes()
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| n.fixed)
-            .map(|(i, _)| i);
-        let fixed = fixed_unknowns(fixed_nodes, 1);
+        for (j, &w) in node_weights.iter().enumerate() {
+            require_non_negative(format!("node_weights[{j}]"), w)?;
+            a.add(j, j, dt * dt * w);
+        }
+        let fixed = fixed_node_unknowns(system, 1);
         Ok(Self {
             nodes: system.len(),
             solve: ConstrainedSystem::for_three_columns(&mut a, &fixed)?,

@@ -59,6 +59,10 @@
 //!   a zero step and goes on; here the step fails with [`Error::NotConverged`], naming the
 //!   iteration (it has not happened on the thesis rope's grid of time steps and stiffnesses).
 //!
+//! Under an optimization integrator ([`crate::optimization_integrator`]) each stage is the same
+//! loop with $`h`$ the stage's $`\tau`$ and $`(x_n, v_n)`$ its pseudo-state; $`A`$ is factored
+//! once per distinct $`\tau`$.
+//!
 //! # Measured on the thesis rope (`tests/newer_solvers.rs`)
 //! At dt = 1e-2, k = 1e6, one step from a moving state (10 converged steps from rest), L-BFGS
 //! needs 92 iterations for a gap of 1e-6 m to the converged Backward Euler step and 188 for
@@ -68,8 +72,10 @@
 //! the full 24 unknowns. What slows both is the Laplacian's isotropic stiffness: across a
 //! spring's axis $`H_0`$ has $`k`$, the true Hessian $`k(1 - l_0/l)`$, smaller by the strain.
 
+use crate::backward_euler::inertia;
 use crate::error::{Error, Result};
 use crate::first_iterate::{FirstIterate, StepStart};
+use crate::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
 use crate::projective::{finish_step, node_of_columns, to_columns, GlobalSolve};
 use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
@@ -239,8 +245,11 @@ pub struct Lbfgs {
     dt: f64,
     iterations: usize,
     params: LbfgsParams,
-    /// $`A = M + h^2 L`$ with the fixed nodes imposed, factored once: $`H_0 = A/h^2`$.
-    global: GlobalSolve,
+    /// $`A = M + h^2 L`$ of each stage step with the fixed nodes imposed, factored once:
+    /// $`H_0 = A/h^2`$.
+    global: PerStageStep<GlobalSolve>,
+    /// The current stage's $`h`$ ($`\tau`$), s.
+    tau: f64,
     /// Zeros in the layout of the global solve: the update of the fixed nodes.
     zeros: Vec<f64>,
     forces: Vec<Vec3>,
@@ -274,7 +283,8 @@ impl Lbfgs {
             dt,
             iterations,
             params,
-            global,
+            global: PerStageStep::new(dt, global),
+            tau: dt,
             zeros: vec![0.0; 3 * n],
             forces: vec![Vec3::zeros(); n],
             step_lengths: Vec::new(),
@@ -297,7 +307,18 @@ impl Lbfgs {
 
     /// $`\nabla g(x)`$ ([`potential_gradient`]) with the solver's force buffer.
     fn gradient(&mut self, x: &[Vec3], y: &[Vec3], gradient: &mut [f64]) {
-        potential_gradient(&self.system, y, x, self.dt, &mut self.forces, gradient);
+        potential_gradient(&self.system, y, x, self.tau, &mut self.forces, gradient);
+    }
+
+    /// Makes `tau` the current stage step, factoring its matrix if new.
+    fn select(&mut self, tau: f64) -> Result<()> {
+        let system = &self.system;
+        self.global.select(tau, |tau| {
+            let stiffness: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+            GlobalSolve::new(system, tau, &stiffness)
+        })?;
+        self.tau = tau;
+        Ok(())
     }
 
     /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) The two-loop recursion: $`d = -H^{-1}\nabla g`$ with
@@ -312,11 +333,11 @@ impl Lbfgs {
                 *q -= pair.zeta * t;
             }
         }
-        let h2 = self.dt * self.dt;
+        let h2 = self.tau * self.tau;
         for q in d.iter_mut() {
             *q *= h2;
         }
-        self.global.solve(d, &self.zeros);
+        self.global.current().solve(d, &self.zeros);
         for pair in history.iter() {
             let eta = pair.rho * dot(&pair.t, d);
             for (r, s) in d.iter_mut().zip(&pair.s) {
@@ -344,7 +365,7 @@ impl Lbfgs {
             for (i, (trial, x)) in trial.iter_mut().zip(x).enumerate() {
                 *trial = x + alpha * node_of_columns(d, n, i);
             }
-            let change = potential_change(&self.system, y, x, trial, self.dt);
+            let change = potential_change(&self.system, y, x, trial, self.tau);
             if change <= self.params.gamma * alpha * slope {
                 return Some((alpha, trials));
             }
@@ -378,21 +399,26 @@ impl TimeStepper for Lbfgs {
         Some(&mut self.convergence)
     }
 
+    fn step(&mut self, state: &mut State) -> Result<()> {
+        self.solve(&StageProblem::backward_euler(self.dt), state)
+    }
+}
+
+impl MinimizingSolver for Lbfgs {
     /// [Liu 2017, Alg. 2] (unverified: the TOG version's numbering, from secondary evidence; checked against ltt1598 `simulation.cpp`) From the inertial prediction, `iterations` L-BFGS iterations with the
     /// Projective-Dynamics matrix as $`H_0`$ and the Armijo line search; then
     /// $`v = (x - x_n)/h`$.
     // region: step
-    fn step(&mut self, state: &mut State) -> Result<()> {
-        let (dt, n) = (self.dt, state.x.len());
+    fn solve(&mut self, problem: &StageProblem, state: &mut State) -> Result<()> {
+        self.select(problem.tau)?;
+        let (dt, n) = (problem.tau, state.x.len());
         // y = xⁿ + h·vⁿ of Eq 20 (gravity is in E); x₀ = y + h²M⁻¹f_ext by default, the
         // authors' code's start.
-        let y: Vec<Vec3> = state
-            .x
-            .iter()
-            .zip(&state.v)
-            .map(|(x, v)| x + dt * v)
-            .collect();
-        let mut x = self.start.first_iterate(&self.system, state, dt).to_vec();
+        let y = inertia(state, dt);
+        let mut x = self
+            .start
+            .first_iterate(&self.system, state, problem)
+            .to_vec();
         let mut gradient = vec![0.0; 3 * n];
         self.gradient(&x, &y, &mut gradient);
         let mut history: VecDeque<Pair> = VecDeque::with_capacity(self.params.window);
@@ -452,6 +478,10 @@ impl TimeStepper for Lbfgs {
         Ok(())
     }
     // endregion: step
+
+    fn prepare(&mut self, tau: f64) -> Result<()> {
+        self.select(tau)
+    }
 }
 
 #[cfg(test)]

@@ -17,10 +17,12 @@ use crate::backward_euler::{damped_converged_step, BackwardEuler, ConvergedStepO
 use crate::chebyshev::{spectral_radius, Chebyshev, ChebyshevParams, RhoRule};
 use crate::damped_admm::DampedAdmm;
 use crate::damping::RayleighDamping;
+use crate::dissipation::{Dissipation, PowerLawDrag, RayleighForm};
 use crate::error::{require_within, shown, Error, Result};
 use crate::fast_mass_spring::FastMassSpring;
 use crate::first_iterate::FirstIterate;
 use crate::local_global::{AdmmMerit, Base};
+use crate::optimization_integrator::{Integrated, MinimizingSolver, OptimizationIntegrator};
 use crate::particles::adaptive::AdaptiveStepper;
 use crate::particles::integrators::{Integrator, ParticleStepper};
 use crate::particles::ParticleSystem;
@@ -164,15 +166,10 @@ impl SolverId {
                 file: "src/backward_euler.rs",
                 family: Family::Thesis,
                 iteration: Some("Newton iteration"),
-                options: &[FIRST_ITERATE_PREVIOUS],
+                options: &[FIRST_ITERATE_PREVIOUS, INTEGRATOR],
                 relative_cost: 9.0,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = BackwardEuler::new(system, dt, spec.iterations)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::Previous),
-                    )))
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::Pbd => SolverInfo {
                 id: "pbd",
@@ -220,15 +217,10 @@ impl SolverId {
                 file: "src/fast_mass_spring.rs",
                 family: Family::Thesis,
                 iteration: Some("local/global iteration"),
-                options: &[FIRST_ITERATE_PREVIOUS],
+                options: &[FIRST_ITERATE_PREVIOUS, INTEGRATOR],
                 relative_cost: 1.0,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = FastMassSpring::new(system, dt, spec.iterations)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::Previous),
-                    )))
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::AdmmPd => SolverInfo {
                 id: "admm_pd",
@@ -238,15 +230,10 @@ impl SolverId {
                 file: "src/admm.rs",
                 family: Family::Thesis,
                 iteration: Some("ADMM iteration"),
-                options: &[FIRST_ITERATE_PREDICTION],
+                options: &[FIRST_ITERATE_PREDICTION, INTEGRATOR],
                 relative_cost: 1.2,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = AdmmPd::new(system, dt, spec.iterations)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::InertialPrediction),
-                    )))
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::ChebyshevLiu => chebyshev(Base::Liu),
             SolverId::ChebyshevAdmm => chebyshev(Base::Admm),
@@ -260,16 +247,18 @@ impl SolverId {
                 file: "src/backward_euler.rs",
                 family: Family::Beyond,
                 iteration: Some("Newton iteration"),
-                options: &[RAYLEIGH_ALPHA, RAYLEIGH_BETA, FIRST_ITERATE_PREVIOUS],
+                options: &[
+                    RAYLEIGH_ALPHA,
+                    RAYLEIGH_BETA,
+                    RAYLEIGH_FORM,
+                    DRAG,
+                    DRAG_EXPONENT,
+                    FIRST_ITERATE_PREVIOUS,
+                    INTEGRATOR,
+                ],
                 relative_cost: 9.0,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver =
-                        BackwardEuler::damped(system, dt, spec.iterations, spec.params.damping)?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::Previous),
-                    )))
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::DampedAdmm => SolverInfo {
                 id: "damped_admm",
@@ -282,6 +271,10 @@ impl SolverId {
                 options: &[
                     RAYLEIGH_ALPHA,
                     RAYLEIGH_BETA,
+                    RAYLEIGH_FORM,
+                    DRAG,
+                    DRAG_EXPONENT,
+                    INTEGRATOR,
                     OptionInfo {
                         name: "first_iterate",
                         help: "first iterate of each step: previous-position, inertia, \
@@ -291,14 +284,7 @@ impl SolverId {
                 ],
                 relative_cost: 1.5,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver =
-                        DampedAdmm::new(system, dt, spec.iterations, spec.params.damping)?;
-                    Ok(Box::new(match spec.params.first_iterate {
-                        Some(first_iterate) => solver.with_first_iterate(first_iterate),
-                        None => solver,
-                    }))
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::XpbdSubsteps => SolverInfo {
                 id: "xpbd_substeps",
@@ -344,15 +330,11 @@ impl SolverId {
                         help: "L-BFGS window m, past pairs kept, an integer from 1 to 100 [default: 5]",
                     },
                     FIRST_ITERATE_PREDICTION,
+                    INTEGRATOR,
                 ],
                 relative_cost: 6.5,
                 accelerates: Some(SolverId::FastMassSpring),
-                builder: Builder::Springs(|system, dt, spec| {
-                    let solver = Lbfgs::new(system, dt, spec.iterations, spec.params.lbfgs())?;
-                    Ok(Box::new(solver.with_first_iterate(
-                        spec.params.first_iterate_or(FirstIterate::InertialPrediction),
-                    )))
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::Vbd => SolverInfo {
                 id: "vbd",
@@ -374,17 +356,11 @@ impl SolverId {
                         help: "local Hessian: exact (the paper's, a vertex skipped when \
                                |det H| <= 1e-10 (m/h²)³) or projected [default: exact]",
                     },
+                    INTEGRATOR,
                 ],
                 relative_cost: 8.5,
                 accelerates: None,
-                builder: Builder::Springs(|system, dt, spec| {
-                    Ok(Box::new(Vbd::new(
-                        system,
-                        dt,
-                        spec.iterations,
-                        spec.params.vbd(),
-                    )?))
-                }),
+                builder: Builder::Springs(integrated),
             },
             SolverId::ExplicitEuler => tutorial_integrator(
                 "explicit_euler",
@@ -455,6 +431,12 @@ impl SolverId {
         self.info().iteration.is_some() && self != SolverId::XpbdSubsteps
     }
 
+    /// Whether it minimises thesis Eq 20's stage problems, and so runs under every
+    /// optimization integrator (the option `integrator`).
+    pub fn is_minimizing(self) -> bool {
+        self.info().options.iter().any(|o| o.name == "integrator")
+    }
+
     /// The tutorial's integrator this solver is, if it is one.
     pub fn integrator(self) -> Option<Integrator> {
         match self {
@@ -489,6 +471,104 @@ const RAYLEIGH_BETA: OptionInfo = OptionInfo {
     name: "beta",
     help: "stiffness-proportional Rayleigh damping beta from 0 to 1e3, in s [default: 0]",
 };
+
+/// The options of the dissipative solvers beyond Rayleigh's coefficients.
+const RAYLEIGH_FORM: OptionInfo = OptionInfo {
+    name: "rayleigh_form",
+    help: "Rayleigh damping's form: classical (alpha M + beta K) or momentum-conserving \
+           (this crate's: the springs' rates of stretching only) [default: classical]",
+};
+const DRAG: OptionInfo = OptionInfo {
+    name: "drag",
+    help: "power-law drag coefficient c >= 0 of D = c |v|^(p+1)/(p+1), in N·(s/m)^p \
+           [default: 0]",
+};
+const DRAG_EXPONENT: OptionInfo = OptionInfo {
+    name: "drag_exponent",
+    help: "power-law drag exponent p, > 0 and < 1 [default: 0.5]",
+};
+
+/// The option of every minimizing solver: the optimization integrator.
+const INTEGRATOR: OptionInfo = OptionInfo {
+    name: "integrator",
+    help: "optimization integrator: backward-euler, implicit-midpoint, bdf2 (started by one \
+           TR-BDF2 step) or tr-bdf2 [default: backward-euler]",
+};
+
+/// A minimizing solver under the integrator of `spec` ([`Integrated`]): the builder of every
+/// solver with the option `integrator`.
+fn integrated(
+    system: &MassSpringSystem,
+    dt: f64,
+    spec: &SolverSpec,
+) -> Result<Box<dyn TimeStepper + Send>> {
+    Ok(Box::new(Integrated::new(
+        stage_solver(system, dt, spec)?,
+        spec.params.integrator,
+    )?))
+}
+
+/// The minimizing solver of `spec` alone, without an integrator: what solves each stage
+/// problem ([`SolverSpec::build_stage_solver`]).
+fn stage_solver(
+    system: &MassSpringSystem,
+    dt: f64,
+    spec: &SolverSpec,
+) -> Result<Box<dyn MinimizingSolver + Send>> {
+    let params = &spec.params;
+    let iterations = spec.iterations;
+    let mut solver: Box<dyn MinimizingSolver + Send> = match spec.id {
+        SolverId::BackwardEuler => Box::new(
+            BackwardEuler::new(system, dt, iterations)?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous)),
+        ),
+        SolverId::DampedBackwardEuler => Box::new(
+            BackwardEuler::dissipative(system, dt, iterations, params.dissipation())?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous)),
+        ),
+        SolverId::FastMassSpring => Box::new(
+            FastMassSpring::new(system, dt, iterations)?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous)),
+        ),
+        SolverId::AdmmPd => Box::new(
+            AdmmPd::new(system, dt, iterations)?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::InertialPrediction)),
+        ),
+        SolverId::DampedAdmm => {
+            let solver = DampedAdmm::dissipative(system, dt, iterations, params.dissipation())?;
+            Box::new(match params.first_iterate {
+                Some(first_iterate) => solver.with_first_iterate(first_iterate),
+                None => solver,
+            })
+        }
+        SolverId::ChebyshevLiu | SolverId::ChebyshevAdmm => Box::new(Chebyshev::new(
+            system,
+            dt,
+            iterations,
+            params.chebyshev(accelerated_base(spec.id)),
+        )?),
+        SolverId::AndersonLiu | SolverId::AndersonAdmm => Box::new(Anderson::new(
+            system,
+            dt,
+            iterations,
+            params.anderson(accelerated_base(spec.id)),
+        )?),
+        SolverId::Lbfgs => Box::new(
+            Lbfgs::new(system, dt, iterations, params.lbfgs())?
+                .with_first_iterate(params.first_iterate_or(FirstIterate::InertialPrediction)),
+        ),
+        SolverId::Vbd => Box::new(Vbd::new(system, dt, iterations, params.vbd())?),
+        other => {
+            return Err(Error::invalid(
+                "solver",
+                other,
+                "a minimizing solver (one with the option integrator)",
+            ))
+        }
+    };
+    solver.set_stopping(spec.stopping)?;
+    Ok(solver)
+}
 
 /// The first-iterate option of a solver that starts at $`x_n`$ by default.
 const FIRST_ITERATE_PREVIOUS: OptionInfo = OptionInfo {
@@ -559,13 +639,11 @@ fn chebyshev(base: Base) -> SolverInfo {
                        iteration count used) [default: asymptotic-rate]",
             },
             FIRST_ITERATE_PREDICTION,
+            INTEGRATOR,
         ],
         relative_cost: 2.0,
         accelerates: Some(base_solver(base)),
-        builder: Builder::Springs(|system, dt, spec| {
-            let params = spec.params.chebyshev(accelerated_base(spec.id));
-            Ok(Box::new(Chebyshev::new(system, dt, spec.iterations, params)?))
-        }),
+        builder: Builder::Springs(integrated),
     }
 }
 
@@ -600,7 +678,7 @@ fn anderson(base: Base) -> SolverInfo {
         family: Family::Beyond,
         iteration: Some("local/global iteration (one global solve)"),
         options: match base {
-            Base::Liu => &[ANDERSON_WINDOW, FIRST_ITERATE_PREDICTION],
+            Base::Liu => &[ANDERSON_WINDOW, FIRST_ITERATE_PREDICTION, INTEGRATOR],
             Base::Admm => &[
                 ANDERSON_WINDOW,
                 OptionInfo {
@@ -610,14 +688,12 @@ fn anderson(base: Base) -> SolverInfo {
                            (after the global step) [default: primal-residual]",
                 },
                 FIRST_ITERATE_PREDICTION,
+                INTEGRATOR,
             ],
         },
         relative_cost: 12.0,
         accelerates: Some(base_solver(base)),
-        builder: Builder::Springs(|system, dt, spec| {
-            let params = spec.params.anderson(accelerated_base(spec.id));
-            Ok(Box::new(Anderson::new(system, dt, spec.iterations, params)?))
-        }),
+        builder: Builder::Springs(integrated),
     }
 }
 
@@ -683,6 +759,12 @@ pub struct SolverParams {
     /// rk45: the most adaptive steps (accepted or rejected) a run may attempt, a work budget;
     /// None: no limit.
     pub adaptive_attempts: Option<u64>,
+    /// Every minimizing solver: the optimization integrator.
+    pub integrator: OptimizationIntegrator,
+    /// The dissipative solvers: the form of their Rayleigh damping.
+    pub rayleigh_form: RayleighForm,
+    /// The dissipative solvers: power-law drag.
+    pub drag: PowerLawDrag,
 }
 
 impl SolverParams {
@@ -705,6 +787,10 @@ impl SolverParams {
             "hessian" => self.hessian.key().to_string(),
             "constraint_damping" => self.constraint_damping.to_string(),
             "sweep" => self.sweep.key().to_string(),
+            "integrator" => self.integrator.key().to_string(),
+            "rayleigh_form" => self.rayleigh_form.key().to_string(),
+            "drag" => self.drag.coefficient.to_string(),
+            "drag_exponent" => self.drag.exponent.to_string(),
             _ => return None,
         })
     }
@@ -737,6 +823,10 @@ impl SolverParams {
             "hessian" => self.hessian = value.parse()?,
             "constraint_damping" => self.constraint_damping = number()?,
             "sweep" => self.sweep = value.parse()?,
+            "integrator" => self.integrator = value.parse()?,
+            "rayleigh_form" => self.rayleigh_form = value.parse()?,
+            "drag" => self.drag.coefficient = number()?,
+            "drag_exponent" => self.drag.exponent = number()?,
             _ => {
                 let names: Vec<&str> = SolverId::ALL
                     .iter()
@@ -753,7 +843,16 @@ impl SolverParams {
         self.anderson(Base::Liu).validate()?;
         self.lbfgs().validate()?;
         self.xpbd_substeps().validate()?;
-        self.damping.validate()
+        self.dissipation().validate()
+    }
+
+    /// The dissipation of the dissipative solvers.
+    pub fn dissipation(&self) -> Dissipation {
+        Dissipation {
+            rayleigh: self.damping,
+            form: self.rayleigh_form,
+            drag: self.drag,
+        }
     }
 
     /// The first iterate set, or `own`.
@@ -864,6 +963,9 @@ impl Default for SolverParams {
             constraint_damping: XpbdSubstepsParams::default().constraint_damping,
             sweep: XpbdSubstepsParams::default().sweep,
             adaptive_attempts: None,
+            integrator: OptimizationIntegrator::default(),
+            rayleigh_form: RayleighForm::default(),
+            drag: PowerLawDrag::NONE,
         }
     }
 }
@@ -927,7 +1029,9 @@ impl SolverSpec {
     /// gradient-ratio rule depends on the count and is left to each build.
     pub fn with_estimates(&self, system: &MassSpringSystem, dt: f64) -> Result<SolverSpec> {
         let mut spec = *self;
+        // Under another integrator each stage step has its own rho, found by the solver.
         if matches!(self.id, SolverId::ChebyshevLiu | SolverId::ChebyshevAdmm)
+            && self.params.integrator == OptimizationIntegrator::BackwardEuler
             && self.params.spectral_radius.is_none()
             && self.params.rho_rule == RhoRule::AsymptoticRate
         {
@@ -938,9 +1042,42 @@ impl SolverSpec {
         Ok(spec)
     }
 
+    /// An integrator other than Backward Euler needs a minimizing solver (one with the option).
+    fn check_integrator(&self) -> Result<()> {
+        let takes = self
+            .id
+            .info()
+            .options
+            .iter()
+            .any(|o| o.name == "integrator");
+        if takes || self.params.integrator == OptimizationIntegrator::BackwardEuler {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            "integrator",
+            self.params.integrator,
+            &format!(
+                "not given: {} is not a minimizing solver (it integrates by its own scheme)",
+                self.id
+            ),
+        ))
+    }
+
+    /// The minimizing solver alone, without its integrator, stopping as `stopping` says: the
+    /// solver of stage problems ([`MinimizingSolver::solve`]); an error for a solver that is
+    /// not one ([`SolverId::is_minimizing`]).
+    pub fn build_stage_solver(
+        &self,
+        system: &MassSpringSystem,
+        dt: f64,
+    ) -> Result<Box<dyn MinimizingSolver + Send>> {
+        stage_solver(system, dt, self)
+    }
+
     /// The solver on a mass-spring system with time step `dt`. The tutorial's integrators run
     /// it as a particle system with no other force.
     pub fn build(&self, system: &MassSpringSystem, dt: f64) -> Result<Box<dyn TimeStepper>> {
+        self.check_integrator()?;
         let mut solver: Box<dyn TimeStepper> = match self.id.info().builder {
             Builder::Springs(build) => build(system, dt, self)?,
             Builder::Particles(build) => {
@@ -958,6 +1095,7 @@ impl SolverSpec {
         system: &MassSpringSystem,
         dt: f64,
     ) -> Result<Box<dyn TimeStepper + Send>> {
+        self.check_integrator()?;
         match self.id.info().builder {
             Builder::Springs(build) => {
                 let mut solver = build(system, dt, self)?;

@@ -126,15 +126,20 @@ pub fn sample_count() -> usize {
 
 /// Steps of `dt` between two samples; an error unless `dt` divides [`SAMPLE_INTERVAL_S`].
 pub fn steps_per_sample(dt: f64) -> Result<u64> {
+    whole_steps(SAMPLE_INTERVAL_S, dt)
+}
+
+/// Steps of `dt` in `time` (s); an error unless `dt` is positive and divides it.
+pub fn whole_steps(time: f64, dt: f64) -> Result<u64> {
     let dt = require_positive("dt", dt)?;
-    let ratio = SAMPLE_INTERVAL_S / dt;
+    let ratio = time / dt;
     if ratio.round() >= 1.0 && (ratio - ratio.round()).abs() < 1e-9 * ratio {
         Ok(ratio.round() as u64)
     } else {
         Err(Error::invalid(
             "dt",
             dt,
-            &format!("{SAMPLE_INTERVAL_S} s divided by a whole number"),
+            &format!("{time} s divided by a whole number"),
         ))
     }
 }

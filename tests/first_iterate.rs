@@ -5,6 +5,7 @@
 use mass_spring_solvers::backward_euler::{converged_step, ConvergedStepOptions};
 use mass_spring_solvers::beyond::{gap, Start};
 use mass_spring_solvers::first_iterate::{inertial_prediction, FirstIterate, StepStart};
+use mass_spring_solvers::optimization_integrator::StageProblem;
 use mass_spring_solvers::registry::{SolverId, SolverSpec};
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::{Error, State};
@@ -91,7 +92,9 @@ fn the_defaults_are_each_papers_start() {
     }
     // The shared prediction is ADMM's x̃ of thesis Algorithm 4, line 2.1.
     let mut start = StepStart::new(FirstIterate::InertialPrediction);
-    let x0 = start.first_iterate(&system, &state, 1e-2).to_vec();
+    let x0 = start
+        .first_iterate(&system, &state, &StageProblem::backward_euler(1e-2))
+        .to_vec();
     for (i, x) in x0.iter().enumerate() {
         assert_eq!(*x, inertial_prediction(&system, &state, 1e-2, i));
     }

@@ -13,6 +13,7 @@ use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::report::benchmark::BenchmarkChapter;
 use mass_spring_solvers::report::beyond::BeyondChapter;
+use mass_spring_solvers::report::integrators::IntegratorsChapter;
 use mass_spring_solvers::report::output::{OutputFile, Phases, RunInfo};
 use mass_spring_solvers::report::publish::{fixture, ReportTarget};
 use mass_spring_solvers::report::rest_state::Catenary;
@@ -35,6 +36,9 @@ const SHEET_BUDGET: Duration = Duration::from_secs(2);
 
 /// The budget of the benchmark (the rest of the 45 s of the chapters beyond the thesis).
 const BENCHMARK_BUDGET: Duration = Duration::from_secs(33);
+
+/// The budget of the optimization-integrators chapter (issue 23: at most 10 s on 2 cores).
+const INTEGRATORS_BUDGET: Duration = Duration::from_secs(10);
 
 /// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
 const FIXTURE_FILES: usize = 400;
@@ -162,6 +166,11 @@ fn run(args: Args) -> Result<String, Failure> {
         Some(BENCHMARK_BUDGET),
         || BenchmarkChapter::compute(&progress("the benchmark")),
     )?;
+    let integrators = phases.run(
+        "optimization integrators (parallel)",
+        Some(INTEGRATORS_BUDGET),
+        || IntegratorsChapter::compute(&progress("optimization integrators")),
+    )?;
     let data = ReportData {
         results,
         forensics: Some(forensics),
@@ -171,6 +180,7 @@ fn run(args: Args) -> Result<String, Failure> {
         beyond,
         sheet,
         benchmark,
+        integrators,
         sources,
     };
     let mut files = phases.run("rendering (Markdown, SVG, CSV)", None, || render(&data))?;

@@ -314,6 +314,8 @@ impl BeyondChapter {
             GRID_DTS.map(full).join(", "),
             THESIS_STIFFNESSES.map(stiffness_label).join(" and "),
         );
+        md += crate::report::integrators::UNDER_BACKWARD_EULER;
+        md += "\n\n";
 
         md += &format!("### {number}.1 The solvers and their settings\n\n");
         let mut t = MarkdownTable::new(&[

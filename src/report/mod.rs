@@ -17,6 +17,7 @@ pub mod errata;
 pub mod figures;
 pub mod forensics;
 pub mod format;
+pub mod integrators;
 pub mod navigation;
 pub mod output;
 pub mod plot;
@@ -41,6 +42,7 @@ use crate::registry::SolverId;
 use crate::report::benchmark::BenchmarkChapter;
 use crate::report::beyond::BeyondChapter;
 use crate::report::format::{short, sig, MarkdownTable};
+use crate::report::integrators::IntegratorsChapter;
 use crate::report::output::OutputFile;
 use crate::report::plot::{layout, Chart, Layout};
 use crate::report::rest_state::Catenary;
@@ -129,6 +131,8 @@ pub struct ReportData {
     /// The timing study: accuracy against counted work.
     /// The benchmark's chapter (work and precision).
     pub benchmark: BenchmarkChapter,
+    /// The optimization integrators.
+    pub integrators: IntegratorsChapter,
     pub sources: Sources,
 }
 
@@ -169,6 +173,7 @@ pub struct ChapterFigures<'a> {
     pub beyond: &'a [ChapterFigure],
     pub sheet: &'a [ChapterFigure],
     pub work_precision: &'a [ChapterFigure],
+    pub integrators: &'a [ChapterFigure],
 }
 
 /// A figure's two files: `figures/<stem>.svg` and the points it draws, `data/<stem>.csv`.
@@ -186,11 +191,13 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let beyond_figures = data.beyond.figures()?;
     let sheet_figures = data.sheet.figures()?;
     let work_precision_figures = data.benchmark.figures()?;
+    let integrators_figures = data.integrators.figures()?;
     let chapters = ChapterFigures {
         tutorial: &tutorial_figures,
         beyond: &beyond_figures,
         sheet: &sheet_figures,
         work_precision: &work_precision_figures,
+        integrators: &integrators_figures,
     };
     let mut files = vec![OutputFile::text(
         "REPORT.md",
@@ -200,6 +207,7 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     files.extend(data.benchmark.files(&work_precision_figures));
     files.extend(data.tutorial.files(&tutorial_figures));
     files.extend(data.beyond.files(&beyond_figures));
+    files.extend(data.integrators.files(&integrators_figures));
     for f in &figures {
         files.extend(figure_files(&f.stem, &f.svg, &f.csv));
     }
@@ -592,14 +600,15 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &data.beyond.section(10, chapters.beyond, &data.benchmark);
     md += &data.sheet.section(11, chapters.sheet, &data.benchmark);
     md += &data.benchmark.section(12, chapters.work_precision);
+    md += &data.integrators.section(13, chapters.integrators);
 
-    md += "## 13. Errata\n\n";
+    md += "## 14. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 14. Equation traceability\n\n";
+    md += "## 15. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -612,7 +621,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 14.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 15.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -625,7 +634,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         );
     }
 
-    md += "### 14.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
+    md += "### 15.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
            implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
            cannot mistake for a thesis equation. Built at report time from those tags. The column \
            \"verified against\" says how each tag was checked (`docs/papers.md`): against the paper's text \
@@ -635,7 +644,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &traceability::paper_table(&data.sources.paper_tags).render();
     md += "\n";
 
-    md += "## 15. Data files\n\n";
+    md += "## 16. Data files\n\n";
     md += "Every data file is a CSV written with `csv::Writer` and read back by a strict reader in \
            `tests/csv_schema.rs` against the schema below (`report::schema`): column names are \
            `name_unit` (`dt_s`, `x_m`, `stiffness_n_per_m`; no unit for a count, an identifier or a \
@@ -644,7 +653,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &schema::section_list();
     md += "\n";
 
-    md += "## 16. Crate and dependency versions\n\n";
+    md += "## 17. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

@@ -398,6 +398,36 @@ pub const FILES: &[FileSchema] = &[
         published_names: false,
     },
     FileSchema {
+        pattern: "integrators.csv",
+        about: "each optimization integrator's measured order and damping per period (section 13)",
+        columns: &[
+            ("integrator", ""),
+            ("case", ""),
+            ("order", ""),
+            ("damping_per_period", ""),
+        ],
+        published_names: false,
+    },
+    FileSchema {
+        pattern: "integrator_costs.csv",
+        about: "each minimizing solver's cost per step under each integrator (section 13)",
+        columns: &[
+            ("solver", ""),
+            ("integrator", ""),
+            ("iterations_per_step", ""),
+            ("flops_per_step", ""),
+            ("capped_stages", ""),
+            ("solver_error_m", "m"),
+        ],
+        published_names: false,
+    },
+    FileSchema {
+        pattern: "integrator_orders.csv",
+        about: "the points of the integrators' order figure (section 13)",
+        columns: &[("integrator", ""), ("dt_s", "s"), ("error_m", "m")],
+        published_names: false,
+    },
+    FileSchema {
         pattern: "tutorial_adaptive.csv",
         about: "the adaptive step size study of section 9.5",
         columns: &[

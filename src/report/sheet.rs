@@ -115,6 +115,8 @@ impl SheetChapter {
             THESIS_STIFFNESSES.map(stiffness_label).join(" and "),
             n = SHEET_NODES_PER_SIDE,
         );
+        md += crate::report::integrators::UNDER_BACKWARD_EULER;
+        md += "\n\n";
 
         md += &format!("### {number}.1 The exact equilibrium\n\n");
         md +=

@@ -295,6 +295,8 @@ impl WorkPrecisionChapter {
             si = full(SAMPLE_INTERVAL_S),
             s2 = full(2.0 * SAMPLE_INTERVAL_S),
         );
+        md += crate::report::integrators::UNDER_BACKWARD_EULER;
+        md += "\n\n";
 
         md += &format!("### {number}.1 The exact motion\n\n");
         md += &format!(

@@ -14,6 +14,7 @@ use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::benchmark::BenchmarkChapter;
 use mass_spring_solvers::report::beyond::BeyondChapter;
+use mass_spring_solvers::report::integrators::IntegratorsChapter;
 use mass_spring_solvers::report::output::OutputFile;
 use mass_spring_solvers::report::plot::Layout;
 use mass_spring_solvers::report::publish::write_report;
@@ -61,6 +62,8 @@ fn data() -> &'static ReportData {
             beyond,
             sheet,
             benchmark,
+            integrators: IntegratorsChapter::compute(&|_, _| {})
+                .expect("the optimization-integrators chapter runs"),
             sources,
         }
     })
@@ -285,7 +288,9 @@ fn every_figure() -> Vec<(String, Layout, String)> {
     let beyond = data().beyond.figures().unwrap();
     let sheet = data().sheet.figures().unwrap();
     let work_precision = data().benchmark.figures().unwrap();
+    let integrators = data().integrators.figures().unwrap();
     assert_eq!(beyond.len() + sheet.len(), 2);
+    assert_eq!(integrators.len(), 1);
     thesis
         .into_iter()
         .map(|f| (f.stem, f.layout, f.svg))
@@ -295,6 +300,7 @@ fn every_figure() -> Vec<(String, Layout, String)> {
                 .chain(beyond)
                 .chain(sheet)
                 .chain(work_precision)
+                .chain(integrators)
                 .map(|f| (f.stem.to_string(), f.layout, f.svg)),
         )
         .collect()

@@ -51,6 +51,7 @@ Scene file (--scene-file, TOML, SI units; see scenes/*.toml):
 
 Examples:
   mss --scene thesis --solver xpbd --stiffness 1e6 --dt 1e-3 --iterations 20
+  mss --solver vbd --integrator tr-bdf2 --dt 1e-2 --iterations 20
   mss --scene rope --nodes 30 --solver fast_mass_spring --iterations 30 --compare-reference --json
   mss --scene pendulum --solver rk4 --dt 1e-4 --max-time 10 --positions-csv pendulum.csv
   mss --scene-file scenes/hanging-cloth.toml --solver admm_pd --iterations 20 --ke-csv ke.csv
@@ -244,6 +245,37 @@ pub(crate) struct Cli {
     /// xpbd_substeps: the constraint pass, gauss-seidel or jacobi [default: gauss-seidel]
     #[arg(long, value_name = "SWEEP", help_heading = "Solver")]
     pub(crate) sweep: Option<String>,
+
+    /// Every minimizing solver (those iterating on the incremental potential, not pbd, the
+    /// xpbd family or the tutorial's integrators): the optimization integrator,
+    /// backward-euler, implicit-midpoint, bdf2 (started by one TR-BDF2 step) or tr-bdf2
+    /// [default: backward-euler]
+    #[arg(long, value_name = "SCHEME", help_heading = "Solver")]
+    pub(crate) integrator: Option<String>,
+
+    /// damped_*: Rayleigh damping's form, classical or momentum-conserving (this crate's:
+    /// the springs' rates of stretching only) [default: classical]
+    #[arg(long, value_name = "FORM", help_heading = "Solver")]
+    pub(crate) rayleigh_form: Option<String>,
+
+    /// damped_*: power-law drag coefficient c >= 0 of D = c |v|^(p+1)/(p+1), in N·(s/m)^p
+    /// [default: 0]
+    #[arg(
+        long,
+        value_name = "C",
+        allow_hyphen_values = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) drag: Option<f64>,
+
+    /// damped_*: power-law drag exponent p, > 0 and < 1 [default: 0.5]
+    #[arg(
+        long,
+        value_name = "P",
+        allow_hyphen_values = true,
+        help_heading = "Solver"
+    )]
+    pub(crate) drag_exponent: Option<f64>,
 
     /// Built-in scene
     #[arg(long, value_enum, default_value_t = SceneArg::Thesis, help_heading = "Scene")]
@@ -464,7 +496,7 @@ impl TypedValueParser for SolverParser {
 }
 
 /// The solver options given on the command line, by their registry name.
-fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 15] {
+fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 19] {
     let text = |x: Option<f64>| x.map(|x| x.to_string());
     // As `--solver` reads `-` as `_`, `--first-iterate` reads `_` as `-`.
     let first_iterate = cli.first_iterate.as_ref().map(|i| i.replace('_', "-"));
@@ -484,6 +516,10 @@ fn solver_options(cli: &Cli) -> [(&'static str, Option<String>); 15] {
         ("hessian", cli.hessian.clone()),
         ("constraint_damping", text(cli.constraint_damping)),
         ("sweep", cli.sweep.clone()),
+        ("integrator", cli.integrator.clone()),
+        ("rayleigh_form", cli.rayleigh_form.clone()),
+        ("drag", text(cli.drag)),
+        ("drag_exponent", text(cli.drag_exponent)),
     ]
 }
 

@@ -19,6 +19,7 @@ use mass_spring_solvers::backward_euler::{
 use mass_spring_solvers::budget::DOPRI_EVALUATIONS;
 use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::experiments::reproduces;
+use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::output_file::OutputFile;
 use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::solver::{simulate, simulate_into, Run, RunOptions};
@@ -132,6 +133,7 @@ fn run(cli: &Cli) -> Result<(), Failure> {
             // exactly its parameters is its own reference.
             let reference_options = RunOptions::default();
             let is_reference = settings.spec.id == SolverId::BackwardEuler
+                && settings.spec.params.integrator == OptimizationIntegrator::BackwardEuler
                 && cli.dt == REFERENCE_DT
                 && settings.spec.iterations == REFERENCE_NEWTON_ITERATIONS
                 && settings.options.stop == reference_options.stop
@@ -155,15 +157,25 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     // A failed run drops its outputs, which leaves every destination as it was.
     let (run, reference) = outcome?;
     let wall_time_s = start.elapsed().as_secs_f64();
+    // Per time step: a step of a two-stage integrator logs two stage solves.
     let iterations_mean = stepper
         .iteration_log()
-        .and_then(|log| log.mean_iterations());
+        .filter(|_| run.steps > 0)
+        .map(|log| log.iterations() as f64 / run.steps as f64);
 
     // Every series written to its end before any replaces its file.
     OutputFile::finish_all(csv.ke.into_iter().chain(csv.positions).collect())
         .map_err(|e| Failure::run(e.to_string()))?;
+    let takes_integrator = settings
+        .spec
+        .id
+        .info()
+        .options
+        .iter()
+        .any(|o| o.name == "integrator");
     let report = Report {
         solver: cli.solver.id().to_string(),
+        integrator: takes_integrator.then(|| settings.spec.params.integrator.key().to_string()),
         scene: summary,
         dt_s: cli.dt,
         iterations: (settings.spec.id.info().iteration.is_some())

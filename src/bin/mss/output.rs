@@ -5,6 +5,7 @@ use mass_spring_solvers::experiments::{published_rows, PublishedRow};
 use mass_spring_solvers::metrics::{
     rest_error_l2, rest_error_max, rest_error_sum, Peak, StoppingRule,
 };
+use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::output_file::OutputFile;
 use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::scene::THESIS_GRAVITY;
@@ -207,6 +208,9 @@ pub(crate) struct PublishedSummary {
 #[derive(Debug, Serialize)]
 pub(crate) struct Report {
     pub(crate) solver: String,
+    /// The optimization integrator of a minimizing solver (`--integrator`); None for the
+    /// others, which integrate by their own scheme.
+    pub(crate) integrator: Option<String>,
     pub(crate) scene: SceneSummary,
     pub(crate) dt_s: f64,
     /// None for the tutorial's integrators.
@@ -236,6 +240,7 @@ pub(crate) fn published_row(
     }
     let faithful = settings.options.stop == StoppingRule::default()
         && settings.options.velocity_damping == 0.0
+        && settings.spec.params.integrator == OptimizationIntegrator::BackwardEuler
         && cli.gravity.is_none_or(|g| g == THESIS_GRAVITY);
     if cli.scene_file.is_some() || cli.scene != SceneArg::Thesis || !faithful {
         return None;
@@ -313,6 +318,9 @@ pub(crate) fn write_run(
 
 pub(crate) fn write_text(out: &mut dyn Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "{:<18}{} ({})", "solver", r.solver, r.run.solver_name)?;
+    if let Some(integrator) = &r.integrator {
+        writeln!(out, "{:<18}{integrator}", "integrator")?;
+    }
     writeln!(out, "{:<18}{}", "scene", r.scene.describe())?;
     writeln!(out, "{:<18}{} s", "dt", short(r.dt_s))?;
     match (r.iterations, r.stop_tolerance_m) {

@@ -1,0 +1,132 @@
+//! The report's optimization-integrators chapter (`src/report/integrators.rs`): its CSV files
+//! read back strictly, its figure passes the figure test, and each claim of its prose is
+//! recomputed from the data.
+
+mod figure_check;
+
+use mass_spring_solvers::integrator_study::minimizing_solvers;
+use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::report::format::sig;
+use mass_spring_solvers::report::integrators::{
+    IntegratorsChapter, COSTS_HEADER, DAMPING_CASE, INTEGRATORS_HEADER, ORDER_CASE,
+};
+use std::sync::OnceLock;
+
+fn chapter() -> &'static IntegratorsChapter {
+    static CHAPTER: OnceLock<IntegratorsChapter> = OnceLock::new();
+    CHAPTER.get_or_init(|| IntegratorsChapter::compute(&|_, _| {}).unwrap())
+}
+
+fn records(csv: &str, header: &[&str]) -> Vec<csv::StringRecord> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(false)
+        .from_reader(csv.as_bytes());
+    assert_eq!(reader.headers().unwrap(), header);
+    reader.records().map(|r| r.unwrap()).collect()
+}
+
+#[test]
+fn integrators_csv_holds_every_order_and_damping_at_full_precision() {
+    let c = chapter();
+    let rows = records(&c.integrators_csv(), &INTEGRATORS_HEADER);
+    assert_eq!(rows.len(), 8);
+    for i in OptimizationIntegrator::ALL {
+        let order = rows
+            .iter()
+            .find(|r| &r[0] == i.key() && &r[1] == ORDER_CASE)
+            .unwrap();
+        let study = c.orders.iter().find(|o| o.integrator == i).unwrap();
+        assert_eq!(order[2].parse::<f64>().unwrap(), study.order);
+        assert!(order[3].is_empty());
+        let damping = rows
+            .iter()
+            .find(|r| &r[0] == i.key() && &r[1] == DAMPING_CASE)
+            .unwrap();
+        assert_eq!(
+            damping[3].parse::<f64>().unwrap(),
+            c.damping_of(i).unwrap().per_period
+        );
+        assert!(damping[2].is_empty());
+    }
+    let costs = records(&c.costs_csv(), &COSTS_HEADER);
+    assert_eq!(
+        costs.len(),
+        minimizing_solvers().len() * OptimizationIntegrator::ALL.len()
+    );
+    for (row, cost) in costs.iter().zip(&c.costs) {
+        assert_eq!(&row[0], cost.solver.id());
+        assert_eq!(&row[1], cost.integrator.key());
+        assert_eq!(row[3].parse::<f64>().unwrap(), cost.flops_per_step);
+        assert_eq!(row[5].parse::<f64>().unwrap(), cost.solver_error_m);
+    }
+    // Deterministic: the same inputs give the same bytes.
+    let again = IntegratorsChapter::compute(&|_, _| {}).unwrap();
+    assert_eq!(again.integrators_csv(), c.integrators_csv());
+    assert_eq!(again.costs_csv(), c.costs_csv());
+}
+
+#[test]
+fn the_order_figure_passes_the_figure_test() {
+    let figures = chapter().figures().unwrap();
+    assert_eq!(figures.len(), 1);
+    for f in &figures {
+        let problems = figure_check::problems(f.stem, &f.layout, &f.svg);
+        assert!(problems.is_empty(), "{}", problems.join("\n"));
+        // Its data: every integrator at every time step.
+        assert_eq!(
+            records(&f.csv, &["integrator", "dt_s", "error_m"]).len(),
+            4 * 4
+        );
+    }
+}
+
+/// The prose's claims, recomputed: the least damping ratio is the smallest of Backward
+/// Euler's damping over a second-order scheme's and at least the 10; the midpoint damps
+/// nothing beyond round-off; the named cheapest solver of each integrator has the fewest flops
+/// per step among its rows; the orders quoted are the fitted ones.
+#[test]
+fn the_sections_claims_are_the_datas() {
+    let c = chapter();
+    let section = c.section(13, &c.figures().unwrap());
+    let be = c
+        .damping_of(OptimizationIntegrator::BackwardEuler)
+        .unwrap()
+        .per_period;
+    let ratios: Vec<f64> = OptimizationIntegrator::ALL[1..]
+        .iter()
+        .map(|&i| be / c.damping_of(i).unwrap().per_period.abs())
+        .collect();
+    let least = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(least >= 10.0, "{ratios:?}");
+    assert!(section.contains(&format!("at least {} times less", sig(least, 3))));
+    assert!(
+        c.damping_of(OptimizationIntegrator::ImplicitMidpoint)
+            .unwrap()
+            .per_period
+            .abs()
+            < 1e-4
+    );
+    for i in OptimizationIntegrator::ALL {
+        let rows: Vec<_> = c.costs.iter().filter(|r| r.integrator == i).collect();
+        let fewest = rows
+            .iter()
+            .min_by(|a, b| a.flops_per_step.total_cmp(&b.flops_per_step))
+            .unwrap();
+        assert!(section.contains(&format!(
+            "{} `{}` ({} flops)",
+            i.label(),
+            fewest.solver,
+            sig(fewest.flops_per_step, 3)
+        )));
+        let order = c.orders.iter().find(|o| o.integrator == i).unwrap().order;
+        assert!(
+            section.contains(&format!("{} {}", i.label(), sig(order, 4))),
+            "{i}"
+        );
+    }
+    // Every table that shows a run names its integrator.
+    for i in OptimizationIntegrator::ALL {
+        assert!(section.contains(i.label()));
+    }
+}
