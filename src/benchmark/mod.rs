@@ -19,6 +19,9 @@
 //! 4. **A sweep that reaches the asymptotic regime** ([`sweep`]): every solver at its fixed
 //!    iteration counts from dt = 0.1 s down to where Backward Euler's error falls at its order
 //!    on the rope, the sheet as far as the budget allows; the explicit baselines beside them.
+//!    Every minimizing solver also runs under the second-order optimization integrators
+//!    ([`crate::optimization_integrator`]: implicit midpoint, BDF2, TR-BDF2) at its first
+//!    setting, and Newton under each over every time step.
 //! 5. **Costs**: counted floating-point operations ([`crate::work_precision`]'s model, applied
 //!    to the iterations each step took).
 //! 6. **The thesis's question** ([`verdicts`], [`statics`]): statics as the cost of coming to
@@ -43,6 +46,7 @@ pub mod sweep;
 
 use crate::error::Result;
 use crate::experiments::run_parallel;
+use crate::optimization_integrator::OptimizationIntegrator;
 use run::Outcome;
 use statics::{run_statics, statics_configurations, StaticsOutcome};
 use sweep::{configurations, dts, Configuration, SOLVER_ERROR_DTS};
@@ -88,7 +92,8 @@ impl Benchmark {
                 .into_iter()
                 .filter(|dt| dts(case).contains(dt))
             {
-                for method in [Converged::Newton, Converged::Pbd, Converged::Xpbd] {
+                let newton = OptimizationIntegrator::ALL.map(Converged::Newton);
+                for method in newton.into_iter().chain([Converged::Pbd, Converged::Xpbd]) {
                     if method.computed_on(case) {
                         solver_jobs.push((case, dt, method));
                     }
@@ -110,7 +115,7 @@ impl Benchmark {
             &all,
             |c| expected_cost(c, truth_of(c.case).window),
             |c| {
-                let reference = Converged::of(c.spec.id).and_then(|method| {
+                let reference = Converged::of(&c.spec).and_then(|method| {
                     solver_truths
                         .iter()
                         .find(|(case, dt, t)| {

@@ -20,6 +20,9 @@ pub struct Row {
     pub solver: String,
     /// Iterations per step (the cap in a tolerance mode).
     pub iterations: usize,
+    /// A minimizing solver's optimization integrator; empty for a solver with its own scheme
+    /// (the XPBD family, PBD, the explicit baselines).
+    pub integrator: String,
     /// How each step's iterations stop: `count`, or the tolerance.
     pub stopping: String,
     pub dt_s: f64,
@@ -61,6 +64,11 @@ fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
         stiffness_n_per_m: c.case.stiffness,
         solver: c.spec.id.id().into(),
         iterations: c.spec.iterations,
+        integrator: if c.spec.id.is_minimizing() {
+            c.spec.params.integrator.key().into()
+        } else {
+            String::new()
+        },
         stopping: c.spec.stopping.id(),
         dt_s: c.dt_s,
         window_s,
@@ -124,6 +132,12 @@ impl Row {
             }
         }
         row
+    }
+
+    /// Whether the run is under the thesis's scheme: Backward Euler for a minimizing solver,
+    /// its own for the others.
+    pub fn thesis_scheme(&self) -> bool {
+        self.integrator.is_empty() || self.integrator == "backward-euler"
     }
 
     /// Whether the run finished (no divergence).

@@ -4,6 +4,7 @@
 
 use super::Case;
 use crate::beyond::{grid_settings, GridScene};
+use crate::optimization_integrator::OptimizationIntegrator;
 use crate::registry::{SolverId, SolverSpec};
 
 /// One configuration: a solver with its settings at a time step, on a case.
@@ -64,14 +65,34 @@ pub const FINE_DT_S: f64 = 1e-3;
 /// solved to round-off at that step): the thesis's three.
 pub const SOLVER_ERROR_DTS: [f64; 3] = [0.1, 0.01, 0.001];
 
+/// The optimization integrators the benchmark runs besides Backward Euler (the thesis's).
+pub const SECOND_ORDER: [OptimizationIntegrator; 3] = [
+    OptimizationIntegrator::ImplicitMidpoint,
+    OptimizationIntegrator::Bdf2,
+    OptimizationIntegrator::TrBdf2,
+];
+
 /// Every configuration of a case, solver by solver, setting by setting, time step by time
-/// step: every setting at the steps down to [`FINE_DT_S`], the first one below it.
+/// step: every setting at the steps down to [`FINE_DT_S`], the first one below it; then every
+/// minimizing solver's first setting under each of [`SECOND_ORDER`] down to [`FINE_DT_S`],
+/// Newton's (the reference's method) over every step.
 pub fn configurations(case: Case) -> Vec<Configuration> {
     let mut out = Vec::new();
     for id in solvers() {
         for (k, spec) in settings(id).into_iter().enumerate() {
             for &dt_s in dts(case) {
                 if k == 0 || dt_s >= FINE_DT_S {
+                    out.push(Configuration { case, spec, dt_s });
+                }
+            }
+        }
+    }
+    for id in solvers().into_iter().filter(|id| id.is_minimizing()) {
+        for integrator in SECOND_ORDER {
+            let mut spec = settings(id)[0];
+            spec.params.integrator = integrator;
+            for &dt_s in dts(case) {
+                if id == SolverId::BackwardEuler || dt_s >= FINE_DT_S {
                     out.push(Configuration { case, spec, dt_s });
                 }
             }

@@ -3,8 +3,10 @@
 //! motion.
 
 use super::{Case, SAMPLE_INTERVAL_S, WINDOW_PERIODS};
-use crate::backward_euler::{converged_step, ConvergedStepOptions};
+use crate::dissipation::Dissipation;
 use crate::error::{Error, Result};
+use crate::integrator_study::exact_stages;
+use crate::optimization_integrator::OptimizationIntegrator;
 use crate::registry::{SolverId, SolverSpec};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
@@ -277,8 +279,8 @@ impl CaseTruth {
 /// error.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Converged {
-    /// Every minimising solver: the Backward Euler step of Eq 20 solved by Newton.
-    Newton,
+    /// Every minimising solver: each stage of its integrator solved by Newton to round-off.
+    Newton(OptimizationIntegrator),
     /// PBD iterated until its iterates stop moving.
     Pbd,
     /// XPBD iterated until its iterates stop moving (its constraint residual, Eq 16, stops
@@ -293,14 +295,13 @@ pub const CONVERGED_TOLERANCE_M: f64 = 1e-10;
 pub const CONVERGED_CAP: usize = 1000;
 
 impl Converged {
-    /// The converged form of `id`; None for the XPBD substeps (its substeps are its time
-    /// steps) and the explicit baselines (no iteration to converge).
-    pub fn of(id: SolverId) -> Option<Converged> {
-        match id {
+    /// The converged form of `spec`'s solver; None for the XPBD substeps (its substeps are
+    /// its time steps) and the explicit baselines (no iteration to converge).
+    pub fn of(spec: &SolverSpec) -> Option<Converged> {
+        match spec.id {
             SolverId::Pbd => Some(Converged::Pbd),
             SolverId::Xpbd => Some(Converged::Xpbd),
-            SolverId::XpbdSubsteps => None,
-            _ if id.stops_at_tolerance() => Some(Converged::Newton),
+            id if id.is_minimizing() => Some(Converged::Newton(spec.params.integrator)),
             _ => None,
         }
     }
@@ -312,12 +313,12 @@ impl Converged {
         self != Converged::Pbd || case.scene == crate::beyond::GridScene::Rope
     }
 
-    /// `newton`, `pbd`, `xpbd`.
-    pub fn id(self) -> &'static str {
+    /// `newton backward-euler`, `pbd`, `xpbd`.
+    pub fn id(self) -> String {
         match self {
-            Converged::Newton => "newton",
-            Converged::Pbd => "pbd",
-            Converged::Xpbd => "xpbd",
+            Converged::Newton(i) => format!("newton {}", i.key()),
+            Converged::Pbd => "pbd".into(),
+            Converged::Xpbd => "xpbd".into(),
         }
     }
 
@@ -329,40 +330,15 @@ impl Converged {
                 .build(system, dt)
         };
         match self {
-            Converged::Newton => Ok(Box::new(NewtonSteps {
-                system: system.clone(),
+            Converged::Newton(integrator) => Ok(Box::new(exact_stages(
+                system,
                 dt,
-            })),
+                integrator,
+                Dissipation::NONE,
+            )?)),
             Converged::Pbd => position_based(SolverId::Pbd),
             Converged::Xpbd => position_based(SolverId::Xpbd),
         }
-    }
-}
-
-/// Backward Euler with every step solved to round-off ([`converged_step`]).
-struct NewtonSteps {
-    system: MassSpringSystem,
-    dt: f64,
-}
-
-impl TimeStepper for NewtonSteps {
-    fn name(&self) -> String {
-        "Backward Euler solved to round-off".into()
-    }
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-    fn system(&self) -> &MassSpringSystem {
-        &self.system
-    }
-    fn step(&mut self, state: &mut State) -> Result<()> {
-        *state = converged_step(
-            &self.system,
-            state,
-            self.dt,
-            ConvergedStepOptions::default(),
-        )?;
-        Ok(())
     }
 }
 

@@ -3,14 +3,16 @@
 //! `data/benchmark.csv` and `data/benchmark_truths.csv`) and from nothing else.
 
 use crate::benchmark::rows::{Row, TruthRow};
-use crate::benchmark::sweep::{solvers, BASELINES};
+use crate::benchmark::sweep::{solvers, BASELINES, SECOND_ORDER};
 use crate::benchmark::verdicts::{
     winners, Conclusion, Regime, Verdict, DYNAMICS_LEVELS, STATICS_LEVELS_M, THESIS_THREE, TIE,
 };
 use crate::benchmark::{Benchmark, Case};
 use crate::beyond::{kendall_tau, GridScene};
 use crate::error::Result;
+use crate::optimization_integrator::OptimizationIntegrator;
 use crate::registry::SolverId;
+use crate::report::data::CsvFile;
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -67,6 +69,23 @@ pub const FAMILIES: [(&str, &[SolverId]); 3] = [
         "substeps and vertex descent",
         &[SolverId::XpbdSubsteps, SolverId::Vbd],
     ),
+];
+
+/// A curve of a work-precision panel: a front and how it is drawn.
+struct Curve<'a> {
+    label: String,
+    rows: Vec<&'a Row>,
+    colour: Rgb,
+    line: Line,
+    marker: Marker,
+}
+
+/// The integrators' colours in the Newton panel (Okabe-Ito, black for Backward Euler).
+const INTEGRATOR_COLOURS: [Rgb; 4] = [
+    Rgb(0, 0, 0),
+    Rgb(0, 114, 178),
+    Rgb(230, 159, 0),
+    Rgb(0, 158, 115),
 ];
 
 /// The grey of the explicit baselines and the do-nothing line.
@@ -142,13 +161,26 @@ impl BenchmarkChapter {
             .collect()
     }
 
-    /// A solver's work-precision front on a case: its configurations (every setting and time
-    /// step) that no cheaper one of its own beats in relative physical error, cheapest first.
+    /// A solver's work-precision front on a case under the thesis's scheme: its
+    /// configurations (every setting and time step) that no cheaper one of its own beats in
+    /// relative physical error, cheapest first.
     pub fn front(&self, case: Case, solver: SolverId) -> Vec<&Row> {
+        let integrator = if solver.is_minimizing() {
+            OptimizationIntegrator::BackwardEuler.key()
+        } else {
+            ""
+        };
+        self.front_under(case, solver, integrator)
+    }
+
+    /// [`BenchmarkChapter::front`] under an integrator (its key; empty for a solver's own
+    /// scheme).
+    pub fn front_under(&self, case: Case, solver: SolverId, integrator: &str) -> Vec<&Row> {
         let mut rows: Vec<&Row> = self
             .dynamics(case)
             .into_iter()
-            .filter(|r| r.solver == solver.id() && r.flops.is_some() && r.physical_rel.is_some())
+            .filter(|r| r.solver == solver.id() && r.integrator == integrator)
+            .filter(|r| r.flops.is_some() && r.physical_rel.is_some())
             .collect();
         rows.sort_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()));
         let mut front: Vec<&Row> = Vec::new();
@@ -163,12 +195,29 @@ impl BenchmarkChapter {
         front
     }
 
-    /// Backward Euler's relative physical error against dt on a case (its one setting).
+    /// A solver's relative physical error against dt on a case at its first setting, under
+    /// the thesis's scheme.
     pub fn convergence(&self, case: Case, solver: SolverId) -> Vec<(f64, f64)> {
+        let integrator = if solver.is_minimizing() {
+            OptimizationIntegrator::BackwardEuler.key()
+        } else {
+            ""
+        };
+        self.convergence_under(case, solver, integrator)
+    }
+
+    /// [`BenchmarkChapter::convergence`] under an integrator (its key).
+    pub fn convergence_under(
+        &self,
+        case: Case,
+        solver: SolverId,
+        integrator: &str,
+    ) -> Vec<(f64, f64)> {
         let mut points: Vec<(f64, f64)> = self
             .dynamics(case)
             .into_iter()
             .filter(|r| r.solver == solver.id() && r.iterations == first_setting(solver))
+            .filter(|r| r.integrator == integrator)
             .filter_map(|r| Some((r.dt_s, r.physical_rel?)))
             .collect();
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -178,16 +227,23 @@ impl BenchmarkChapter {
     /// The fitted slope of a solver's relative physical error over the smallest decade of dt
     /// of a case, with the decade's ends.
     pub fn smallest_decade_slope(&self, case: Case, solver: SolverId) -> Option<(f64, f64, f64)> {
-        let points = self.convergence(case, solver);
-        let smallest = points.first()?.0;
-        let decade: Vec<(f64, f64)> = points
-            .iter()
-            .copied()
-            .filter(|(dt, _)| *dt <= 10.0 * smallest * (1.0 + 1e-9))
-            .collect();
-        Some((log_slope(&decade)?, smallest, decade.last()?.0))
+        decade_slope(&self.convergence(case, solver))
     }
+}
 
+/// The fitted slope over the smallest decade of dt of (dt, error) points sorted by dt, with
+/// the decade's ends.
+pub fn decade_slope(points: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
+    let smallest = points.first()?.0;
+    let decade: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .filter(|(dt, _)| *dt <= 10.0 * smallest * (1.0 + 1e-9))
+        .collect();
+    Some((log_slope(&decade)?, smallest, decade.last()?.0))
+}
+
+impl BenchmarkChapter {
     /// The cheapest configuration of any solver that reaches a relative physical error of
     /// `level` on a case.
     pub fn cheapest_overall(&self, case: Case, level: f64) -> Option<&Row> {
@@ -196,91 +252,127 @@ impl BenchmarkChapter {
             .filter(|r| r.physical_rel.is_some_and(|e| e <= level) && r.flops.is_some())
             .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()))
     }
+}
 
-    /// The work-precision figures, one per case, three panels by family, the baselines and
-    /// the do-nothing line on each.
+impl BenchmarkChapter {
+    /// The work-precision figures, one per case: a panel per family of solvers under the
+    /// thesis's scheme and a panel of Newton under each integrator, with the baselines and the
+    /// do-nothing line on each.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
         self.cases()
             .into_iter()
             .map(|case| {
-                let mut csv_rows: Vec<[String; 6]> = Vec::new();
-                let panels: Vec<Panel> = FAMILIES
+                let mut csv = CsvFile::new(&[
+                    "solver",
+                    "integrator",
+                    "iterations",
+                    "dt_s",
+                    "flops",
+                    "physical_rel",
+                    "panel",
+                ]);
+                let mut panels = Vec::new();
+                for (name, family) in FAMILIES {
+                    let curves: Vec<Curve> = family
+                        .iter()
+                        .map(|&id| Curve {
+                            label: id.info().abbreviation.to_string(),
+                            rows: self.front(case, id),
+                            colour: colour(id, 0),
+                            line: solver_line(id),
+                            marker: marker_of(id),
+                        })
+                        .collect();
+                    panels.push(self.work_panel(case, name, curves, &mut csv));
+                }
+                let newton: Vec<Curve> = OptimizationIntegrator::ALL
                     .iter()
-                    .map(|(name, family)| {
-                        let mut panel = Panel::new(
-                            Axis::log("flops over the window"),
-                            Axis::log("physical error / amplitude"),
-                        );
-                        panel.heading = (*name).into();
-                        let mut lowest_cost = f64::INFINITY;
-                        let mut highest_cost: f64 = 0.0;
-                        let mut push = |panel: &mut Panel, id: SolverId, baseline: bool| {
-                            let front = self.front(case, id);
-                            for r in &front {
-                                csv_rows.push([
-                                    id.id().into(),
-                                    r.iterations.to_string(),
-                                    full(r.dt_s),
-                                    full(r.flops.unwrap()),
-                                    full(r.physical_rel.unwrap()),
-                                    (*name).into(),
-                                ]);
-                                lowest_cost = lowest_cost.min(r.flops.unwrap());
-                                highest_cost = highest_cost.max(r.flops.unwrap());
-                            }
-                            let points: Vec<(f64, f64)> = front
-                                .iter()
-                                .map(|r| (r.flops.unwrap(), r.physical_rel.unwrap()))
-                                .collect();
-                            if points.is_empty() {
-                                return;
-                            }
-                            let series = if baseline {
-                                Series::line(id.info().abbreviation, points, BASELINE_GREY)
-                                    .with_line(if id == SolverId::Rk4 {
-                                        Line::Dashed
-                                    } else {
-                                        Line::Dotted
-                                    })
-                                    .with_marker(Marker::Cross, false)
-                            } else {
-                                Series::line(id.info().abbreviation, points, colour(id, 0))
-                                    .with_line(solver_line(id))
-                                    .with_marker(marker_of(id), true)
-                            };
-                            panel.series.push(series);
-                        };
-                        for &id in family.iter() {
-                            push(&mut panel, id, false);
-                        }
-                        for id in BASELINES {
-                            push(&mut panel, id, true);
-                        }
-                        if lowest_cost.is_finite() {
-                            panel.series.push(
-                                Series::line(
-                                    "doing nothing",
-                                    vec![(lowest_cost, 1.0), (highest_cost, 1.0)],
-                                    BASELINE_GREY,
-                                )
-                                .with_line(Line::Solid)
-                                .with_weight(0.6),
-                            );
-                        }
-                        panel
+                    .enumerate()
+                    .map(|(k, &integrator)| Curve {
+                        label: format!("Newton, {}", integrator.label()),
+                        rows: self.front_under(case, SolverId::BackwardEuler, integrator.key()),
+                        colour: INTEGRATOR_COLOURS[k],
+                        line: [Line::Solid, Line::Dashed, Line::Dotted, Line::Solid][k],
+                        marker: [
+                            Marker::Square,
+                            Marker::Circle,
+                            Marker::Triangle,
+                            Marker::Cross,
+                        ][k],
                     })
                     .collect();
-                let mut csv = String::from("solver,iterations,dt_s,flops,physical_rel,panel\n");
-                for r in csv_rows {
-                    let mut w = csv::Writer::from_writer(Vec::new());
-                    w.write_record(&r).expect("writing to memory cannot fail");
-                    csv += &String::from_utf8(w.into_inner().expect("in memory")).expect("UTF-8");
-                }
-                let mut chart = Chart::new(FULL_WIDTH_MM, 190.0, panels);
+                panels.push(self.work_panel(
+                    case,
+                    "Newton under each integrator",
+                    newton,
+                    &mut csv,
+                ));
+                let mut chart = Chart::new(FULL_WIDTH_MM, 250.0, panels);
                 chart.columns = 1;
-                ChapterFigure::new(stem(case), &chart, csv)
+                ChapterFigure::new(stem(case), &chart, csv.text())
             })
             .collect()
+    }
+
+    /// One panel of a work-precision figure: `curves`, then the baselines and doing nothing;
+    /// each drawn point a record of `csv`.
+    fn work_panel(&self, case: Case, name: &str, curves: Vec<Curve>, csv: &mut CsvFile) -> Panel {
+        let mut panel = Panel::new(
+            Axis::log("flops over the window"),
+            Axis::log("physical error / amplitude"),
+        );
+        panel.heading = name.into();
+        let baselines = BASELINES.iter().map(|&id| Curve {
+            label: id.info().abbreviation.to_string(),
+            rows: self.front(case, id),
+            colour: BASELINE_GREY,
+            line: if id == SolverId::Rk4 {
+                Line::Dashed
+            } else {
+                Line::Dotted
+            },
+            marker: Marker::Cross,
+        });
+        let (mut lowest, mut highest) = (f64::INFINITY, 0.0f64);
+        for curve in curves.into_iter().chain(baselines) {
+            for r in &curve.rows {
+                csv.record(vec![
+                    r.solver.clone(),
+                    r.integrator.clone(),
+                    r.iterations.to_string(),
+                    full(r.dt_s),
+                    full(r.flops.unwrap()),
+                    full(r.physical_rel.unwrap()),
+                    name.into(),
+                ]);
+                lowest = lowest.min(r.flops.unwrap());
+                highest = highest.max(r.flops.unwrap());
+            }
+            let points: Vec<(f64, f64)> = curve
+                .rows
+                .iter()
+                .map(|r| (r.flops.unwrap(), r.physical_rel.unwrap()))
+                .collect();
+            if !points.is_empty() {
+                panel.series.push(
+                    Series::line(curve.label, points, curve.colour)
+                        .with_line(curve.line)
+                        .with_marker(curve.marker, curve.colour != BASELINE_GREY),
+                );
+            }
+        }
+        if lowest.is_finite() {
+            panel.series.push(
+                Series::line(
+                    "doing nothing",
+                    vec![(lowest, 1.0), (highest, 1.0)],
+                    BASELINE_GREY,
+                )
+                .with_line(Line::Solid)
+                .with_weight(0.6),
+            );
+        }
+        panel
     }
 
     /// The figures and the data files.
@@ -529,18 +621,30 @@ impl BenchmarkChapter {
             ">relative error at its smallest dt",
         ]);
         for case in self.cases() {
-            for id in [SolverId::BackwardEuler, SolverId::SymplecticEuler] {
-                if let Some((slope, lo, hi)) = self.smallest_decade_slope(case, id) {
-                    let at = self
-                        .convergence(case, id)
-                        .first()
-                        .map_or("–".into(), |p| sig(p.1, 3));
+            let mut lines: Vec<(String, Vec<(f64, f64)>)> = vec![
+                (
+                    "Newton, Backward Euler".into(),
+                    self.convergence(case, SolverId::BackwardEuler),
+                ),
+                (
+                    SolverId::SymplecticEuler.info().abbreviation.into(),
+                    self.convergence(case, SolverId::SymplecticEuler),
+                ),
+            ];
+            for integrator in SECOND_ORDER {
+                lines.push((
+                    format!("Newton, {}", integrator.label()),
+                    self.convergence_under(case, SolverId::BackwardEuler, integrator.key()),
+                ));
+            }
+            for (name, points) in lines {
+                if let Some((slope, lo, hi)) = decade_slope(&points) {
                     t.row(vec![
                         case.label(),
-                        id.info().abbreviation.into(),
+                        name,
                         format!("{} – {}", full(lo), full(hi)),
                         sig(slope, 3),
-                        at,
+                        points.first().map_or("–".into(), |p| sig(p.1, 3)),
                     ]);
                 }
             }
@@ -695,6 +799,7 @@ impl BenchmarkChapter {
     pub fn row(&self, case: Case, solver: SolverId, iterations: usize, dt_s: f64) -> Option<&Row> {
         self.rows.iter().find(|r| {
             r.kind == "dynamics"
+                && r.thesis_scheme()
                 && of_case(&r.scene, r.stiffness_n_per_m, case)
                 && r.solver == solver.id()
                 && r.iterations == iterations

@@ -351,6 +351,7 @@ pub const FILES: &[FileSchema] = &[
             ("stiffness_n_per_m", "N/m"),
             ("solver", ""),
             ("iterations", ""),
+            ("integrator", ""),
             ("stopping", ""),
             ("dt_s", "s"),
             ("window_s", "s"),
