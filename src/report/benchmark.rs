@@ -11,6 +11,7 @@ use crate::benchmark::{Benchmark, Case};
 use crate::beyond::{kendall_tau, GridScene};
 use crate::error::Result;
 use crate::registry::SolverId;
+use crate::report::benchmark_wall::WallTiming;
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
@@ -22,6 +23,8 @@ use crate::report::ChapterFigure;
 pub struct BenchmarkChapter {
     pub rows: Vec<Row>,
     pub truths: Vec<TruthRow>,
+    /// The committed wall-time measurement of `make timing`, if the repository has one.
+    pub wall: Option<WallTiming>,
 }
 
 /// A CSV of serialisable rows, written with `csv::Writer` (its header from the fields' names).
@@ -102,6 +105,7 @@ impl BenchmarkChapter {
         Ok(Self {
             rows: benchmark.rows(),
             truths: benchmark.truth_rows(),
+            wall: None,
         })
     }
 
@@ -205,7 +209,7 @@ impl BenchmarkChapter {
                         panel.heading = (*name).into();
                         let mut lowest_cost = f64::INFINITY;
                         let mut highest_cost: f64 = 0.0;
-                        let mut push = |panel: &mut Panel, id: SolverId, baseline: bool| {
+                        let mut push = |panel: &mut Panel, id: SolverId| {
                             let front = self.front(case, id);
                             for r in &front {
                                 csv_rows.push([
@@ -226,37 +230,13 @@ impl BenchmarkChapter {
                             if points.is_empty() {
                                 return;
                             }
-                            let series = if baseline {
-                                Series::line(id.info().abbreviation, points, BASELINE_GREY)
-                                    .with_line(if id == SolverId::Rk4 {
-                                        Line::Dashed
-                                    } else {
-                                        Line::Dotted
-                                    })
-                                    .with_marker(Marker::Cross, false)
-                            } else {
-                                Series::line(id.info().abbreviation, points, colour(id, 0))
-                                    .with_line(solver_line(id))
-                                    .with_marker(marker_of(id), true)
-                            };
-                            panel.series.push(series);
+                            panel.series.push(front_series(id, points));
                         };
-                        for &id in family.iter() {
-                            push(&mut panel, id, false);
-                        }
-                        for id in BASELINES {
-                            push(&mut panel, id, true);
+                        for &id in family.iter().chain(BASELINES.iter()) {
+                            push(&mut panel, id);
                         }
                         if lowest_cost.is_finite() {
-                            panel.series.push(
-                                Series::line(
-                                    "doing nothing",
-                                    vec![(lowest_cost, 1.0), (highest_cost, 1.0)],
-                                    BASELINE_GREY,
-                                )
-                                .with_line(Line::Solid)
-                                .with_weight(0.6),
-                            );
+                            panel.series.push(doing_nothing(lowest_cost, highest_cost));
                         }
                         panel
                     })
@@ -339,6 +319,31 @@ pub struct ThesisCell {
     pub level: f64,
     pub winners: Vec<SolverId>,
     pub costs: Vec<(SolverId, Option<f64>)>,
+}
+
+/// A solver's front in a work-precision figure: its colour, line and marker, or for an
+/// explicit baseline grey crosses (RK4 dashed, symplectic Euler dotted).
+pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
+    if BASELINES.contains(&id) {
+        Series::line(id.info().abbreviation, points, BASELINE_GREY)
+            .with_line(if id == SolverId::Rk4 {
+                Line::Dashed
+            } else {
+                Line::Dotted
+            })
+            .with_marker(Marker::Cross, false)
+    } else {
+        Series::line(id.info().abbreviation, points, colour(id, 0))
+            .with_line(solver_line(id))
+            .with_marker(marker_of(id), true)
+    }
+}
+
+/// The do-nothing line of a work-precision figure: relative error 1 from cost `lo` to `hi`.
+pub fn doing_nothing(lo: f64, hi: f64) -> Series {
+    Series::line("doing nothing", vec![(lo, 1.0), (hi, 1.0)], BASELINE_GREY)
+        .with_line(Line::Solid)
+        .with_weight(0.6)
 }
 
 fn first_setting(solver: SolverId) -> usize {
@@ -671,6 +676,11 @@ impl BenchmarkChapter {
         }
         md += &t.render();
         md += "\n";
+        md += &crate::report::benchmark_wall::section(
+            &format!("{number}.7"),
+            self.wall.as_ref(),
+            &self.rows,
+        );
         md
     }
 }
