@@ -160,7 +160,7 @@ impl WallTiming {
             for (field, value) in positive {
                 if !(value.is_finite() && value > 0.0) {
                     return Err(Error::invalid(
-                        &format!("{} record {} {field}", path.display(), i + 1),
+                        format!("{} record {} {field}", path.display(), i + 1),
                         value,
                         "a positive finite number",
                     ));
