@@ -17,7 +17,7 @@ use crate::beyond::kendall_tau;
 use crate::error::{Error, Result};
 use crate::registry::SolverId;
 use crate::report::benchmark::{doing_nothing, front_series, of_case, FAMILIES};
-use crate::report::format::{full, sig, MarkdownTable};
+use crate::report::format::{short, sig, MarkdownTable};
 use crate::report::plot::{Axis, Chart, LegendPlace, Panel, FULL_WIDTH_MM};
 use crate::report::ChapterFigure;
 use serde::{Deserialize, Serialize};
@@ -380,7 +380,7 @@ pub fn rankings_table(timing: &WallTiming) -> MarkdownTable {
             .collect();
         t.row(vec![
             c.case.label(),
-            format!("{} %", full(100.0 * c.level)),
+            format!("{} %", short(100.0 * c.level)),
             c.by_flops.len().to_string(),
             c.tau.map_or("–".into(), |t| format!("{t:.2}")),
             first(&c.by_flops).into(),
@@ -388,7 +388,7 @@ pub fn rankings_table(timing: &WallTiming) -> MarkdownTable {
             if reversed.is_empty() {
                 "none".into()
             } else {
-                format!("{} pairs: {}", reversed.len(), reversed.join(", "))
+                format!("{}: {}", reversed.len(), reversed.join(", "))
             },
         ]);
     }
@@ -427,7 +427,7 @@ pub fn costs_compared(timing: &WallTiming) -> String {
          different configurations), the solvers ranked by both; a pair is ordered the other way \
          when it is, in both costs, by more than a tie ({} %; `a < b`: `a` is cheaper in flops, \
          `b` in wall time).\n\n",
-        full(100.0 * TIE)
+        short(100.0 * TIE)
     );
     md += &rankings_table(timing).render();
     md

@@ -17,7 +17,7 @@ use mass_spring_solvers::experiments::run_parallel;
 use mass_spring_solvers::report::benchmark_wall::{
     costs_compared, figure, stem, RunTime, WallRow, WallTiming, WALL_CSV, WALL_SPREAD_FLAG,
 };
-use mass_spring_solvers::report::format::full;
+use mass_spring_solvers::report::format::short;
 use mass_spring_solvers::report::ChapterFigure;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -176,11 +176,11 @@ impl Timed {
              CPU time).\n\n",
             self.diverged,
             self.rows.len(),
-            full(self.batch_seconds * 1e3),
+            short(self.batch_seconds * 1e3),
             self.batched,
-            full(LONG_RUN_S * 1e3),
+            short(LONG_RUN_S * 1e3),
             flagged,
-            full(WALL_SPREAD_FLAG * 100.0),
+            short(WALL_SPREAD_FLAG * 100.0),
             self.cpu_flagged
         );
         md += &costs_compared(timing);
@@ -217,7 +217,7 @@ impl Timed {
             md,
             "Flagged (wall-time spread of the batch means above {} %; the `flagged` column of \
              [`{WALL_CSV}`]({WALL_CSV})): {}.\n",
-            full(WALL_SPREAD_FLAG * 100.0),
+            short(WALL_SPREAD_FLAG * 100.0),
             counts.join("; ")
         );
         md
