@@ -134,6 +134,20 @@ fn the_two_rankings_are_compared_at_matched_accuracy() {
     assert_eq!(c.tau, Some(expected));
     assert_eq!(expected, -1.0);
     assert_eq!(c.reversed, [(xpbd, admm), (liu, admm)]);
+    // The summary reads the rankings it recomputes: τ = −1 with three solvers, two pairs.
+    let timing = WallTiming {
+        rows: rows.clone(),
+        machine: machine(),
+    };
+    let text = summary(&timing);
+    assert!(text.contains("is -1.00 to -1.00, and 2 pairs"), "{text}");
+    assert!(text.contains("the wall time reorders"), "{text}");
+    let mut agreeing = timing.clone();
+    agreeing.rows[1].wall_s = 2.5e-3;
+    agreeing.rows[2].wall_s = 3e-3;
+    let text = summary(&agreeing);
+    assert!(text.contains("is 1.00 to 1.00, and 0 pairs"), "{text}");
+    assert!(text.contains("nearly as the wall time does"), "{text}");
     let at_one_percent = compare(&rows, case, 0.01);
     assert_eq!(at_one_percent.by_flops, [(admm, 500.0)]);
     assert_eq!(at_one_percent.by_wall, [(admm, 8e-3)]);

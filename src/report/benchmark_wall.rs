@@ -474,9 +474,47 @@ pub fn section(
             " (the others were measured on a benchmark since changed: run `make timing` again)"
         }
     );
+    md += &summary(timing);
     md += &costs_compared(timing);
     md += "\n";
     md
+}
+
+/// A τ from this up reads as two rankings that nearly agree.
+pub const AGREEING_TAU: f64 = 0.8;
+
+/// The comparisons in one sentence: the range of τ where at least three solvers reach a level,
+/// and the pairs ordered the other way in all.
+pub fn summary(timing: &WallTiming) -> String {
+    let all = comparisons(timing);
+    let taus: Vec<f64> = all
+        .iter()
+        .filter(|c| c.by_flops.len() >= 3)
+        .filter_map(|c| c.tau)
+        .collect();
+    let reversed: usize = all.iter().map(|c| c.reversed.len()).sum();
+    let (Some(lo), Some(hi)) = (
+        taus.iter().copied().reduce(f64::min),
+        taus.iter().copied().reduce(f64::max),
+    ) else {
+        return String::new();
+    };
+    let reading = if lo >= AGREEING_TAU {
+        format!(
+            "τ ≥ {AGREEING_TAU} everywhere: at matched accuracy the flops rank the solvers \
+             nearly as the wall time does, their flops differing by more than their wall time \
+             per flop"
+        )
+    } else {
+        "the wall time reorders the solvers the flops rank".to_string()
+    };
+    format!(
+        "Where at least three solvers reach a level ({} of the {} cells of case and level), \
+         Kendall's τ between the flop ranking and the wall-time ranking is {lo:.2} to {hi:.2}, \
+         and {reversed} pairs of solvers in all are ordered the other way beyond ties; {reading}.\n\n",
+        taus.len(),
+        all.len()
+    )
 }
 
 /// The rows that no cheaper row beats in `error`, cheapest first by `cost` (a work-precision

@@ -28,7 +28,7 @@ use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::output_file::{Links, OutputFile};
 use mass_spring_solvers::report::benchmark::rows_csv;
 use mass_spring_solvers::report::benchmark_wall::{WallTiming, MACHINE_CSV, WALL_CSV};
-use measure::{load_average, machine, machine_md, BATCH_SECONDS};
+use measure::{checkout, load_average, machine, machine_md, BATCH_SECONDS};
 use scaling::{measure as measure_point, point_line, scaling_study, solvers, SIDES};
 use scaling_md::scaling_md;
 use std::path::{Path, PathBuf};
@@ -157,6 +157,7 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
     }
     let mut outputs = open_outputs(&out, &names).map_err(Failure::Input)?;
     let started = Instant::now();
+    let checkout = checkout(&root);
     let load_before = load_average();
     let batch_seconds = if args.quick {
         QUICK_BATCH_SECONDS
@@ -173,7 +174,7 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
     };
     let timing = WallTiming {
         rows: timed.rows.clone(),
-        machine: machine(&root, load_before, started.elapsed().as_secs_f64()),
+        machine: machine(checkout, load_before, started.elapsed().as_secs_f64()),
     };
 
     let mut md = if args.quick {

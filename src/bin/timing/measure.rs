@@ -116,9 +116,10 @@ pub fn load_average() -> String {
         .unwrap_or_else(|_| "unknown".into())
 }
 
-/// Who measured, for the repository at `root`: the commit (and whether the working tree had
-/// changes outside `report/timing/`, which a run replaces), the machine, the toolchain, now.
-pub fn machine(root: &Path, load_before: String, run_time_s: f64) -> Machine {
+/// The commit checked out at `root` and whether the working tree had changes outside
+/// `report/timing/` (which a run replaces): read before the measurements, the state of the
+/// code that runs.
+pub fn checkout(root: &Path) -> (String, bool) {
     let status = [
         "status",
         "--porcelain",
@@ -127,12 +128,20 @@ pub fn machine(root: &Path, load_before: String, run_time_s: f64) -> Machine {
         ".",
         ":!report/timing",
     ];
+    (
+        git(&["rev-parse", "HEAD"], root),
+        !git(&status, root).is_empty(),
+    )
+}
+
+/// Who measured: the checkout of [`checkout`], the machine, the toolchain, now.
+pub fn machine(checkout: (String, bool), load_before: String, run_time_s: f64) -> Machine {
     let now = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
     Machine {
-        commit: git(&["rev-parse", "HEAD"], root),
-        uncommitted_changes: !git(&status, root).is_empty(),
+        commit: checkout.0,
+        uncommitted_changes: checkout.1,
         cpu: cpu_model(),
         cores: std::thread::available_parallelism().map_or(0, |n| n.get()),
         toolchain: rustc_version(),
