@@ -5,7 +5,7 @@
 //! ([`ConvergedNewton`]), so that what is measured is the integrator's error, not a solver's:
 //! - **order** ([`OrderStudy`]): the positions at [`ORDER_TIME_S`] of the rope at
 //!   [`ORDER_STIFFNESS`] from its start, against the exact motion (RK4 at a hundredth of its
-//!   stability limit, [`ExactMotion`]), as the largest node distance, for each time step of
+//!   stability limit, the benchmark's exact motion), as the largest node distance, for each time step of
 //!   [`ORDER_DTS`] (halved from 4e-3 to 5e-4 s); the order is the least-squares slope of
 //!   $`\log e`$ against $`\log h`$ ([`fitted_slope`]);
 //! - **numerical damping** ([`DampingStudy`]): the rope at [`DAMPING_STIFFNESS`] started in its
@@ -22,6 +22,8 @@
 //!   solver error it bought: the largest node distance to the same integrator's run with the
 //!   stages solved to round-off, over every step.
 
+use crate::benchmark::truth::EXACT_STABILITY_FRACTION;
+use crate::benchmark::SAMPLE_INTERVAL_S;
 use crate::beyond::{GridScene, CONVERGENCE_DAMPING};
 use crate::converged_stage::ConvergedNewton;
 use crate::dissipation::Dissipation;
@@ -30,10 +32,7 @@ use crate::optimization_integrator::{Integrated, OptimizationIntegrator};
 use crate::registry::{SolverId, SolverSpec};
 use crate::solver::TimeStepper;
 use crate::system::{MassSpringSystem, State, Vec3};
-use crate::work_precision::{
-    flops_setup, logged_flops, rk4_stability_limit, whole_steps, Case, ExactMotion,
-    REFERENCE_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
-};
+use crate::work_precision::{flops_setup, logged_flops, rk4_stability_limit, whole_steps};
 
 /// The stiffness of the order study, N/m (the issue: the k = 1e3 rope).
 pub const ORDER_STIFFNESS: f64 = 1e3;
@@ -104,15 +103,16 @@ pub fn fitted_slope(points: &[(f64, f64)]) -> f64 {
 }
 
 /// The exact positions of the order study: the rope at [`ORDER_STIFFNESS`] at
-/// [`ORDER_TIME_S`], by [`ExactMotion`] (RK4 at [`REFERENCE_STABILITY_FRACTION`] of its limit).
+/// [`ORDER_TIME_S`], by RK4 at [`EXACT_STABILITY_FRACTION`] of its limit (the benchmark's
+/// exact motion, its step rounded down to divide the benchmark's sample interval).
 pub fn order_reference() -> Result<Vec<Vec3>> {
-    let case = Case {
-        scene: GridScene::Rope,
-        stiffness: ORDER_STIFFNESS,
-    };
-    let samples = whole_steps(ORDER_TIME_S, SAMPLE_INTERVAL_S)? as usize;
-    let exact = ExactMotion::compute_samples(case, REFERENCE_STABILITY_FRACTION, samples)?;
-    Ok(exact.samples[samples - 1].clone())
+    let system = GridScene::Rope.system(ORDER_STIFFNESS)?;
+    let per_sample =
+        (SAMPLE_INTERVAL_S / (EXACT_STABILITY_FRACTION * rk4_stability_limit(&system))).ceil();
+    let h = SAMPLE_INTERVAL_S / per_sample;
+    let steps = whole_steps(ORDER_TIME_S, SAMPLE_INTERVAL_S)? * per_sample as u64;
+    let mut rk4 = SolverSpec::new(SolverId::Rk4, 1).build(&system, h)?;
+    Ok(run_steps(rk4.as_mut(), system.initial_state(), steps)?.x)
 }
 
 /// Builds a stepper for a system and a time step (an integrator with its solver).
@@ -280,8 +280,7 @@ pub struct DampingStudy {
 pub fn exact_amplitude_rate(mode: &Mode) -> Result<f64> {
     let system = GridScene::Rope.system(DAMPING_STIFFNESS)?;
     let window = DAMPING_PERIODS as f64 * 2.0 * std::f64::consts::PI / mode.omega;
-    let per_step =
-        (DAMPING_DT / (REFERENCE_STABILITY_FRACTION * rk4_stability_limit(&system))).ceil();
+    let per_step = (DAMPING_DT / (EXACT_STABILITY_FRACTION * rk4_stability_limit(&system))).ceil();
     let h = DAMPING_DT / per_step;
     let mut rk4 = SolverSpec::new(SolverId::Rk4, 1).build(&system, h)?;
     let steps = (window / h).round() as u64;

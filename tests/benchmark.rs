@@ -105,7 +105,9 @@ fn the_lowest_excited_mode_is_in_the_rope_plane() {
 }
 
 /// The exact motion is converged: halving RK4's step moves it by far less than the smallest
-/// physical error any configuration reaches (but RK4's own, which the exact motion bounds).
+/// physical error any configuration reaches (but RK4's own, which the exact motion bounds);
+/// its own error is about a fifteenth of that change (RK4 is of order 4), so three hundred
+/// times below the smallest error.
 #[test]
 fn the_exact_motion_is_converged() {
     let c = chapter();
@@ -118,7 +120,7 @@ fn the_exact_motion_is_converged() {
             .filter_map(|r| r.physical_rms_m)
             .fold(f64::INFINITY, f64::min);
         assert!(
-            truth.halving_gap_m < 1e-3 * smallest,
+            truth.halving_gap_m < 0.05 * smallest,
             "{}: {} vs {smallest}",
             case.label(),
             truth.halving_gap_m
@@ -138,6 +140,7 @@ fn backward_euler_converges_at_order_one_on_the_rope() {
             .iter()
             .filter(|r| r.kind == "dynamics" && r.scene == "rope")
             .filter(|r| r.stiffness_n_per_m == case.stiffness && r.solver == "backward_euler")
+            .filter(|r| r.integrator == "backward-euler")
             .filter_map(|r| Some((r.dt_s.log10(), r.physical_rel?.log10())))
             .collect();
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -179,6 +182,7 @@ fn the_thesis_verdicts_come_from_the_csv() {
     let cost = |rows: &[Row], k: f64, solver: &str, statics: bool, level: f64| -> Option<f64> {
         rows.iter()
             .filter(|r| r.scene == "rope" && r.stiffness_n_per_m == k && r.solver == solver)
+            .filter(|r| r.integrator.is_empty() || r.integrator == "backward-euler")
             .filter(|r| r.failure.is_empty())
             .filter(|r| {
                 if statics {
@@ -285,5 +289,43 @@ fn the_csv_reads_back_to_its_rows() {
             a.physical_rel.map(f64::to_bits),
             b.physical_rel.map(f64::to_bits)
         );
+    }
+}
+
+/// The second-order integrators show order 2 where Newton solves their stages: Newton's
+/// relative physical error under implicit midpoint, BDF2 and TR-BDF2 falls with slope 2 ± 0.2
+/// over the rope's smallest decade of dt, recomputed from the CSV. Negative case: Backward
+/// Euler's slope over the same decade is not within it.
+#[test]
+fn the_second_order_integrators_converge_at_order_two_on_the_rope() {
+    let rows = rows_from_csv();
+    let slope_of = |k: f64, integrator: &str| {
+        let mut p: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.kind == "dynamics" && r.scene == "rope" && r.stiffness_n_per_m == k)
+            .filter(|r| r.solver == "backward_euler" && r.integrator == integrator)
+            .filter_map(|r| Some((r.dt_s.log10(), r.physical_rel?.log10())))
+            .collect();
+        p.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let decade: Vec<(f64, f64)> = p
+            .iter()
+            .copied()
+            .filter(|x| x.0 <= p[0].0 + 1.0 + 1e-9)
+            .collect();
+        let n = decade.len() as f64;
+        let mx = decade.iter().map(|q| q.0).sum::<f64>() / n;
+        let my = decade.iter().map(|q| q.1).sum::<f64>() / n;
+        decade.iter().map(|q| (q.0 - mx) * (q.1 - my)).sum::<f64>()
+            / decade.iter().map(|q| (q.0 - mx).powi(2)).sum::<f64>()
+    };
+    for k in [1e3, 1e6] {
+        for integrator in ["implicit-midpoint", "bdf2", "tr-bdf2"] {
+            let slope = slope_of(k, integrator);
+            assert!(
+                (slope - 2.0).abs() <= 0.2,
+                "k = {k:e}, {integrator}: {slope}"
+            );
+        }
+        assert!((slope_of(k, "backward-euler") - 2.0).abs() > 0.2);
     }
 }

@@ -32,7 +32,6 @@ use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::solver::TimeStepper;
 use mass_spring_solvers::stopping::Convergence;
 use mass_spring_solvers::system::{MassSpringSystem, Node, Spring, State, Vec3};
-use mass_spring_solvers::work_precision::{Case, ExactMotion};
 use mass_spring_solvers::Result;
 use std::process::Command;
 use std::sync::{Arc, Mutex};
@@ -117,16 +116,26 @@ fn tr_bdf2_shares_one_stage_step_and_its_coefficients_are_consistent() {
 #[test]
 fn the_integrators_are_of_orders_one_and_two() {
     let exact = order_reference().unwrap();
-    let finer = ExactMotion::compute_samples(
-        Case {
-            scene: mass_spring_solvers::beyond::GridScene::Rope,
-            stiffness: ORDER_STIFFNESS,
-        },
-        0.005,
-        10,
-    )
-    .unwrap();
-    let reference_error = largest_distance(&exact, &finer.samples[9]);
+    // RK4 at half the exact motion's step, to t = 1 s.
+    let finer = {
+        let system = mass_spring_solvers::beyond::GridScene::Rope
+            .system(ORDER_STIFFNESS)
+            .unwrap();
+        let limit = mass_spring_solvers::work_precision::rk4_stability_limit(&system);
+        let per_sample = (0.1 / (0.005 * limit)).ceil();
+        let mut rk4 = mass_spring_solvers::registry::SolverSpec::new(
+            mass_spring_solvers::registry::SolverId::Rk4,
+            1,
+        )
+        .build(&system, 0.1 / per_sample)
+        .unwrap();
+        let mut state = system.initial_state();
+        for _ in 0..(10 * per_sample as u64) {
+            rk4.step(&mut state).unwrap();
+        }
+        state.x
+    };
+    let reference_error = largest_distance(&exact, &finer);
     for integrator in ALL {
         let study = OrderStudy::compute(integrator, &exact).unwrap();
         let expected = integrator.order() as f64;

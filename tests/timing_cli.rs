@@ -1,15 +1,14 @@
 //! `make timing`'s binary: bad input is named before anything runs, and one point is measured
-//! in its own process and printed as one row (the scaling study itself takes a minute: run by
-//! `make timing`, not here). Its work-precision part in wall time: the selections against the
-//! report's own in flops, on synthetic rows and on a part of the sweep, and the files of a
-//! quick run (no time is asserted).
+//! in its own process and printed as one row (the scaling study itself takes minutes: run by
+//! `make timing`, not here). The benchmark in wall time: the comparisons of the two costs
+//! recomputed on rows built to a known answer, the files read back strictly, and the files of
+//! a quick run (no time is asserted).
 
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::report::work_precision_wall::*;
-use mass_spring_solvers::work_precision::{
-    self as wp, cheapest_by, most_accurate_within_by, pareto_front_by, sweep_of, sweep_points,
-    Case, ErrorKind, Point, WallTime,
-};
+use mass_spring_solvers::benchmark::sweep::{configurations, Configuration};
+use mass_spring_solvers::benchmark::Case;
+use mass_spring_solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::report::benchmark::rows_csv;
+use mass_spring_solvers::report::benchmark_wall::*;
 use std::process::Command;
 
 mod figure_check;
@@ -77,202 +76,257 @@ fn a_point_is_one_row_of_positive_times() {
     assert!(row[14].parse::<f64>().unwrap() > 0.0, "{out}");
 }
 
-/// A row of `case`: the configuration of `id` at `dt_s` with the given costs and error.
-fn row(case: Case, id: SolverId, dt_s: f64, wall: f64, flops: f64, error: f64) -> Timed {
-    let point: Point = sweep_points(case)
-        .into_iter()
-        .find(|p| p.spec.id == id && p.dt_s == dt_s)
-        .expect("the sweep has the configuration");
-    let time = WallTime {
-        min: wall,
-        max: wall,
-        repeats: 5,
+/// A row of the soft rope: `id` with one iteration at `dt_s`, its two costs and its error.
+fn row(id: SolverId, dt_s: f64, wall_s: f64, flops: f64, physical_rel: f64) -> WallRow {
+    let configuration = Configuration {
+        case: Case::ALL[0],
+        spec: SolverSpec::new(id, 1),
+        dt_s,
     };
-    Timed {
-        point,
-        flops,
-        physical_error: error,
-        wall: time,
-        cpu: time,
-        batch: 1,
-        iterations_mean: point.spec.iterations as f64,
-    }
+    let time = RunTime {
+        wall_s,
+        cpu_s: wall_s,
+        wall_spread: 0.01,
+    };
+    WallRow::new(&configuration, time, flops, physical_rel)
 }
 
-/// The cheapest by each cost is the minimum of that cost among the configurations that reach
-/// the level; the front keeps only improvements; where the two costs pick different solvers the
-/// section says so.
-#[test]
-fn the_wall_time_selections_are_the_minimum_of_their_cost() {
-    let case = Case::ALL[0];
-    let (xpbd, liu) = (SolverId::Xpbd, SolverId::FastMassSpring);
-    let rows = vec![
-        row(case, xpbd, 0.01, 5e-3, 500.0, 0.05),
-        row(case, xpbd, 0.02, 3e-3, 300.0, 0.08),
-        row(case, xpbd, 0.05, 1e-3, 100.0, 0.5),
-        row(case, xpbd, 0.005, 9e-3, 900.0, 0.005),
-        // Liu reaches 0.08 m dearer in flops than XPBD, cheaper in wall time.
-        row(case, liu, 0.01, 2e-3, 400.0, 0.07),
-        row(Case::ALL[1], xpbd, 0.1, 1e-9, 1.0, 1e-9),
-    ];
-    let pick = |id, cost, level| cheapest(&rows, case, id, cost, level).map(|r| r.point.dt_s);
-    assert_eq!(pick(xpbd, Cost::Wall, 0.1), Some(0.02));
-    assert_eq!(pick(xpbd, Cost::Wall, 0.06), Some(0.01));
-    assert_eq!(pick(xpbd, Cost::Wall, 0.01), Some(0.005));
-    assert_eq!(pick(xpbd, Cost::Wall, 1e-3), None);
-    let ids = |r: Vec<(SolverId, f64)>| r.into_iter().map(|x| x.0).collect::<Vec<_>>();
-    assert_eq!(ids(ranking(&rows, case, Cost::Wall, 0.08)), [liu, xpbd]);
-    assert_eq!(ids(ranking(&rows, case, Cost::Flops, 0.08)), [xpbd, liu]);
-    assert_eq!(ids(ranking(&rows, case, Cost::Flops, 0.01)), [xpbd]);
-    let front: Vec<f64> = pareto_front_by(rows_of(&rows, case, xpbd), Timed::wall_s, Timed::error)
-        .iter()
-        .map(|r| r.wall_s())
-        .collect();
-    assert_eq!(front, [1e-3, 3e-3, 5e-3, 9e-3]);
-    let best = |budget| most_accurate_within(&rows, case, Cost::Wall, budget).map(|r| r.point);
-    assert_eq!(best(2.5e-3), Some(rows[4].point));
-    assert_eq!(best(1e-4), None);
-    assert_eq!(
-        most_frequent_wall_winner(&rows, case),
-        Some((vec![xpbd], 3, 3))
-    );
-    let md = case_section(&rows, case);
-    assert!(
-        md.contains(
-            "≤ 0.1 m: 2 of 12 solvers reach it; the cheapest in wall time is `fast_mass_spring`"
-        ),
-        "{md}"
-    );
-    assert!(md.contains("they differ"), "{md}");
-    // Liu's best, 0.07 m, is the error both reach: Liu cheaper in both costs there.
-    assert_eq!(common_level(&rows, case), Some(0.07));
-    assert!(
-        md.contains("| `fast_mass_spring` | 0.002000 | 1 | 400.0 | 1 | dt = 0.01 s, 1 it. |"),
-        "{md}"
-    );
-    assert!(md.contains("≤ 0.01 m: 1 of 12 solvers reach it"), "{md}");
-    // Tuples: what the selections need is a cost and an error.
-    let pairs = [
-        (3.0, Some(0.1)),
-        (1.0, None),
-        (2.0, Some(0.1)),
-        (4.0, Some(0.01)),
-    ];
-    let cost = |p: &(f64, Option<f64>)| p.0;
-    let error = |p: &(f64, Option<f64>)| p.1;
-    assert_eq!(cheapest_by(&pairs, cost, error, 0.1), Some(&pairs[2]));
-    assert_eq!(
-        most_accurate_within_by(&pairs, cost, error, 3.0),
-        Some(&pairs[2])
-    );
-    assert_eq!(pareto_front_by(&pairs, cost, error), [&pairs[2], &pairs[3]]);
-}
-
-/// On a part of the real sweep, the selections by flops are the report's own
-/// ([`wp::cheapest`], [`wp::pareto_front`]), at levels between the errors reached; the figure
-/// of every solver passes the report's figure check.
-#[test]
-fn the_flops_selections_are_the_reports() {
-    let case = Case::ALL[0];
-    let points: Vec<Point> = sweep_points(case)
-        .into_iter()
-        .filter(|p| case.dts()[..3].contains(&p.dt_s))
-        .collect();
-    let (_, results) = sweep_of(&points, &|_, _| {}).unwrap();
-    // Wall time falling with flops, so that the two costs disagree everywhere they can.
-    let rows: Vec<Timed> = results
-        .iter()
-        .filter_map(|r| {
-            let e = r.error(ErrorKind::Physical)?;
-            let mut t = row(
-                case,
-                r.point.spec.id,
-                r.point.dt_s,
-                1.0 / r.flops,
-                r.flops,
-                e,
-            );
-            t.point = r.point;
-            Some(t)
-        })
-        .collect();
-    let mut errors: Vec<f64> = rows.iter().map(|r| r.physical_error).collect();
-    errors.sort_by(f64::total_cmp);
-    let mut compared = 0;
-    for id in wp::sweep_solvers() {
-        for level in [errors[errors.len() / 4], errors[errors.len() / 2]] {
-            let ours = cheapest(&rows, case, id, Cost::Flops, level).map(|r| r.point);
-            let theirs =
-                wp::cheapest(&results, case, id, ErrorKind::Physical, level).map(|r| r.point);
-            assert_eq!(ours, theirs, "{id} at {level} m");
-            compared += usize::from(ours.is_some());
+/// Kendall's τ recomputed here from its definition: (concordant − discordant) / pairs.
+fn tau(a: &[SolverId], b: &[SolverId]) -> f64 {
+    let at = |l: &[SolverId], x| l.iter().position(|&y| y == x).unwrap();
+    let (mut c, mut d) = (0, 0);
+    for i in 0..a.len() {
+        for j in i + 1..a.len() {
+            if (at(b, a[i]) < at(b, a[j])) == (i < j) {
+                c += 1;
+            } else {
+                d += 1;
+            }
         }
-        let ours: Vec<Point> = pareto_front_by(rows_of(&rows, case, id), |r| r.flops, Timed::error)
-            .iter()
-            .map(|r| r.point)
-            .collect();
-        let theirs: Vec<Point> = wp::pareto_front(&results, case, id, ErrorKind::Physical)
-            .iter()
-            .map(|r| r.point)
-            .collect();
-        assert_eq!(ours, theirs, "{id}");
     }
-    assert!(compared >= 10, "{compared} levels reached");
-    let f = figure(&rows, case).unwrap();
-    assert_eq!(f.stem, "work_precision_rope_k1e3");
+    (c - d) as f64 / (c + d) as f64
+}
+
+/// Three solvers that reach 10 %: by flops XPBD, Liu, ADMM; by wall time ADMM, Liu, XPBD, Liu
+/// within a tie of XPBD in wall time. τ is recomputed from its definition; the reversed pairs
+/// are those apart by more than a tie in both costs (a rule that ignored ties would also name
+/// XPBD < Liu); a configuration that does not reach the level does not count, and the cheapest
+/// of each cost may be another configuration.
+#[test]
+fn the_two_rankings_are_compared_at_matched_accuracy() {
+    let (xpbd, liu, admm) = (SolverId::Xpbd, SolverId::FastMassSpring, SolverId::AdmmPd);
+    let rows = vec![
+        row(xpbd, 0.1, 2.0e-3, 100.0, 0.05),
+        row(liu, 0.1, 1.95e-3, 200.0, 0.08),
+        row(admm, 0.1, 1.0e-3, 400.0, 0.09),
+        // Cheaper in both costs but not accurate enough.
+        row(admm, 0.05, 1e-6, 1.0, 0.5),
+        // ADMM's cheapest in flops at 1 %, dearer in wall time than its other configuration.
+        row(admm, 0.02, 9e-3, 500.0, 0.005),
+        row(admm, 0.01, 8e-3, 900.0, 0.005),
+    ];
+    let case = Case::ALL[0];
+    let c = compare(&rows, case, 0.1);
+    let ids = |r: &[(SolverId, f64)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
+    assert_eq!(ids(&c.by_flops), [xpbd, liu, admm]);
+    assert_eq!(ids(&c.by_wall), [admm, liu, xpbd]);
+    let expected = tau(&ids(&c.by_flops), &ids(&c.by_wall));
+    assert_eq!(c.tau, Some(expected));
+    assert_eq!(expected, -1.0);
+    assert_eq!(c.reversed, [(xpbd, admm), (liu, admm)]);
+    // The summary reads the rankings it recomputes: τ = −1 with three solvers, two pairs.
+    let timing = WallTiming {
+        rows: rows.clone(),
+        machine: machine(),
+    };
+    let text = summary(&timing);
+    assert!(text.contains("is -1.00 to -1.00, and 2 pairs"), "{text}");
+    assert!(text.contains("the wall time reorders"), "{text}");
+    let mut agreeing = timing.clone();
+    agreeing.rows[1].wall_s = 2.5e-3;
+    agreeing.rows[2].wall_s = 3e-3;
+    let text = summary(&agreeing);
+    assert!(text.contains("is 1.00 to 1.00, and 0 pairs"), "{text}");
+    assert!(text.contains("nearly as the wall time does"), "{text}");
+    let at_one_percent = compare(&rows, case, 0.01);
+    assert_eq!(at_one_percent.by_flops, [(admm, 500.0)]);
+    assert_eq!(at_one_percent.by_wall, [(admm, 8e-3)]);
+    assert_eq!(at_one_percent.tau, None);
+    // Wall time per flop: the sums' ratio, ns.
+    let admm_ns = (1.0e-3 + 1e-6 + 9e-3 + 8e-3) / (400.0 + 1.0 + 500.0 + 900.0) * 1e9;
+    assert!((ns_per_flop(&rows, case, admm).unwrap() - admm_ns).abs() < 1e-6 * admm_ns);
+    let (least, largest) = ns_per_flop_range(&rows, case).unwrap();
+    assert_eq!((least.0, largest.0), (liu, xpbd));
+    assert_eq!(ns_per_flop(&rows, Case::ALL[1], admm), None);
+}
+
+/// Every configuration of the benchmark has its own key columns: a dimension the key misses
+/// would give two configurations one row.
+#[test]
+fn every_configuration_has_its_own_key() {
+    let time = RunTime {
+        wall_s: 1.0,
+        cpu_s: 1.0,
+        wall_spread: 0.0,
+    };
+    for case in Case::ALL {
+        let mut keys: Vec<String> = configurations(case)
+            .iter()
+            .map(|c| {
+                let r = WallRow::new(c, time, 1.0, 1.0);
+                format!(
+                    "{:?}",
+                    (
+                        r.scene,
+                        r.stiffness_n_per_m,
+                        r.solver,
+                        r.iterations,
+                        r.stopping,
+                        r.dt_s
+                    )
+                )
+            })
+            .collect();
+        let n = keys.len();
+        keys.sort();
+        keys.dedup();
+        assert_eq!(keys.len(), n, "{}", case.label());
+    }
+}
+
+fn machine() -> Machine {
+    Machine {
+        commit: "0123456789abcdef0123456789abcdef01234567".into(),
+        uncommitted_changes: false,
+        cpu: "AMD EPYC".into(),
+        cores: 2,
+        toolchain: "rustc 1.95.0".into(),
+        measured_utc: "2026-12-01 20:57:14 UTC".into(),
+        load_before: "1.00 1.00 1.00".into(),
+        load_after: "1.00 1.00 1.00".into(),
+        run_time_s: 400.0,
+    }
+}
+
+/// The files read back strictly: what was written, None without the wall-time file, an error
+/// naming the file and field for a bad value or a missing machine; the subsection says there is
+/// no measurement, or quotes its commit and machine and links TIMING.md.
+#[test]
+fn the_measurement_reads_back_and_the_report_quotes_it() {
+    let dir = std::env::temp_dir().join(format!("timing-read-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    assert_eq!(WallTiming::load(&dir).unwrap(), None);
+    let md = section("12.7", None, &[]);
+    assert!(
+        md.starts_with("### 12.7 Costs in wall time")
+            && md.contains("no `timing/benchmark_wall.csv`"),
+        "{md}"
+    );
+    let rows = vec![
+        row(SolverId::Xpbd, 0.1, 2.0e-3, 100.0, 0.05),
+        row(SolverId::FastMassSpring, 0.1, 2.1e-3, 400.0, 0.08),
+    ];
+    std::fs::write(dir.join(WALL_CSV), rows_csv(&rows)).unwrap();
+    let err = WallTiming::load(&dir).unwrap_err().to_string();
+    assert!(err.contains(MACHINE_CSV), "{err}");
+    std::fs::write(dir.join(MACHINE_CSV), rows_csv(&[machine()])).unwrap();
+    let timing = WallTiming::load(&dir).unwrap().unwrap();
+    assert_eq!(timing.rows, rows);
+    assert_eq!(timing.machine, machine());
+    let md = section("12.7", Some(&timing), &[]);
+    for needle in [
+        "commit `0123456789ab` on AMD EPYC, 2 cores, 2026-12-01 20:57:14 UTC",
+        "](timing/TIMING.md)",
+        "Of its 2 timed configurations, 0 are configurations of this report's benchmark",
+        "a factor 3.8",
+    ] {
+        assert!(md.contains(needle), "{needle} not in {md}");
+    }
+    let mut bad = rows.clone();
+    bad[1].wall_s = -1.0;
+    std::fs::write(dir.join(WALL_CSV), rows_csv(&bad)).unwrap();
+    let err = WallTiming::load(&dir).unwrap_err().to_string();
+    assert!(err.contains("record 2 wall_s"), "{err}");
+    std::fs::write(dir.join(WALL_CSV), "scene,solver\nrope,xpbd\n").unwrap();
+    assert!(WallTiming::load(&dir).is_err());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--quick`: the benchmark part alone, on the soft rope at its two largest time steps; every
+/// file it writes reads back strictly with its columns, TIMING.md embeds the figure, has no
+/// empty section and no internal issue number, and the figure passes the report's figure check.
+#[test]
+fn a_quick_run_writes_the_wall_time_files() {
+    let dir = std::env::temp_dir().join(format!("timing-quick-{}", std::process::id()));
+    let (code, out, err) = timing(&["--quick", "--out", dir.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let stem = stem(Case::ALL[0]);
+    assert!(out.contains(&format!("{stem}.svg")), "{out}");
+    let header = csv::Reader::from_path(dir.join(WALL_CSV))
+        .unwrap()
+        .headers()
+        .unwrap()
+        .clone();
+    assert_eq!(
+        header.iter().collect::<Vec<_>>(),
+        [
+            "scene",
+            "stiffness_n_per_m",
+            "solver",
+            "iterations",
+            "stopping",
+            "dt_s",
+            "wall_s",
+            "cpu_s",
+            "wall_spread",
+            "flagged",
+            "flops",
+            "physical_rel"
+        ]
+    );
+    let timing = WallTiming::load(&dir).unwrap().unwrap();
+    assert!(timing.rows.len() > 40, "{}", timing.rows.len());
+    assert!(timing
+        .rows
+        .iter()
+        .all(|r| r.scene == "rope" && r.dt_s >= 0.05));
+    assert_eq!(
+        timing.machine.cores,
+        std::thread::available_parallelism().unwrap().get()
+    );
+    let md = std::fs::read_to_string(dir.join("TIMING.md")).unwrap();
+    for needle in [
+        format!("]({stem}.svg)"),
+        "Kendall τ (flops, wall)".into(),
+        "**A flop is not a flop.**".into(),
+    ] {
+        assert!(md.contains(&needle), "{needle} not in {md}");
+    }
+    assert!(
+        !md.contains("NaN") && !md.to_lowercase().contains("issue"),
+        "{md}"
+    );
+    let lines: Vec<&str> = md.lines().filter(|l| !l.trim().is_empty()).collect();
+    for pair in lines.windows(2) {
+        assert!(
+            !(pair[0].starts_with('#') && pair[1].starts_with('#')),
+            "an empty section: {pair:?}"
+        );
+    }
+    assert!(
+        !lines.last().unwrap().starts_with('#'),
+        "an empty last section"
+    );
+    let f = figure(&timing.rows, Case::ALL[0]).unwrap();
+    assert_eq!(
+        std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap(),
+        f.svg
+    );
     assert_eq!(
         figure_check::problems(f.stem, &f.layout, &f.svg),
         Vec::<String>::new()
     );
-}
-
-/// `--quick`: the work-precision part alone, on the first case at its two largest time steps;
-/// TIMING.md links the figure, the figure's CSV has its columns and each solver's front falls
-/// in error as its wall time grows.
-#[test]
-fn a_quick_run_writes_the_wall_time_figure_and_tables() {
-    let dir = std::env::temp_dir().join(format!("timing-quick-{}", std::process::id()));
-    let (code, out, err) = timing(&["--quick", "--out", dir.to_str().unwrap()]);
-    assert_eq!(code, 0, "{err}");
-    assert!(out.contains("work_precision_rope_k1e3.svg"), "{out}");
-    let md = std::fs::read_to_string(dir.join("TIMING.md")).unwrap();
-    for needle in [
-        "](work_precision_rope_k1e3.svg)",
-        "| solver | ≤ 0.1 m, wall | ≤ 0.1 m, flops |",
-        "**The most accuracy per unit of wall time** on the rope, k = 1e3 N/m",
-        "configurations' batch means spread by more than 20 %",
-    ] {
-        assert!(md.contains(needle), "{needle} not in {md}");
-    }
-    assert!(!md.contains("NaN"), "{md}");
-    let svg = std::fs::read_to_string(dir.join("work_precision_rope_k1e3.svg")).unwrap();
-    assert!(svg.starts_with("<svg") && svg.contains("wall seconds per simulated second"));
-    let csv = std::fs::read_to_string(dir.join("work_precision_rope_k1e3.csv")).unwrap();
-    let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some(FIGURE_CSV_HEADER));
-    let mut last: Option<(String, f64, f64)> = None;
-    let mut solvers = 0;
-    for line in lines {
-        let c: Vec<&str> = line.split(',').collect();
-        assert_eq!(c.len(), 10, "{line}");
-        let (wall, error): (f64, f64) = (c[4].parse().unwrap(), c[9].parse().unwrap());
-        assert!(
-            c[1].is_empty() || c[1].parse::<f64>().unwrap() > 0.0,
-            "{line}"
-        );
-        for i in [2, 3, 5, 6, 7, 8] {
-            assert!(c[i].parse::<f64>().unwrap() >= 0.0, "{line}");
-        }
-        assert!(wall > 0.0 && error > 0.0, "{line}");
-        match &last {
-            Some((id, w, e)) if id == c[0] => assert!(wall >= *w && error < *e, "{line}"),
-            _ => solvers += 1,
-        }
-        last = Some((c[0].to_string(), wall, error));
-    }
-    assert_eq!(solvers, wp::sweep_solvers().len());
-    let wall_csv = std::fs::read_to_string(dir.join("work_precision_wall.csv")).unwrap();
-    assert_eq!(wall_csv.lines().next(), Some(wp::WALL_CSV_HEADER));
     assert!(
         !dir.join("scaling.csv").exists(),
         "--quick runs no scaling study"
@@ -280,7 +334,7 @@ fn a_quick_run_writes_the_wall_time_figure_and_tables() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-// Issue 27, `shared/docs/reliability-cases.md` [13]: `--out` settled before the measurements,
+// `shared/docs/reliability-cases.md` [13]: `--out` settled before the measurements,
 // the files written atomically and all or none, never through a symbolic link.
 
 use sandbox::{in_mount_namespace, quoted, run_within};
@@ -291,7 +345,7 @@ use std::time::Duration;
 const QUICK_RUN: Duration = Duration::from_secs(60);
 
 /// What `timing` prints while it measures: absent when it refused before measuring.
-const MEASURING: &str = "work-precision errors";
+const MEASURING: &str = "benchmark errors";
 
 fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("timing-i27-{}-{name}", std::process::id()));
@@ -332,7 +386,7 @@ fn a_full_disk_leaves_the_previous_output_whole() {
     std::fs::create_dir(&out).unwrap();
     let script = format!(
         "mount -t tmpfs -o size=12k none {out} && echo old > {out}/TIMING.md && \
-         echo old > {out}/work_precision_wall.csv && {timing} --quick --out {out}; \
+         echo old > {out}/benchmark_wall.csv && {timing} --quick --out {out}; \
          echo \"status=$?\"; for f in {out}/* {out}/.[!.]*; do [ -e \"$f\" ] && \
          echo \"== $(basename \"$f\"): $(cat \"$f\")\"; done",
         out = quoted(&out),
@@ -351,7 +405,7 @@ fn a_full_disk_leaves_the_previous_output_whole() {
     let listing: Vec<&str> = o.lines().filter(|l| l.starts_with("== ")).collect();
     assert_eq!(
         listing,
-        ["== TIMING.md: old", "== work_precision_wall.csv: old"],
+        ["== TIMING.md: old", "== benchmark_wall.csv: old"],
         "{o}"
     );
 }

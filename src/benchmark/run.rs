@@ -4,7 +4,9 @@ use super::metrics::{energy_decay_per_period, largest_distance, modal_period, rm
 use super::sweep::Configuration;
 use super::truth::{record, CaseTruth, Trajectory};
 use crate::error::Result;
-use crate::work_precision::{flops_per_step, flops_setup, logged_flops};
+use crate::solver::TimeStepper;
+use crate::system::MassSpringSystem;
+use crate::work_precision::{logged_flops, run_flops};
 
 /// An error against one ground truth, per node over the free nodes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,6 +64,15 @@ pub struct Outcome {
     pub measured: std::result::Result<Measurement, String>,
 }
 
+/// The solver of a configuration on its case's `system`: the one place that builds it, so
+/// that `make timing` times what the benchmark measures.
+pub fn build_solver(
+    configuration: &Configuration,
+    system: &MassSpringSystem,
+) -> Result<Box<dyn TimeStepper>> {
+    configuration.spec.build(system, configuration.dt_s)
+}
+
 /// Runs a configuration over its case's window and measures it against `truth` and, for the
 /// solver error, its method's converged trajectory `reference`.
 pub fn run(
@@ -71,7 +82,7 @@ pub fn run(
 ) -> Result<Outcome> {
     let case = configuration.case;
     let system = case.scene.system(case.stiffness)?;
-    let mut solver = configuration.spec.build(&system, configuration.dt_s)?;
+    let mut solver = build_solver(configuration, &system)?;
     let trajectory = record(
         solver.as_mut(),
         system.initial_state(),
@@ -83,11 +94,10 @@ pub fn run(
         .iteration_log()
         .filter(|_| trajectory.is_ok())
         .cloned();
-    let steps = (truth.window / configuration.dt_s).round();
     let spec = &configuration.spec;
     let flops = match &log {
         Some(log) => logged_flops(spec, &system, log),
-        None => flops_setup(spec, &system) + steps * flops_per_step(spec, &system),
+        None => run_flops(spec, &system, configuration.dt_s, truth.window),
     };
     let measured = trajectory
         .map(|t| {

@@ -1,5 +1,7 @@
 //! `make report`: runs every experiment the thesis's tables and figures need (once, in
-//! parallel), then the forensic configurations of the rows run, and replaces `report/`
+//! parallel), then the forensic configurations of the rows run, reads the committed wall-time
+//! measurement of `make timing` (`report/timing/benchmark_wall.csv`, if any; never written
+//! here), and replaces `report/`
 //! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv`, `MANIFEST` and the git-ignored
 //! `run-info.md`; what the previous report did not write is carried over (see
 //! [`mass_spring_solvers::report::publish`]). Each phase runs through
@@ -12,6 +14,7 @@ use mass_spring_solvers::experiments::{published_rows, run_all, Configuration, P
 use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::registry::SolverId;
 use mass_spring_solvers::report::benchmark::BenchmarkChapter;
+use mass_spring_solvers::report::benchmark_wall::WallTiming;
 use mass_spring_solvers::report::beyond::BeyondChapter;
 use mass_spring_solvers::report::integrators::IntegratorsChapter;
 use mass_spring_solvers::report::output::{OutputFile, Phases, RunInfo};
@@ -133,6 +136,10 @@ fn run(args: Args) -> Result<String, Failure> {
         .filter(|s| rows.iter().any(|r| r.solver == *s))
         .collect();
     let sources = Sources::read(&root, &solvers)?;
+    // The committed wall-time measurement of `make timing`, read (never written) before the
+    // long runs, from the repository and not from the output directory: the report depends on
+    // nothing of this machine's.
+    let wall = WallTiming::load(&root.join("report/timing")).map_err(Failure::Input)?;
     let mut phases = Phases::default();
     let results = phases.run(
         format!("{} thesis experiments (parallel)", rows.len()),
@@ -161,7 +168,7 @@ fn run(args: Args) -> Result<String, Failure> {
         Some(SHEET_BUDGET),
         SheetChapter::compute,
     )?;
-    let benchmark = phases.run(
+    let mut benchmark = phases.run(
         "the benchmark: work and precision (parallel)",
         Some(BENCHMARK_BUDGET),
         || BenchmarkChapter::compute(&progress("the benchmark")),
@@ -171,6 +178,7 @@ fn run(args: Args) -> Result<String, Failure> {
         Some(INTEGRATORS_BUDGET),
         || IntegratorsChapter::compute(&progress("optimization integrators")),
     )?;
+    benchmark.wall = wall;
     let data = ReportData {
         results,
         forensics: Some(forensics),

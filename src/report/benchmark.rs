@@ -12,6 +12,7 @@ use crate::beyond::{kendall_tau, GridScene};
 use crate::error::Result;
 use crate::optimization_integrator::OptimizationIntegrator;
 use crate::registry::SolverId;
+use crate::report::benchmark_wall::WallTiming;
 use crate::report::data::CsvFile;
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig, sig4, MarkdownTable};
@@ -24,6 +25,8 @@ use crate::report::ChapterFigure;
 pub struct BenchmarkChapter {
     pub rows: Vec<Row>,
     pub truths: Vec<TruthRow>,
+    /// The committed wall-time measurement of `make timing`, if the repository has one.
+    pub wall: Option<WallTiming>,
 }
 
 /// A CSV of serialisable rows, written with `csv::Writer` (its header from the fields' names).
@@ -121,6 +124,7 @@ impl BenchmarkChapter {
         Ok(Self {
             rows: benchmark.rows(),
             truths: benchmark.truth_rows(),
+            wall: None,
         })
     }
 
@@ -440,6 +444,31 @@ pub struct ThesisCell {
     pub level: f64,
     pub winners: Vec<SolverId>,
     pub costs: Vec<(SolverId, Option<f64>)>,
+}
+
+/// A solver's front in a work-precision figure: its colour, line and marker, or for an
+/// explicit baseline grey crosses (RK4 dashed, symplectic Euler dotted).
+pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
+    if BASELINES.contains(&id) {
+        Series::line(id.info().abbreviation, points, BASELINE_GREY)
+            .with_line(if id == SolverId::Rk4 {
+                Line::Dashed
+            } else {
+                Line::Dotted
+            })
+            .with_marker(Marker::Cross, false)
+    } else {
+        Series::line(id.info().abbreviation, points, colour(id, 0))
+            .with_line(solver_line(id))
+            .with_marker(marker_of(id), true)
+    }
+}
+
+/// The do-nothing line of a work-precision figure: relative error 1 from cost `lo` to `hi`.
+pub fn doing_nothing(lo: f64, hi: f64) -> Series {
+    Series::line("doing nothing", vec![(lo, 1.0), (hi, 1.0)], BASELINE_GREY)
+        .with_line(Line::Solid)
+        .with_weight(0.6)
 }
 
 fn first_setting(solver: SolverId) -> usize {
@@ -784,6 +813,11 @@ impl BenchmarkChapter {
         }
         md += &t.render();
         md += "\n";
+        md += &crate::report::benchmark_wall::section(
+            &format!("{number}.7"),
+            self.wall.as_ref(),
+            &self.rows,
+        );
         md
     }
 }

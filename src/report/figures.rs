@@ -84,7 +84,9 @@ pub fn colour(solver: SolverId, index: usize) -> Rgb {
     shades[index.min(2)]
 }
 
-fn solver_marker(solver: SolverId) -> Marker {
+/// The marker of a solver in a figure of many solvers: the thesis's four their own, the others
+/// by registry order.
+pub fn solver_marker(solver: SolverId) -> Marker {
     match solver {
         SolverId::BackwardEuler => Marker::Square,
         SolverId::Xpbd => Marker::Circle,

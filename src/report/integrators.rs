@@ -2,6 +2,7 @@
 //! thesis rope (their measured orders and numerical damping, [`crate::integrator_study`]) and
 //! what each minimizing solver costs per step under each.
 
+use crate::benchmark::truth::EXACT_STABILITY_FRACTION as REFERENCE_STABILITY_FRACTION;
 use crate::error::Result;
 use crate::experiments::run_parallel;
 use crate::integrator_study::{
@@ -18,7 +19,6 @@ use crate::report::plot::{
     Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM,
 };
 use crate::report::ChapterFigure;
-use crate::work_precision::REFERENCE_STABILITY_FRACTION;
 
 /// The columns of `data/integrators.csv`.
 pub const INTEGRATORS_HEADER: [&str; 4] = ["integrator", "case", "order", "damping_per_period"];

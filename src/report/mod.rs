@@ -11,6 +11,7 @@
 //! goes to `run-info.md` ([`output::RunInfo`]), which is git-ignored.
 
 pub mod benchmark;
+pub mod benchmark_wall;
 pub mod beyond;
 pub mod data;
 pub mod errata;
@@ -30,8 +31,6 @@ pub mod tables;
 pub mod traceability;
 pub mod tutorial;
 pub mod versions;
-pub mod work_precision;
-pub mod work_precision_wall;
 
 use crate::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use crate::error::Result;
