@@ -364,7 +364,8 @@ impl MinimizingSolver for Anderson {
         // G of the last accepted point: the fallback, and the step's result.
         v_default.copy_from_slice(it.variable());
         let mut merit_previous = f64::INFINITY;
-        self.convergence.begin(it.positions());
+        self.convergence
+            .begin_stage(state, problem.tau, it.positions());
         // Stopping early only in the tolerance mode.
         while it.solves() < budget {
             let merit = match it.apply(merit_previous) {

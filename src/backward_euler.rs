@@ -406,7 +406,11 @@ impl MinimizingSolver for BackwardEuler {
         }
         let frozen = problem.frozen_positions(state);
         self.dissipation.start(&self.system, &state.x, frozen, dt);
-        self.convergence.begin(state.x.iter().copied());
+        if !self.dissipation.dissipation().is_none() {
+            self.convergence.refuse_residual_with_dissipation()?;
+        }
+        self.convergence
+            .begin_stage(state, problem.tau, state.x.iter().copied());
         // Stopping early only in the tolerance mode, on the positions of Eq (9).
         for _ in 0..self.newton_iterations {
             self.newton_iteration(state, dt)?;

@@ -439,7 +439,8 @@ impl MinimizingSolver for Chebyshev {
         self.v.copy_from_slice(it.variable());
         self.v_previous.copy_from_slice(it.variable());
         let mut omega_k = 1.0;
-        self.convergence.begin(it.positions());
+        self.convergence
+            .begin_stage(state, problem.tau, it.positions());
         // Stopping early only in the tolerance mode.
         for k in 0..self.iterations {
             // v̂^(k+1) = G(v^(k)), the base's iteration.

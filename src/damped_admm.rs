@@ -589,7 +589,11 @@ impl MinimizingSolver for DampedAdmm {
         if let Some(block) = &mut self.drag {
             block.start(&state.x);
         }
-        self.convergence.begin(nodes_of_columns(&it.x));
+        if !self.stage_dissipation.dissipation().is_none() {
+            self.convergence.refuse_residual_with_dissipation()?;
+        }
+        self.convergence
+            .begin_stage(state, problem.tau, nodes_of_columns(&it.x));
         // 2.3-2.10, with the damping blocks beside the springs', stopping early only in the
         // tolerance mode.
         for _ in 0..self.iterations {

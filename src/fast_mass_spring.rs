@@ -255,7 +255,8 @@ impl MinimizingSolver for FastMassSpring {
     fn solve(&mut self, problem: &StageProblem, state: &mut State) -> Result<()> {
         // 2.1 and the first iterate.
         self.begin_stage(state, problem)?;
-        self.convergence.begin(nodes_of_columns(&self.x));
+        self.convergence
+            .begin_stage(state, problem.tau, nodes_of_columns(&self.x));
         // 2.2-2.8, stopping early only in the tolerance mode.
         for _ in 0..self.iterations {
             self.iterate();

@@ -193,7 +193,14 @@ impl TimeStepper for Pbd {
                 p[s.a] += delta_x1;
                 p[s.b] += delta_x2;
             }
-            if self.convergence.converged(p.iter().copied()) {
+            let converged = if self.convergence.wants_value() {
+                // PBD's constraints are XPBD's with zero compliance.
+                let r = crate::xpbd::constraint_residual(&self.system, p, &[], &[]);
+                self.convergence.converged_value(r)
+            } else {
+                self.convergence.converged(p.iter().copied())
+            };
+            if converged {
                 break;
             }
         }

@@ -426,7 +426,8 @@ impl MinimizingSolver for Lbfgs {
         let (mut d, mut x_new, mut gradient_new) = (vec![0.0; 3 * n], x.clone(), gradient.clone());
         let mut spare = Pair::zeros(3 * n);
         self.step_lengths.clear();
-        self.convergence.begin(x.iter().copied());
+        self.convergence
+            .begin_stage(state, problem.tau, x.iter().copied());
         let mut extra_trials = 0;
         // Stopping early in the tolerance mode, or at a direction below round-off.
         for iteration in 0..self.iterations {

@@ -30,13 +30,14 @@ pub trait TimeStepper {
     /// for a solver whose steps have no iterations to stop.
     fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
         let name = self.name();
+        let fresh = Convergence::for_system(stopping, self.system());
         match (self.convergence(), stopping) {
             (Some(convergence), _) => {
-                *convergence = Convergence::new(stopping);
+                *convergence = fresh;
                 Ok(())
             }
             (None, Stopping::Count) => Ok(()),
-            (None, Stopping::Tolerance(t)) => Err(Error::invalid(
+            (None, Stopping::Tolerance(t) | Stopping::Residual(t)) => Err(Error::invalid(
                 "stop_tolerance",
                 t,
                 &format!("no tolerance: {name} has no iterations to stop"),

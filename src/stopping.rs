@@ -22,7 +22,7 @@
 //! false claim.
 
 use crate::error::{require_positive, Result};
-use crate::system::Vec3;
+use crate::system::{MassSpringSystem, State, Vec3};
 
 /// When a step stops iterating.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -33,6 +33,12 @@ pub enum Stopping {
     /// At the first iteration that moves no node by more than this, m, or at the iteration
     /// count, which is then a cap.
     Tolerance(f64),
+    /// At the first iterate whose own residual is at most this, m, or at the count: for a
+    /// minimizing solver the stage problem's gradient over the node's mass, the largest
+    /// $`|x_i - x_{a,i} - \tau u_{0,i} - \tau^2 F_i(x)/m_i|`$ over the free nodes (zero at the
+    /// stage's minimiser, thesis Eq 20); for PBD and XPBD their constraint residual, the
+    /// largest $`|C_j(x) + \tilde\alpha_j \lambda_j|`$ (Eq 16, $`\tilde\alpha = 0`$ for PBD).
+    Residual(f64),
 }
 
 impl Stopping {
@@ -44,19 +50,28 @@ impl Stopping {
         )?))
     }
 
-    /// `count`, or `tolerance 1e-6` (the data files' label).
+    /// A residual mode, checked: `tolerance` > 0 and finite.
+    pub fn residual(tolerance: f64) -> Result<Self> {
+        Ok(Stopping::Residual(require_positive(
+            "residual_tolerance",
+            tolerance,
+        )?))
+    }
+
+    /// `count`, `tolerance 1e-6` or `residual 1e-6` (the data files' label).
     pub fn id(self) -> String {
         match self {
             Stopping::Count => "count".into(),
             Stopping::Tolerance(t) => format!("tolerance {t:e}"),
+            Stopping::Residual(t) => format!("residual {t:e}"),
         }
     }
 
-    /// The tolerance, m, if any.
+    /// The tolerance, m, if any (of either mode).
     pub fn tolerance_m(self) -> Option<f64> {
         match self {
             Stopping::Count => None,
-            Stopping::Tolerance(t) => Some(t),
+            Stopping::Tolerance(t) | Stopping::Residual(t) => Some(t),
         }
     }
 }
@@ -104,6 +119,12 @@ impl IterationLog {
 #[derive(Debug, Clone, Default)]
 pub struct Convergence {
     stopping: Stopping,
+    /// The residual mode's system, its stage's $`x_a + \tau u_0`$ and $`\tau^2`$, and a force
+    /// buffer.
+    system: Option<MassSpringSystem>,
+    anchor: Vec<Vec3>,
+    tau2: f64,
+    forces: Vec<Vec3>,
     /// The previous iterate's nodes (tolerance mode only).
     previous: Vec<Vec3>,
     /// Iterations of the current step.
@@ -122,6 +143,17 @@ impl Convergence {
         }
     }
 
+    /// A test in `stopping` mode for a solver of `system` (the residual mode evaluates its
+    /// forces).
+    pub fn for_system(stopping: Stopping, system: &MassSpringSystem) -> Self {
+        let mut c = Self::new(stopping);
+        if let Stopping::Residual(_) = stopping {
+            c.forces = vec![Vec3::zeros(); system.len()];
+            c.system = Some(system.clone());
+        }
+        c
+    }
+
     /// The mode.
     pub fn stopping(&self) -> Stopping {
         self.stopping
@@ -133,6 +165,7 @@ impl Convergence {
         match self.stopping {
             Stopping::Count => format!("{count} {noun}"),
             Stopping::Tolerance(t) => format!("{noun} to {t:e} m, at most {count}"),
+            Stopping::Residual(t) => format!("{noun} to a residual of {t:e} m, at most {count}"),
         }
     }
 
@@ -151,11 +184,62 @@ impl Convergence {
         }
     }
 
+    /// A minimizing solver's stage starts from the iterate `x`: [`Convergence::begin`], and
+    /// for the residual mode the stage's pseudo-state `stage` $`(x_a, u_0)`$ and its step
+    /// $`\tau`$.
+    pub fn begin_stage(&mut self, stage: &State, tau: f64, x: impl Iterator<Item = Vec3>) {
+        self.begin(x);
+        if let Stopping::Residual(_) = self.stopping {
+            self.anchor.clear();
+            self.anchor
+                .extend(stage.x.iter().zip(&stage.v).map(|(x, u)| x + tau * u));
+            self.tau2 = tau * tau;
+        }
+    }
+
+    /// An error naming `residual_tolerance` in the residual mode: a solver with a dissipation
+    /// ([`crate::dissipation`]) minimises a stage objective with the dissipation's term, whose
+    /// gradient the undamped residual of [`Stopping::Residual`] leaves out.
+    pub fn refuse_residual_with_dissipation(&self) -> Result<()> {
+        match self.stopping {
+            Stopping::Residual(t) => Err(crate::error::Error::invalid(
+                "residual_tolerance",
+                t,
+                "no residual mode with a dissipation: the residual is the undamped stage \
+                 problem's (use the tolerance mode)",
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// Whether the mode reads a solver-supplied residual ([`Convergence::converged_value`])
+    /// rather than the iterate: the residual mode of a solver that did not begin a stage
+    /// (PBD, XPBD).
+    pub fn wants_value(&self) -> bool {
+        matches!(self.stopping, Stopping::Residual(_)) && self.anchor.is_empty()
+    }
+
+    /// An iteration left the residual `r`, m: whether it meets the residual tolerance.
+    pub fn converged_value(&mut self, r: f64) -> bool {
+        self.iterations += 1;
+        let Stopping::Residual(tolerance) = self.stopping else {
+            return false;
+        };
+        self.met = r <= tolerance;
+        self.met
+    }
+
     /// An iteration produced the iterate `x`: whether it meets the tolerance,
     /// $`\delta^{(j)} \le \varepsilon`$ (module doc). Always false in the count mode, which
     /// reads nothing, so that a run in that mode does the arithmetic of a solver without this
     /// test.
     pub fn converged(&mut self, x: impl Iterator<Item = Vec3>) -> bool {
+        if let Stopping::Residual(tolerance) = self.stopping {
+            self.iterations += 1;
+            let r = self.stage_residual(x);
+            self.met = r <= tolerance;
+            return self.met;
+        }
         self.iterations += 1;
         let Stopping::Tolerance(tolerance) = self.stopping else {
             return false;
@@ -167,6 +251,25 @@ impl Convergence {
         }
         self.met = delta <= tolerance;
         self.met
+    }
+
+    /// The stage problem's residual at `x`, m (the [`Stopping::Residual`] doc).
+    fn stage_residual(&mut self, x: impl Iterator<Item = Vec3>) -> f64 {
+        let system = self
+            .system
+            .as_ref()
+            .expect("a residual mode is built for its system");
+        self.previous.clear();
+        self.previous.extend(x);
+        system.forces(&self.previous, &mut self.forces);
+        let mut r = 0.0_f64;
+        for (i, node) in system.nodes().iter().enumerate() {
+            if !node.fixed {
+                let g = self.previous[i] - self.anchor[i] - self.tau2 / node.mass * self.forces[i];
+                r = r.max(g.norm());
+            }
+        }
+        r
     }
 
     /// An iteration found that its iterate cannot move (below round-off): it counts, and the
@@ -195,7 +298,7 @@ impl Convergence {
             log.steps_by_iterations.resize(iterations + 1, 0);
         }
         log.steps_by_iterations[iterations] += 1;
-        if !self.met && matches!(self.stopping, Stopping::Tolerance(_)) {
+        if !self.met && !matches!(self.stopping, Stopping::Count) {
             log.capped += 1;
         }
         log.extra += extra;

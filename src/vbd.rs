@@ -366,7 +366,8 @@ impl MinimizingSolver for Vbd {
             .start
             .first_iterate(&self.system, state, problem)
             .to_vec();
-        self.convergence.begin(x.iter().copied());
+        self.convergence
+            .begin_stage(state, problem.tau, x.iter().copied());
         let mut skipped = 0;
         // Stopping early only in the tolerance mode.
         for _ in 0..self.iterations {

@@ -148,6 +148,33 @@ pub fn residuals(
     Residuals { g, h }
 }
 
+/// The largest $`|h_j| = |C_j(x) + \tilde\alpha_j\lambda_j|`$ over the springs, m: the part of
+/// Eq 16's residual that XPBD drives to zero ([`residuals`]), read by the residual stopping mode
+/// ([`crate::stopping::Stopping::Residual`]). Empty `alpha_tilde` and `lambda` mean zero
+/// compliance, PBD's $`|C_j(x)|`$. A spring between two fixed nodes is left out: nothing can
+/// move it ([`delta_lambda`]).
+pub fn constraint_residual(
+    system: &MassSpringSystem,
+    x: &[Vec3],
+    alpha_tilde: &[f64],
+    lambda: &[f64],
+) -> f64 {
+    let nodes = system.nodes();
+    system
+        .springs()
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !(nodes[s.a].fixed && nodes[s.b].fixed))
+        .map(|(j, s)| {
+            let compliance_term = match (alpha_tilde.get(j), lambda.get(j)) {
+                (Some(a), Some(l)) => a * l,
+                _ => 0.0,
+            };
+            (spring::constraint(&x[s.a], &x[s.b], s.rest_length) + compliance_term).abs()
+        })
+        .fold(0.0, f64::max)
+}
+
 /// How the compliance of each spring is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Compliance {
@@ -334,7 +361,13 @@ impl TimeStepper for Xpbd {
                 x[s.a] += delta_x1;
                 x[s.b] += delta_x2;
             }
-            if self.convergence.converged(x.iter().copied()) {
+            let converged = if self.convergence.wants_value() {
+                let r = constraint_residual(&self.system, x, &self.alpha_tilde, &self.lambda);
+                self.convergence.converged_value(r)
+            } else {
+                self.convergence.converged(x.iter().copied())
+            };
+            if converged {
                 break;
             }
         }

@@ -181,6 +181,7 @@ fn every_configuration_has_its_own_key() {
                         r.stiffness_n_per_m,
                         r.solver,
                         r.iterations,
+                        r.integrator,
                         r.stopping,
                         r.dt_s
                     )
@@ -275,6 +276,7 @@ fn a_quick_run_writes_the_wall_time_files() {
             "stiffness_n_per_m",
             "solver",
             "iterations",
+            "integrator",
             "stopping",
             "dt_s",
             "wall_s",

@@ -46,6 +46,7 @@ const SHAPES: &[Column] = &[("series", ""), ("node", ""), ("x_m", "m"), ("y_m", 
 
 const WORK_PRECISION_FIGURE: &[Column] = &[
     ("solver", ""),
+    ("integrator", ""),
     ("iterations", ""),
     ("dt_s", "s"),
     ("flops", ""),
