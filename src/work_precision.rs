@@ -13,7 +13,7 @@ use crate::error::{require_positive, Error, Result};
 use crate::linear::SymmetricMatrix;
 use crate::local_global::AdmmMerit;
 use crate::registry::{SolverId, SolverSpec};
-use crate::stopping::IterationLog;
+use crate::stopping::{IterationLog, Stopping};
 use crate::system::MassSpringSystem;
 
 /// A scene at a stiffness: one case of the benchmark.
@@ -358,6 +358,21 @@ pub fn run_flops(spec: &SolverSpec, system: &MassSpringSystem, dt: f64, window: 
 /// difference 3, its squared norm 5 and the square root 1.
 pub const FLOPS_TOLERANCE_TEST_PER_NODE: f64 = 9.0;
 
+/// The residual test of one iteration in the residual mode
+/// ([`crate::stopping::Stopping::Residual`]): for a minimizing solver the forces
+/// ([`FLOPS_SPRING_FORCE`] per spring) and per node the gradient over mass, $`x - x_a`$ 3,
+/// $`\tau^2/m`$ 1, its product with the force 3, the difference 3, the squared norm 5 and the
+/// square root 1; for PBD and XPBD per spring $`|C + \tilde\alpha\lambda|`$, the difference 3,
+/// its squared norm 5, the square root 1, the rest length 1 and the compliance term 2.
+pub fn flops_residual_test(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    let s = system.springs().len() as f64;
+    if spec.id.is_minimizing() {
+        s * FLOPS_SPRING_FORCE + 16.0 * system.len() as f64
+    } else {
+        12.0 * s
+    }
+}
+
 /// The merit of one Anderson-ADMM iterate: Zhang et al.'s primal residual
 /// $`|W(\bar u^+ - \bar u)|^2`$, 11 per spring (difference 3, weight 3, squared norm 5); or
 /// the combined residual, per spring $`Dx^+ - z`$ 6, $`D\,\delta x`$ 3, the two weights 6 and
@@ -398,7 +413,7 @@ pub fn flops_of_extra(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
 
 /// Floating-point operations of a run whose steps took the iterations of `log`: setup
 /// $`+ \sum_m N_m\,(`$overhead $`+ \sum_{j<m}`$ iteration $`j)`$, with $`N_m`$ the steps of
-/// $`m`$ iterations, + the tolerance test of every iteration in the tolerance mode + the
+/// $`m`$ iterations, + the tolerance or residual test of every iteration in those modes + the
 /// extra work ([`flops_of_extra`]). In the count mode, and without early ends or extra work,
 /// it is [`run_flops`].
 pub fn logged_flops(spec: &SolverSpec, system: &MassSpringSystem, log: &IterationLog) -> f64 {
@@ -413,8 +428,11 @@ pub fn logged_flops(spec: &SolverSpec, system: &MassSpringSystem, log: &Iteratio
         iterations += (m as u64 * steps) as f64;
         total += steps as f64 * (overhead + step_of);
     }
-    if spec.stopping.tolerance_m().is_some() {
-        total += iterations * FLOPS_TOLERANCE_TEST_PER_NODE * system.len() as f64;
-    }
+    total += iterations
+        * match spec.stopping {
+            Stopping::Count => 0.0,
+            Stopping::Tolerance(_) => FLOPS_TOLERANCE_TEST_PER_NODE * system.len() as f64,
+            Stopping::Residual(_) => flops_residual_test(spec, system),
+        };
     total + log.extra as f64 * flops_of_extra(spec, system)
 }

@@ -21,7 +21,10 @@
 //!    on the rope, the sheet as far as the budget allows; the explicit baselines beside them.
 //!    Every minimizing solver also runs under the second-order optimization integrators
 //!    ([`crate::optimization_integrator`]: implicit midpoint, BDF2, TR-BDF2) at its first
-//!    setting, and Newton under each over every time step.
+//!    setting, and Newton under each over every time step. Beside the fixed counts, the
+//!    **tolerance points**: every iterative solver aiming at solver errors of 1e-4, 1e-6 and
+//!    1e-8 m, each step stopping at its own residual ([`sweep::tolerance_configurations`]),
+//!    each point labelled by the solver error it achieved.
 //! 5. **Costs**: counted floating-point operations ([`crate::work_precision`]'s model, applied
 //!    to the iterations each step took).
 //! 6. **The thesis's question** ([`verdicts`], [`statics`]): statics as the cost of coming to
@@ -49,7 +52,7 @@ use crate::experiments::run_parallel;
 use crate::optimization_integrator::OptimizationIntegrator;
 use run::Outcome;
 use statics::{run_statics, statics_configurations, StaticsOutcome};
-use sweep::{configurations, dts, Configuration, SOLVER_ERROR_DTS};
+use sweep::{configurations, dts, tolerance_configurations, Configuration, SOLVER_ERROR_DTS};
 use truth::{CaseTruth, Converged, SolverTruth};
 
 /// The benchmark's one result set: every ground truth and every run.
@@ -110,7 +113,14 @@ impl Benchmark {
         )
         .into_iter()
         .collect::<Result<_>>()?;
-        let all: Vec<Configuration> = cases.iter().flat_map(|&c| configurations(c)).collect();
+        let all: Vec<Configuration> = cases
+            .iter()
+            .flat_map(|&c| {
+                configurations(c)
+                    .into_iter()
+                    .chain(tolerance_configurations(c, truth_of(c).window))
+            })
+            .collect();
         let outcomes = run_parallel(
             &all,
             |c| expected_cost(c, truth_of(c.case).window),

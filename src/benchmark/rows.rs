@@ -23,7 +23,7 @@ pub struct Row {
     /// A minimizing solver's optimization integrator; empty for a solver with its own scheme
     /// (the XPBD family, PBD, the explicit baselines).
     pub integrator: String,
-    /// How each step's iterations stop: `count`, or the tolerance.
+    /// How each step's iterations stop: `count`, or `residual` and each step's tolerance, m.
     pub stopping: String,
     pub dt_s: f64,
     /// The window of a dynamics run, the statics runs' time cap, s.
@@ -32,6 +32,10 @@ pub struct Row {
     pub flops: Option<f64>,
     /// Iterations a step took, on average.
     pub iterations_mean: Option<f64>,
+    /// A tolerance point's target solver error, m ([`super::sweep::SOLVER_ERROR_TARGETS_M`]).
+    pub solver_error_target_m: Option<f64>,
+    /// In a tolerance mode, the fraction of steps that reached the cap without meeting it.
+    pub capped_fraction: Option<f64>,
     /// Physical error against the exact motion: RMS over samples and free nodes, largest node
     /// distance, the RMS over the exact motion's RMS amplitude.
     pub physical_rms_m: Option<f64>,
@@ -74,6 +78,8 @@ fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
         window_s,
         flops: None,
         iterations_mean: None,
+        solver_error_target_m: None,
+        capped_fraction: None,
         physical_rms_m: None,
         physical_max_m: None,
         physical_rel: None,
@@ -95,10 +101,12 @@ fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
 impl Row {
     fn dynamics(o: &Outcome, window_s: f64, exact_decay: Option<f64>) -> Self {
         let mut row = base("dynamics", &o.configuration, window_s);
+        row.solver_error_target_m = super::sweep::solver_error_target(&o.configuration, window_s);
         row.flops = Some(o.flops);
         match &o.measured {
             Ok(m) => {
                 row.iterations_mean = Some(m.iterations_mean);
+                row.capped_fraction = m.capped_fraction;
                 row.physical_rms_m = Some(m.physical.rms);
                 row.physical_max_m = Some(m.physical.max);
                 row.physical_rel = Some(m.physical.relative);
@@ -138,6 +146,12 @@ impl Row {
     /// its own for the others.
     pub fn thesis_scheme(&self) -> bool {
         self.integrator.is_empty() || self.integrator == "backward-euler"
+    }
+
+    /// Whether its steps ran their fixed iteration count (the thesis's mode), not to a
+    /// tolerance.
+    pub fn count_mode(&self) -> bool {
+        self.stopping == "count"
     }
 
     /// Whether the run finished (no divergence).

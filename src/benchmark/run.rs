@@ -52,6 +52,8 @@ pub struct Measurement {
     pub energy_decay: Option<f64>,
     /// The mean iterations a step took (the fixed count in the count mode).
     pub iterations_mean: f64,
+    /// In a tolerance mode, the fraction of steps that reached the cap without meeting it.
+    pub capped_fraction: Option<f64>,
 }
 
 /// A configuration's outcome: its cost and its measurement, or why it stopped.
@@ -112,6 +114,10 @@ pub fn run(
                     .as_ref()
                     .and_then(|l| l.mean_iterations())
                     .unwrap_or(configuration.spec.iterations as f64),
+                capped_fraction: log
+                    .as_ref()
+                    .filter(|l| spec.stopping.tolerance_m().is_some() && l.steps() > 0)
+                    .map(|l| l.capped as f64 / l.steps() as f64),
             }
         })
         .map_err(|e| e.to_string());

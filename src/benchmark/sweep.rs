@@ -6,6 +6,7 @@ use super::Case;
 use crate::beyond::{grid_settings, GridScene};
 use crate::optimization_integrator::OptimizationIntegrator;
 use crate::registry::{SolverId, SolverSpec};
+use crate::stopping::Stopping;
 
 /// One configuration: a solver with its settings at a time step, on a case.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,4 +106,60 @@ pub fn configurations(case: Case) -> Vec<Configuration> {
         }
     }
     out
+}
+
+/// The solver errors the tolerance points aim at, m: the RMS per node, over the window, of
+/// the distance to the same method solved to round-off.
+pub const SOLVER_ERROR_TARGETS_M: [f64; 3] = [1e-4, 1e-6, 1e-8];
+
+/// The iteration cap of a tolerance point's steps.
+pub const TOLERANCE_CAP: usize = 200;
+
+/// The residual tolerance of each step, m, for a solver error of `target` m over `window`
+/// seconds at steps of `dt`: $`\varepsilon\,\Delta t / W`$, so that the steps' residuals,
+/// summed over the window's $`W/\Delta t`$ steps, stay within the target. A residual bounds
+/// its step's distance to the step solved exactly (for a minimizing solver the gradient over
+/// mass is $`(I + \tau^2 M^{-1}K)\,\delta x`$, with $`K \succeq 0`$ near the rope's taut
+/// states), and the errors of successive steps add at most, if the motion does not amplify
+/// them; a per-step tolerance of $`\varepsilon`$ itself would let a run of $`W/\Delta t`$
+/// steps drift that many times further (the test of `tests/benchmark.rs` shows it).
+pub fn step_residual_tolerance(target: f64, dt: f64, window: f64) -> f64 {
+    target * dt / window
+}
+
+/// The tolerance points of a case whose window is `window` s: every solver that stops at a
+/// tolerance, under the thesis's scheme, aiming at each of [`SOLVER_ERROR_TARGETS_M`] at the
+/// time steps where the solver error is measured ([`SOLVER_ERROR_DTS`]), each step stopping at
+/// its own residual ([`crate::stopping::Stopping::Residual`], [`step_residual_tolerance`]) or
+/// at [`TOLERANCE_CAP`] iterations; PBD on the rope only, where its converged trajectory is
+/// computed ([`super::truth::Converged::computed_on`]).
+pub fn tolerance_configurations(case: Case, window: f64) -> Vec<Configuration> {
+    let mut out = Vec::new();
+    let solvers = solvers().into_iter().filter(|id| {
+        id.stops_at_tolerance() && (*id != SolverId::Pbd || case.scene == GridScene::Rope)
+    });
+    for id in solvers {
+        for target in SOLVER_ERROR_TARGETS_M {
+            for &dt_s in dts(case).iter().filter(|dt| SOLVER_ERROR_DTS.contains(dt)) {
+                let spec = SolverSpec {
+                    iterations: TOLERANCE_CAP,
+                    stopping: Stopping::Residual(step_residual_tolerance(target, dt_s, window)),
+                    ..settings(id)[0]
+                };
+                out.push(Configuration { case, spec, dt_s });
+            }
+        }
+    }
+    out
+}
+
+/// The solver error a configuration aims at, m, if it is a tolerance point of a case whose
+/// window is `window` s.
+pub fn solver_error_target(c: &Configuration, window: f64) -> Option<f64> {
+    let Stopping::Residual(tolerance) = c.spec.stopping else {
+        return None;
+    };
+    SOLVER_ERROR_TARGETS_M
+        .into_iter()
+        .find(|&t| step_residual_tolerance(t, c.dt_s, window) == tolerance)
 }

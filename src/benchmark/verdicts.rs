@@ -8,7 +8,7 @@
 //! cheapest configuration that reaches the level; the **winners** are the solvers within
 //! [`TIE`] of the cheapest (costs closer than that are ties). A cell no solver reaches decides
 //! nothing. The thesis's solvers run under its own scheme (Backward Euler for Liu 2013 and
-//! ADMM), as the thesis ran them.
+//! ADMM) at fixed iteration counts, as the thesis ran them.
 
 use super::rows::Row;
 use crate::registry::SolverId;
@@ -61,7 +61,7 @@ impl Regime {
 /// The flops of `solver`'s cheapest configuration in `rows` (one case's) that reaches `level`.
 pub fn cheapest(rows: &[&Row], regime: Regime, solver: SolverId, level: f64) -> Option<f64> {
     rows.iter()
-        .filter(|r| r.solver == solver.id() && r.thesis_scheme())
+        .filter(|r| r.solver == solver.id() && r.thesis_scheme() && r.count_mode())
         .filter(|r| regime.accuracy(r).is_some_and(|a| a <= level))
         .filter_map(|r| r.flops)
         .min_by(f64::total_cmp)

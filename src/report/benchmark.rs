@@ -147,11 +147,12 @@ impl BenchmarkChapter {
             .find(|t| of_case(&t.scene, t.stiffness_n_per_m, case))
     }
 
-    /// The finished dynamics rows of a case.
+    /// The finished dynamics rows of a case at fixed iteration counts (the tolerance points
+    /// have their own view, [`crate::report::benchmark_tolerance`]).
     pub fn dynamics(&self, case: Case) -> Vec<&Row> {
         self.rows
             .iter()
-            .filter(|r| r.kind == "dynamics" && r.finished())
+            .filter(|r| r.kind == "dynamics" && r.finished() && r.count_mode())
             .filter(|r| of_case(&r.scene, r.stiffness_n_per_m, case))
             .collect()
     }
@@ -834,6 +835,7 @@ impl BenchmarkChapter {
         self.rows.iter().find(|r| {
             r.kind == "dynamics"
                 && r.thesis_scheme()
+                && r.count_mode()
                 && of_case(&r.scene, r.stiffness_n_per_m, case)
                 && r.solver == solver.id()
                 && r.iterations == iterations

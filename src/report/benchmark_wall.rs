@@ -475,7 +475,7 @@ pub fn section(
         "Measured by `make timing` at {} ([`timing/TIMING.md`](timing/TIMING.md), data \
          [`timing/{WALL_CSV}`](timing/{WALL_CSV}), the machine in \
          [`timing/{MACHINE_CSV}`](timing/{MACHINE_CSV})): each dynamics configuration of the \
-         benchmark that finishes its window, built and run over it on one core, its wall time \
+         benchmark at fixed iteration counts that finishes its window, built and run over it on one core, its wall time \
          the least of the means of repeated batches. Of its {} timed configurations, {current} \
          are configurations of this report's benchmark with the same counted flops{}.\n\n",
         timing.provenance(),

@@ -358,6 +358,8 @@ pub const FILES: &[FileSchema] = &[
             ("window_s", "s"),
             ("flops", ""),
             ("iterations_mean", ""),
+            ("solver_error_target_m", "m"),
+            ("capped_fraction", ""),
             ("physical_rms_m", "m"),
             ("physical_max_m", "m"),
             ("physical_rel", ""),
