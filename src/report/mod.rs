@@ -11,6 +11,7 @@
 //! goes to `run-info.md` ([`output::RunInfo`]), which is git-ignored.
 
 pub mod benchmark;
+pub mod benchmark_tolerance;
 pub mod benchmark_wall;
 pub mod beyond;
 pub mod data;
