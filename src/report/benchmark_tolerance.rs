@@ -139,8 +139,8 @@ fn point(rows: &[Row], case: Case, id: SolverId, target: f64, dt: f64) -> Option
     })
 }
 
-/// One case's table: a row per solver, a column per target and time step.
-fn case_table(rows: &[Row], case: Case) -> MarkdownTable {
+/// A case's tolerance points and their time steps, the coarsest first.
+fn case_points(rows: &[Row], case: Case) -> (Vec<&Row>, Vec<f64>) {
     let of_case: Vec<&Row> = points(rows)
         .into_iter()
         .filter(|r| of_case(&r.scene, r.stiffness_n_per_m, case))
@@ -148,6 +148,12 @@ fn case_table(rows: &[Row], case: Case) -> MarkdownTable {
     let mut dts: Vec<f64> = of_case.iter().map(|r| r.dt_s).collect();
     dts.sort_by(|a, b| b.total_cmp(a));
     dts.dedup();
+    (of_case, dts)
+}
+
+/// One case's table: a row per solver, a column per target and time step.
+fn case_table(rows: &[Row], case: Case) -> MarkdownTable {
+    let (of_case, dts) = case_points(rows, case);
     let mut solvers: Vec<SolverId> = Vec::new();
     for r in &of_case {
         let id: SolverId = r.solver.parse().expect("a benchmark row names a solver");
@@ -200,13 +206,7 @@ fn cheapest_table(rows: &[Row]) -> MarkdownTable {
     );
     let mut t = MarkdownTable::new(&header);
     for case in cases(rows) {
-        let of_case: Vec<&Row> = points(rows)
-            .into_iter()
-            .filter(|r| of_case(&r.scene, r.stiffness_n_per_m, case))
-            .collect();
-        let mut dts: Vec<f64> = of_case.iter().map(|r| r.dt_s).collect();
-        dts.sort_by(|a, b| b.total_cmp(a));
-        dts.dedup();
+        let (of_case, dts) = case_points(rows, case);
         for dt in dts {
             let mut cells = vec![case.label(), format!("{dt}")];
             for target in SOLVER_ERROR_TARGETS_M {
