@@ -24,17 +24,16 @@ use crate::solver::TimeStepper;
 use crate::spring;
 use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
-use crate::xpbd::generalized_inverse_mass;
+use crate::xpbd::{generalized_inverse_mass, inverse_denominator};
 
 /// Eq. (13): $`s_j = \dfrac{-C_j(x_i)}{\nabla C_j M^{-1}\nabla C_j^\top}`$, given the constraint's
-/// value `c` and `w` $`= \nabla C_j M^{-1}\nabla C_j^\top`$ (Eq 50). A constraint that nothing can
-/// move ($`w = 0`$: both ends fixed) gets $`s_j = 0`$.
-pub fn s(c: f64, w: f64) -> f64 {
-    if w > 0.0 {
-        -c / w
-    } else {
-        0.0
-    }
+/// value `c` and its denominator inverted once per spring, `inverse_w`
+/// $`= 1/(\nabla C_j M^{-1}\nabla C_j^\top)`$ (Eq 50), by
+/// [`crate::xpbd::inverse_denominator`] with zero compliance: XPBD's Eq 18 at $`\tilde\alpha = 0`$
+/// rounds the same way, and a constraint that nothing can move ($`w = 0`$: both ends fixed) gets
+/// $`s_j = 0`$.
+pub fn s(c: f64, inverse_w: f64) -> f64 {
+    -c * inverse_w
 }
 
 /// Eq. (14): $`\Delta x = s_j M^{-1}\nabla C_j(x_i)`$ scaled by the constraint's stiffness factor;
@@ -55,6 +54,8 @@ pub struct Pbd {
     stiffness_factors: Vec<f64>,
     /// Inverse masses $`w_i`$, 0 for fixed nodes.
     w: Vec<f64>,
+    /// Eq (13)'s inverted denominator per spring ([`s`]).
+    inverse_w: Vec<f64>,
     /// $`w_i f_{ext}`$ per node, m/s² (0 for fixed nodes).
     external_acceleration: Vec<Vec3>,
     /// Predicted positions $`p`$, the iterate of lines 3-9.
@@ -103,12 +104,18 @@ impl Pbd {
         let external_acceleration = (0..system.len())
             .map(|i| w[i] * system.external_force(i))
             .collect();
+        let inverse_w = system
+            .springs()
+            .iter()
+            .map(|s| inverse_denominator(generalized_inverse_mass(w[s.a], w[s.b]), 0.0))
+            .collect();
         Ok(Self {
             system: system.clone(),
             dt,
             iterations,
             stiffness_factors: stiffness_factors.to_vec(),
             w,
+            inverse_w,
             external_acceleration,
             p: vec![Vec3::zeros(); system.len()],
             convergence: Convergence::default(),
@@ -181,13 +188,13 @@ impl TimeStepper for Pbd {
         // Lines 3-9: Gauss-Seidel over the springs in index order, stopping early only in the
         // tolerance mode.
         for _ in 0..self.iterations {
-            for (s, &stiffness_factor) in self.system.springs().iter().zip(&self.stiffness_factors)
-            {
+            for (j, s) in self.system.springs().iter().enumerate() {
                 let (w1, w2) = (self.w[s.a], self.w[s.b]);
                 let c = spring::constraint(&p[s.a], &p[s.b], s.rest_length);
                 let grad = spring::constraint_gradient(&p[s.a], &p[s.b]);
                 // Line 5, Eqs 13-14.
-                let s_j = self::s(c, generalized_inverse_mass(w1, w2));
+                let s_j = self::s(c, self.inverse_w[j]);
+                let stiffness_factor = self.stiffness_factors[j];
                 let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, s_j, stiffness_factor);
                 // Line 6 (erratum: on p).
                 p[s.a] += delta_x1;
@@ -257,11 +264,14 @@ mod tests {
         let (x1, x2) = (Vec3::new(0.0, 0.0, 0.0), Vec3::new(3.0, 4.0, 0.0));
         let c = spring::constraint(&x1, &x2, 2.0);
         let grad = spring::constraint_gradient(&x1, &x2);
-        let s_j = s(c, generalized_inverse_mass(1.0, 1.0));
+        let s_j = s(
+            c,
+            inverse_denominator(generalized_inverse_mass(1.0, 1.0), 0.0),
+        );
         let (d1, d2) = delta_x(&grad, 1.0, 1.0, s_j, 1.0);
         assert!(spring::constraint(&(x1 + d1), &(x2 + d2), 2.0).abs() < 1e-15);
         let (d1, d2) = delta_x(&grad, 1.0, 1.0, s_j, 0.5);
         assert!((spring::constraint(&(x1 + d1), &(x2 + d2), 2.0) - 0.5 * c).abs() < 1e-15);
-        assert_eq!(s(c, 0.0), 0.0);
+        assert_eq!(s(c, inverse_denominator(0.0, 0.0)), 0.0);
     }
 }

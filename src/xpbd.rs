@@ -77,20 +77,28 @@ pub fn generalized_inverse_mass(w1: f64, w2: f64) -> f64 {
     w1 + w2
 }
 
-/// Eqs. (17), (18):
-/// $`\Delta\lambda = \dfrac{-C_j(x_i) - \tilde\alpha_j\lambda_{ij}}{\nabla C_j M^{-1} \nabla C_j^\top + \tilde\alpha_j}`$,
-/// Eq 17 solved for one constraint $`j`$ given its value `c`, its current multiplier `lambda` and
-/// `w` $`= \nabla C_j M^{-1}\nabla C_j^\top`$ (Eq 50).
+/// Eq. (18)'s denominator inverted, $`1/(\nabla C_j M^{-1} \nabla C_j^\top + \tilde\alpha_j)`$,
+/// given `w` $`= \nabla C_j M^{-1}\nabla C_j^\top`$ (Eq 50). It is fixed for a spring within a
+/// run, so the solver computes it once and [`delta_lambda`] multiplies by it: a division in the
+/// Gauss-Seidel chain costs about as much as the rest of a constraint's update.
 ///
 /// A constraint that nothing can move ($`w = 0`$: both ends fixed) and that has no compliance has
-/// a zero denominator; it gets $`\Delta\lambda = 0`$ and is left alone.
-pub fn delta_lambda(c: f64, alpha_tilde: f64, lambda: f64, w: f64) -> f64 {
+/// a zero denominator; it gets 0, so that its $`\Delta\lambda = 0`$ and it is left alone.
+pub fn inverse_denominator(w: f64, alpha_tilde: f64) -> f64 {
     let denominator = w + alpha_tilde;
     if denominator > 0.0 {
-        (-c - alpha_tilde * lambda) / denominator
+        1.0 / denominator
     } else {
         0.0
     }
+}
+
+/// Eqs. (17), (18):
+/// $`\Delta\lambda = \dfrac{-C_j(x_i) - \tilde\alpha_j\lambda_{ij}}{\nabla C_j M^{-1} \nabla C_j^\top + \tilde\alpha_j}`$,
+/// Eq 17 solved for one constraint $`j`$ given its value `c`, its current multiplier `lambda` and
+/// the inverted denominator of [`inverse_denominator`].
+pub fn delta_lambda(c: f64, alpha_tilde: f64, lambda: f64, inverse_denominator: f64) -> f64 {
+    (-c - alpha_tilde * lambda) * inverse_denominator
 }
 
 /// Eqs. (19), (51): $`\Delta x = M^{-1}\nabla C^\top\Delta\lambda`$, for a distance constraint
@@ -152,7 +160,7 @@ pub fn residuals(
 /// Eq 16's residual that XPBD drives to zero ([`residuals`]), read by the residual stopping mode
 /// ([`crate::stopping::Stopping::Residual`]). Empty `alpha_tilde` and `lambda` mean zero
 /// compliance, PBD's $`|C_j(x)|`$. A spring between two fixed nodes is left out: nothing can
-/// move it ([`delta_lambda`]).
+/// move it ([`inverse_denominator`]).
 pub fn constraint_residual(
     system: &MassSpringSystem,
     x: &[Vec3],
@@ -193,6 +201,8 @@ pub struct Xpbd {
     compliance: Compliance,
     /// $`\tilde\alpha_j = \alpha_j/dt^2`$ per spring.
     alpha_tilde: Vec<f64>,
+    /// Eq (18)'s inverted denominator per spring ([`inverse_denominator`]).
+    inverse_denominator: Vec<f64>,
     /// Inverse masses $`w_i`$, 0 for fixed nodes.
     w: Vec<f64>,
     /// $`M^{-1}f_{ext}`$ per node, m/s² (0 for fixed nodes).
@@ -240,7 +250,7 @@ impl Xpbd {
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
-        let alpha_tilde = system
+        let alpha_tilde: Vec<f64> = system
             .springs()
             .iter()
             .map(|s| {
@@ -252,6 +262,12 @@ impl Xpbd {
             })
             .collect();
         let w = system.inverse_masses();
+        let inverse_denominator = system
+            .springs()
+            .iter()
+            .zip(&alpha_tilde)
+            .map(|(s, &a)| self::inverse_denominator(generalized_inverse_mass(w[s.a], w[s.b]), a))
+            .collect();
         let external_acceleration = (0..system.len())
             .map(|i| w[i] * system.external_force(i))
             .collect();
@@ -262,6 +278,7 @@ impl Xpbd {
             iterations,
             compliance,
             alpha_tilde,
+            inverse_denominator,
             w,
             external_acceleration,
             lambda: vec![0.0; system.springs().len()],
@@ -352,7 +369,7 @@ impl TimeStepper for Xpbd {
                     c,
                     self.alpha_tilde[j],
                     self.lambda[j],
-                    generalized_inverse_mass(w1, w2),
+                    self.inverse_denominator[j],
                 );
                 // Line 7, Eqs 19 and 51.
                 let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, delta_lambda);
@@ -419,10 +436,15 @@ mod tests {
         let at = alpha_tilde(1.0 / k, dt);
         assert_eq!(at, 1.0);
         // (−0.3 − 1·0)/(0.5 + 1)
-        assert!((delta_lambda(c, at, 0.0, w) + 0.2).abs() < 1e-15);
+        let inverse = inverse_denominator(w, at);
+        assert!((delta_lambda(c, at, 0.0, inverse) + 0.2).abs() < 1e-15);
         // With λ = −C/α̃ the constraint's equation h = C + α̃λ holds and nothing changes.
-        assert_eq!(delta_lambda(c, at, -c / at, w), 0.0);
-        assert_eq!(delta_lambda(c, 0.0, 0.0, 0.0), 0.0);
+        assert_eq!(delta_lambda(c, at, -c / at, inverse), 0.0);
+        assert_eq!(inverse_denominator(0.0, 0.0), 0.0);
+        assert_eq!(
+            delta_lambda(c, 0.0, 0.0, inverse_denominator(0.0, 0.0)),
+            0.0
+        );
         let (a, b) = delta_x(&Vec3::new(0.6, 0.8, 0.0), 1.0, 0.0, -0.5);
         assert_eq!(a, Vec3::new(-0.3, -0.4, 0.0));
         assert_eq!(b, Vec3::zeros());

@@ -72,7 +72,7 @@ use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::solver::TimeStepper;
 use crate::spring;
 use crate::system::{MassSpringSystem, State, Vec3};
-use crate::xpbd::{delta_x, generalized_inverse_mass, Xpbd};
+use crate::xpbd::{delta_x, generalized_inverse_mass, inverse_denominator, Xpbd};
 
 /// The order of a constraint pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -161,23 +161,20 @@ impl XpbdSubstepsParams {
 /// [Macklin 2019, Eq. 8] The damped multiplier increment of one constraint:
 /// $`\Delta\lambda = (-C - \tilde\alpha\lambda - \gamma\,\nabla C(x - x^n)) /
 /// ((1 + \gamma)\,w + \tilde\alpha)`$, given its value `c`, `alpha_tilde`, its multiplier
-/// `lambda`, `w` $`= \nabla C M^{-1}\nabla C^\top`$, $`\gamma`$ and `c_change`
-/// $`= \nabla C(x - x^n)`$. With $`\gamma = 0`$ it is Eq 18 ([`crate::xpbd::delta_lambda`]);
-/// a constraint nothing can move and without compliance gets 0.
+/// `lambda`, $`\gamma`$, `c_change` $`= \nabla C(x - x^n)`$ and the inverted denominator
+/// `inverse_denominator` $`= 1/((1 + \gamma)\,w + \tilde\alpha)`$ with
+/// $`w = \nabla C M^{-1}\nabla C^\top`$ ([`crate::xpbd::inverse_denominator`] of
+/// $`(1 + \gamma)\,w`$, computed once per spring: 0 for a constraint nothing can move and
+/// without compliance). With $`\gamma = 0`$ it is Eq 18 ([`crate::xpbd::delta_lambda`]).
 pub fn damped_delta_lambda(
     c: f64,
     alpha_tilde: f64,
     lambda: f64,
-    w: f64,
+    inverse_denominator: f64,
     gamma: f64,
     c_change: f64,
 ) -> f64 {
-    let denominator = (1.0 + gamma) * w + alpha_tilde;
-    if denominator > 0.0 {
-        (-c - alpha_tilde * lambda - gamma * c_change) / denominator
-    } else {
-        0.0
-    }
+    (-c - alpha_tilde * lambda - gamma * c_change) * inverse_denominator
 }
 
 /// XPBD with `substeps` substeps of $`dt/n`$ per step of $`dt`$ (Macklin et al. 2019).
@@ -190,6 +187,8 @@ pub struct XpbdSubsteps {
     substep: Xpbd,
     /// $`\gamma_j = \tilde\alpha_j\tilde\beta/h`$ per spring.
     gamma: Vec<f64>,
+    /// The inverted denominator of [`damped_delta_lambda`] per spring.
+    inverse_denominator: Vec<f64>,
     /// $`w_i = 1/m_i`$ (0 for a fixed node).
     w: Vec<f64>,
     // Per-substep buffers of the optioned substep: x^n, the multipliers and a Jacobi pass's
@@ -216,10 +215,20 @@ impl XpbdSubsteps {
         let h = dt / substeps as f64;
         let substep = Xpbd::new(system, h, params.iterations_per_substep)?;
         let beta_tilde = h * h * params.constraint_damping;
-        let gamma = substep
+        let gamma: Vec<f64> = substep
             .alpha_tilde()
             .iter()
             .map(|alpha_tilde| alpha_tilde * beta_tilde / h)
+            .collect();
+        let w = system.inverse_masses();
+        let inverse_denominator = system
+            .springs()
+            .iter()
+            .zip(gamma.iter().zip(substep.alpha_tilde()))
+            .map(|(s, (&gamma, &alpha_tilde))| {
+                let w = generalized_inverse_mass(w[s.a], w[s.b]);
+                inverse_denominator((1.0 + gamma) * w, alpha_tilde)
+            })
             .collect();
         let (n, s) = (system.len(), system.springs().len());
         Ok(Self {
@@ -228,7 +237,8 @@ impl XpbdSubsteps {
             params,
             substep,
             gamma,
-            w: system.inverse_masses(),
+            inverse_denominator,
+            w,
             x_n: vec![Vec3::zeros(); n],
             lambda: vec![0.0; s],
             corrections: vec![Vec3::zeros(); n],
@@ -274,7 +284,7 @@ impl XpbdSubsteps {
                     c,
                     alpha_tilde[j],
                     self.lambda[j],
-                    generalized_inverse_mass(w1, w2),
+                    self.inverse_denominator[j],
                     self.gamma[j],
                     c_change,
                 );

@@ -815,8 +815,12 @@ fn constraint_damping_matches_the_damped_oscillator() {
     );
     assert_eq!(largest_gap(40, beta, Sweep::Jacobi), gaps[2]);
     // Eq. 8 with γ = 0 is XPBD's Eq 18.
-    let plain = mass_spring_solvers::xpbd::delta_lambda(0.3, 0.01, 0.2, 2.0);
-    assert_eq!(damped_delta_lambda(0.3, 0.01, 0.2, 2.0, 0.0, 5.0), plain);
+    let inverse = mass_spring_solvers::xpbd::inverse_denominator(2.0, 0.01);
+    let plain = mass_spring_solvers::xpbd::delta_lambda(0.3, 0.01, 0.2, inverse);
+    assert_eq!(
+        damped_delta_lambda(0.3, 0.01, 0.2, inverse, 0.0, 5.0),
+        plain
+    );
 }
 
 /// The optioned substep without its options is the thesis's XPBD substep (to round-off: its

@@ -4,7 +4,9 @@
 //! here), and replaces `report/`
 //! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv`, `MANIFEST` and the git-ignored
 //! `run-info.md`; what the previous report did not write is carried over (see
-//! [`mass_spring_solvers::report::publish`]). Each phase runs through
+//! [`mass_spring_solvers::report::publish`]). The thesis's experiments, their forensics and
+//! the figure runs run on one thread, the chapters beyond the thesis beside them on another
+//! (each phase's pool uses every core). Each phase runs through
 //! [`Phases::run`](mass_spring_solvers::report::output::Phases::run), which prints one line with
 //! its wall and CPU time (and its budget, if it has one) to stderr and records them for
 //! `run-info.md`; a live counter shows too when stderr is a terminal.
@@ -17,7 +19,7 @@ use mass_spring_solvers::report::benchmark::BenchmarkChapter;
 use mass_spring_solvers::report::benchmark_wall::WallTiming;
 use mass_spring_solvers::report::beyond::BeyondChapter;
 use mass_spring_solvers::report::integrators::IntegratorsChapter;
-use mass_spring_solvers::report::output::{OutputFile, Phases, RunInfo};
+use mass_spring_solvers::report::output::{process_cpu_time, OutputFile, Phases, RunInfo};
 use mass_spring_solvers::report::publish::{fixture, ReportTarget};
 use mass_spring_solvers::report::rest_state::Catenary;
 use mass_spring_solvers::report::runs::FigureRuns;
@@ -140,44 +142,63 @@ fn run(args: Args) -> Result<String, Failure> {
     // long runs, from the repository and not from the output directory: the report depends on
     // nothing of this machine's.
     let wall = WallTiming::load(&root.join("report/timing")).map_err(Failure::Input)?;
-    let mut phases = Phases::default();
-    let results = phases.run(
-        format!("{} thesis experiments (parallel)", rows.len()),
-        None,
-        || run_all(&rows, &Configuration::faithful(), &progress("experiments")),
-    )?;
-    let forensics = phases.run(
-        "forensic configurations and gravity mismatch (parallel)",
-        None,
-        || Forensics::compute(&results, &progress("forensic configurations")),
-    )?;
-    let (runs, catenary) = phases.run("figure runs, sheet and catenary", None, || {
-        Ok::<_, Error>((
-            FigureRuns::compute(&results, &progress("figure runs"))?,
-            Catenary::compute()?,
-        ))
-    })?;
-    let tutorial = phases.run("the tutorial's chapter", None, TutorialChapter::compute)?;
-    let beyond = phases.run(
-        "beyond the thesis: newer solvers (parallel)",
-        Some(BEYOND_BUDGET),
-        || BeyondChapter::compute(&progress("beyond the thesis")),
-    )?;
-    let sheet = phases.run(
-        "the sheet's exact equilibria",
-        Some(SHEET_BUDGET),
-        SheetChapter::compute,
-    )?;
-    let mut benchmark = phases.run(
-        "the benchmark: work and precision (parallel)",
-        Some(BENCHMARK_BUDGET),
-        || BenchmarkChapter::compute(&progress("the benchmark")),
-    )?;
-    let integrators = phases.run(
-        "optimization integrators (parallel)",
-        Some(INTEGRATORS_BUDGET),
-        || IntegratorsChapter::compute(&progress("optimization integrators")),
-    )?;
+    // The chapters beyond the thesis need nothing of its runs: they run beside them, on a
+    // thread of their own, so that while one group's pool waits for its longest job (the
+    // forensic bisection's rounds, the benchmark's exact motions) the other has the cores.
+    let (thesis, beyond_thesis) = std::thread::scope(|scope| {
+        let beyond_thesis = scope.spawn(|| {
+            let mut phases = Phases::default();
+            let tutorial = phases.run("the tutorial's chapter", None, TutorialChapter::compute)?;
+            let beyond = phases.run(
+                "beyond the thesis: newer solvers (parallel)",
+                Some(BEYOND_BUDGET),
+                || BeyondChapter::compute(&progress("beyond the thesis")),
+            )?;
+            let sheet = phases.run(
+                "the sheet's exact equilibria",
+                Some(SHEET_BUDGET),
+                SheetChapter::compute,
+            )?;
+            let benchmark = phases.run(
+                "the benchmark: work and precision (parallel)",
+                Some(BENCHMARK_BUDGET),
+                || BenchmarkChapter::compute(&progress("the benchmark")),
+            )?;
+            let integrators = phases.run(
+                "optimization integrators (parallel)",
+                Some(INTEGRATORS_BUDGET),
+                || IntegratorsChapter::compute(&progress("optimization integrators")),
+            )?;
+            Ok::<_, Error>((phases, tutorial, beyond, sheet, benchmark, integrators))
+        });
+        let thesis = (|| {
+            let mut phases = Phases::default();
+            let results = phases.run(
+                format!("{} thesis experiments (parallel)", rows.len()),
+                None,
+                || run_all(&rows, &Configuration::faithful(), &progress("experiments")),
+            )?;
+            let forensics = phases.run(
+                "forensic configurations and gravity mismatch (parallel)",
+                None,
+                || Forensics::compute(&results, &progress("forensic configurations")),
+            )?;
+            let (runs, catenary) = phases.run("figure runs, sheet and catenary", None, || {
+                Ok::<_, Error>((
+                    FigureRuns::compute(&results, &progress("figure runs"))?,
+                    Catenary::compute()?,
+                ))
+            })?;
+            Ok::<_, Error>((phases, results, forensics, runs, catenary))
+        })();
+        let beyond_thesis = beyond_thesis
+            .join()
+            .expect("the chapters beyond the thesis do not panic");
+        (thesis, beyond_thesis)
+    });
+    let (mut phases, results, forensics, runs, catenary) = thesis?;
+    let (beyond_phases, tutorial, beyond, sheet, mut benchmark, integrators) = beyond_thesis?;
+    phases.extend(beyond_phases);
     benchmark.wall = wall;
     let data = ReportData {
         results,
@@ -204,6 +225,8 @@ fn run(args: Args) -> Result<String, Failure> {
     let info = RunInfo {
         phases: phases.into_phases(),
         rows_run: data.results.rows.len(),
+        wall: start.elapsed(),
+        cpu: process_cpu_time(),
     };
     files.push(OutputFile::text("run-info.md", info.render(&root)));
     target.publish(&files)?;

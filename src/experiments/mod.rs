@@ -151,7 +151,25 @@ pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Resu
         velocity_damping: configuration.velocity_damping,
         ..RunOptions::default()
     };
-    simulate(solver.as_mut(), system.initial_state(), &options)
+    pool::profiled(
+        || {
+            format!(
+                "run {:?} table {} dt {} s, {} iterations, k {} N/m, damping {} 1/s, {:?}",
+                row.solver,
+                row.table,
+                row.dt_s,
+                row.iterations,
+                row.stiffness,
+                configuration.velocity_damping,
+                configuration.solver
+            )
+        },
+        |run: &Result<Run>| {
+            run.as_ref()
+                .map_or(String::new(), |r| format!(", {} steps", r.steps))
+        },
+        || simulate(solver.as_mut(), system.initial_state(), &options),
+    )
 }
 
 /// The final positions and T/2 (thesis convention) of a reference run.

@@ -29,6 +29,7 @@ pub use liu_fit::LiuFit;
 pub use twins::Twins;
 
 use crate::error::Result;
+use crate::experiments::pool::spawn_charged;
 use crate::experiments::{
     expected_cost, faithful_results, measure, run_experiment, run_parallel, same_experiment,
     Configuration, Measured, PublishedRow, Reference, ResultSet,
@@ -348,8 +349,9 @@ impl Forensics {
         // The Liu intervals' sequential bisection runs beside the gravity batch (it needs only
         // the fitted point): the two share the cores instead of waiting for each other.
         let (liu, outcomes) = std::thread::scope(|scope| {
-            let intervals = scope
-                .spawn(|| fit_intervals(points, in_sample, &twins, &measure_against, &|_, _| {}));
+            let intervals = spawn_charged(scope, || {
+                fit_intervals(points, in_sample, &twins, &measure_against, &|_, _| {})
+            });
             let outcomes = run_unique(&jobs, progress);
             (
                 intervals.join().expect("the interval runs do not panic"),

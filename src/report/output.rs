@@ -1,6 +1,7 @@
 //! The report's files, and the run information that changes from run to run. Writing them is
 //! [`crate::report::publish`]'s concern.
 
+use crate::experiments::pool::charged_cpu;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
@@ -28,6 +29,9 @@ pub struct RunInfo {
     pub phases: Vec<Phase>,
     /// The rows run, out of 56.
     pub rows_run: usize,
+    /// The whole run's wall time, and its process's CPU time (the phases overlap).
+    pub wall: Duration,
+    pub cpu: Option<Duration>,
 }
 
 /// One timed phase of a run: a chapter's computations, the rendering.
@@ -98,14 +102,13 @@ impl Phases {
         budget: Option<Duration>,
         work: impl FnOnce() -> T,
     ) -> T {
-        let (started, cpu_before) = (Instant::now(), process_cpu_time());
-        let out = work();
+        let started = Instant::now();
+        // The phase's own CPU time over its threads: phases may run side by side.
+        let (out, cpu) = charged_cpu(work);
         let phase = Phase {
             label: label.into(),
             wall: started.elapsed(),
-            cpu: cpu_before
-                .zip(process_cpu_time())
-                .map(|(before, after)| after.saturating_sub(before)),
+            cpu: cpu.map(Duration::from_secs_f64),
             budget,
         };
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -122,6 +125,11 @@ impl Phases {
     /// The phases so far, in order.
     pub fn into_phases(self) -> Vec<Phase> {
         self.phases
+    }
+
+    /// Appends the phases of `other` (phases run beside these, on another thread).
+    pub fn extend(&mut self, other: Phases) {
+        self.phases.extend(other.phases);
     }
 }
 
@@ -207,16 +215,15 @@ impl RunInfo {
             command_output("rustc", &["--version"]).unwrap_or_else(|| "rustc not found".into())
         );
         out += &format!("- experiment rows run: {} of 56\n", self.rows_run);
-        out += "\nCPU time is the process's user + system time over all its threads; on a loaded \
-                machine it, divided by the cores, is the figure to judge a phase by.\n";
+        out += "\nA phase's CPU time is its own, over every thread it started (their thread CPU \
+                clocks); the total's is the process's user + system time. On a loaded machine \
+                CPU time, divided by the cores, is the figure to judge a phase by. The chapters \
+                beyond the thesis run beside the thesis's experiments and forensics, so the \
+                phases' wall times overlap and add up to more than the total.\n";
         out += "\n| phase | wall time (s) | CPU time (s) | budget, wall on idle cores (s) |\n| --- | ---: | ---: | ---: |\n";
         let seconds =
             |d: Option<Duration>| d.map_or("–".into(), |d| format!("{:.2}", d.as_secs_f64()));
-        let mut total = Duration::ZERO;
-        let mut total_cpu = Some(Duration::ZERO);
         for p in &self.phases {
-            total += p.wall;
-            total_cpu = total_cpu.zip(p.cpu).map(|(t, c)| t + c);
             let budget = match p.budget {
                 Some(b) if p.over_budget(cores) => format!("{} (over)", b.as_secs_f64()),
                 Some(b) => b.as_secs_f64().to_string(),
@@ -231,8 +238,8 @@ impl RunInfo {
         }
         out += &format!(
             "| total | {:.2} | {} | |\n",
-            total.as_secs_f64(),
-            seconds(total_cpu)
+            self.wall.as_secs_f64(),
+            seconds(self.cpu)
         );
         out
     }
@@ -241,19 +248,21 @@ impl RunInfo {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::experiments::pool::thread_cpu_seconds;
 
     #[test]
     fn a_phase_records_its_time_and_its_budget() {
         let mut phases = Phases::default();
-        let start_cpu = process_cpu_time();
-        // Busy until the process has used 30 ms of CPU (3 ticks), however loaded the machine.
+        let start_cpu = thread_cpu_seconds();
+        // Busy until this thread has used 30 ms of CPU, however loaded the machine (a phase's
+        // CPU time is its threads', not the process's: other tests run beside this one).
         let busy = phases.run("busy", Some(Duration::from_secs(20)), || {
             let started = Instant::now();
             let mut x = 0u64;
             while started.elapsed() < Duration::from_secs(10)
-                && process_cpu_time()
+                && thread_cpu_seconds()
                     .zip(start_cpu)
-                    .is_none_or(|(now, start)| now < start + Duration::from_millis(30))
+                    .is_none_or(|(now, start)| now < start + 0.03)
             {
                 for _ in 0..1000 {
                     x = std::hint::black_box(x.wrapping_add(1));
@@ -267,7 +276,7 @@ mod tests {
         let labels: Vec<&str> = phases.iter().map(|p| p.label.as_str()).collect();
         assert_eq!(labels, ["busy", "quick"]);
         if cfg!(target_os = "linux") {
-            let cpu = phases[0].cpu.expect("Linux has /proc/self/stat");
+            let cpu = phases[0].cpu.expect("Linux has a thread CPU clock");
             assert!(cpu >= Duration::from_millis(20), "{cpu:?}");
         }
         assert!(!phases[0].over_budget(2));

@@ -6,6 +6,7 @@
 
 use crate::backward_euler::BackwardEuler;
 use crate::error::Result;
+use crate::experiments::pool::spawn_charged;
 use crate::experiments::ResultSet;
 use crate::metrics::StoppingRule;
 use crate::registry::{SolverId, SolverSpec};
@@ -202,7 +203,7 @@ impl FigureRuns {
             .min(total);
         std::thread::scope(|scope| {
             for _ in 0..threads {
-                scope.spawn(|| loop {
+                spawn_charged(scope, || loop {
                     let job = next.fetch_add(1, Ordering::Relaxed);
                     if job == 0 {
                         *sheet_result.lock().expect("no panic holding the lock") = Some(sheet());

@@ -1,11 +1,12 @@
 //! Every test that needs the full result set (the 56 faithful experiments of
-//! [`experiments::faithful_results`] and the forensic configurations of
-//! [`forensics::forensic_results`]), in one test binary so that the set is computed once per
-//! `make test` rather than once per binary.
+//! [`experiments::faithful_results`], the forensic configurations of
+//! [`forensics::forensic_results`] and the benchmark on the rope), in one test binary so that
+//! the set is computed once per `make test` rather than once per binary.
 //!
 //! [`experiments::faithful_results`]: mass_spring_solvers::experiments::faithful_results
 //! [`forensics::forensic_results`]: mass_spring_solvers::forensics::forensic_results
 
+mod benchmark;
 mod evidence;
 mod forensics;
 mod lock;

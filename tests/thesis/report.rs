@@ -30,40 +30,72 @@ use std::sync::OnceLock;
 
 use super::lock;
 
-/// The report's data, computed once per test process.
+/// The benchmark's two rope cases (the sheet's are `make report`'s).
+pub const ROPES: [Case; 2] = [
+    Case {
+        scene: GridScene::Rope,
+        stiffness: 1e3,
+    },
+    Case {
+        scene: GridScene::Rope,
+        stiffness: 1e6,
+    },
+];
+
+/// The benchmark on the rope, computed once per test process: the report data's benchmark and
+/// the one `benchmark.rs` tests (the whole benchmark costs most of a minute of CPU; `make
+/// report` runs it).
+pub fn benchmark() -> &'static BenchmarkChapter {
+    static CHAPTER: OnceLock<BenchmarkChapter> = OnceLock::new();
+    CHAPTER.get_or_init(|| {
+        BenchmarkChapter::compute_cases(&ROPES, &|_, _| {}).expect("the benchmark runs")
+    })
+}
+
+/// The chapters beyond the thesis that the report data holds, none of which needs the
+/// thesis's runs.
+struct BeyondThesis {
+    beyond: BeyondChapter,
+    sheet: SheetChapter,
+    tutorial: TutorialChapter,
+    integrators: IntegratorsChapter,
+}
+
+/// The report's data, computed once per test process; the chapters beyond the thesis on a
+/// thread beside the thesis's experiments and forensics, as `make report` does.
 fn data() -> &'static ReportData {
     static DATA: OnceLock<ReportData> = OnceLock::new();
     DATA.get_or_init(|| {
-        let results = faithful_results().clone();
+        let (results, beyond_thesis) = std::thread::scope(|scope| {
+            let beyond_thesis = scope.spawn(|| {
+                benchmark();
+                BeyondThesis {
+                    beyond: BeyondChapter::compute(&|_, _| {})
+                        .expect("the chapter beyond the thesis runs"),
+                    sheet: SheetChapter::compute().expect("the sheet's equilibria solve"),
+                    tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
+                    integrators: IntegratorsChapter::compute(&|_, _| {})
+                        .expect("the optimization-integrators chapter runs"),
+                }
+            });
+            forensic_results();
+            let results = faithful_results().clone();
+            (results, beyond_thesis.join().expect("the chapters run"))
+        });
         let sources = Sources::read(&crate_root(), &solvers_in(&results))
             .expect("the sources read and quote");
         let runs = FigureRuns::compute(&results, &|_, _| {}).expect("the figure runs run");
         let catenary = Catenary::compute().expect("the exact catenary solves");
-        // The chapters beyond the thesis: the convergence curves in full, the benchmark on the
-        // soft rope only (the whole benchmark costs half a minute of CPU; `make report` runs it,
-        // and tests/benchmark.rs tests its logic).
-        let beyond =
-            BeyondChapter::compute(&|_, _| {}).expect("the chapter beyond the thesis runs");
-        let sheet = SheetChapter::compute().expect("the sheet's equilibria solve");
-        let benchmark = BenchmarkChapter::compute_cases(
-            &[Case {
-                scene: GridScene::Rope,
-                stiffness: 1e3,
-            }],
-            &|_, _| {},
-        )
-        .expect("the benchmark runs");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),
             runs,
             catenary,
-            tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
-            beyond,
-            sheet,
-            benchmark,
-            integrators: IntegratorsChapter::compute(&|_, _| {})
-                .expect("the optimization-integrators chapter runs"),
+            tutorial: beyond_thesis.tutorial,
+            beyond: beyond_thesis.beyond,
+            sheet: beyond_thesis.sheet,
+            benchmark: benchmark().clone(),
+            integrators: beyond_thesis.integrators,
             sources,
         }
     })

@@ -1,9 +1,10 @@
 //! The benchmark (`src/benchmark/`): its metrics on signals with known answers, its ground
 //! truths, and the claims its chapter makes, each recomputed from `benchmark.csv` (read back
 //! strictly) with this file's own code and shown failing on a plausible wrong hypothesis.
-//! The rope's two cases run once per process (about ten seconds of CPU); the sheet's are
-//! `make report`'s.
+//! The rope's two cases run once per process, as the report data's benchmark
+//! ([`super::report::benchmark`]); the sheet's are `make report`'s.
 
+use super::report::ROPES;
 use mass_spring_solvers::benchmark::metrics::{energy_decay_per_period, modal_period};
 use mass_spring_solvers::benchmark::rows::Row;
 use mass_spring_solvers::benchmark::run::run;
@@ -20,22 +21,9 @@ use mass_spring_solvers::report::benchmark::{rows_csv, BenchmarkChapter};
 use mass_spring_solvers::report::benchmark_tolerance::Summary;
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::stopping::Stopping;
-use std::sync::OnceLock;
-
-const ROPES: [Case; 2] = [
-    Case {
-        scene: GridScene::Rope,
-        stiffness: 1e3,
-    },
-    Case {
-        scene: GridScene::Rope,
-        stiffness: 1e6,
-    },
-];
 
 fn chapter() -> &'static BenchmarkChapter {
-    static CHAPTER: OnceLock<BenchmarkChapter> = OnceLock::new();
-    CHAPTER.get_or_init(|| BenchmarkChapter::compute_cases(&ROPES, &|_, _| {}).unwrap())
+    super::report::benchmark()
 }
 
 /// `benchmark.csv` as written, read back with a strict reader into this file's rows.
