@@ -280,7 +280,7 @@ impl BenchmarkChapter {
                     let curves: Vec<Curve> = family
                         .iter()
                         .map(|&id| Curve {
-                            label: id.info().abbreviation.to_string(),
+                            label: id.info().display_name.to_string(),
                             rows: self.front(case, id),
                             colour: colour(id, 0),
                             line: solver_line(id),
@@ -327,7 +327,7 @@ impl BenchmarkChapter {
         );
         panel.heading = name.into();
         let baselines = BASELINES.iter().map(|&id| Curve {
-            label: id.info().abbreviation.to_string(),
+            label: id.info().display_name.to_string(),
             rows: self.front(case, id),
             colour: BASELINE_GREY,
             line: if id == SolverId::Rk4 {
@@ -450,7 +450,7 @@ pub struct ThesisCell {
 /// explicit baseline grey crosses (RK4 dashed, symplectic Euler dotted).
 pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
     if BASELINES.contains(&id) {
-        Series::line(id.info().abbreviation, points, BASELINE_GREY)
+        Series::line(id.info().display_name, points, BASELINE_GREY)
             .with_line(if id == SolverId::Rk4 {
                 Line::Dashed
             } else {
@@ -458,7 +458,7 @@ pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
             })
             .with_marker(Marker::Cross, false)
     } else {
-        Series::line(id.info().abbreviation, points, colour(id, 0))
+        Series::line(id.info().display_name, points, colour(id, 0))
             .with_line(solver_line(id))
             .with_marker(marker_of(id), true)
     }
@@ -656,7 +656,7 @@ impl BenchmarkChapter {
                     self.convergence(case, SolverId::BackwardEuler),
                 ),
                 (
-                    SolverId::SymplecticEuler.info().abbreviation.into(),
+                    SolverId::SymplecticEuler.info().display_name.into(),
                     self.convergence(case, SolverId::SymplecticEuler),
                 ),
             ];
@@ -719,7 +719,7 @@ impl BenchmarkChapter {
                         )
                     })
                     .collect();
-                let mut cells_row = vec![id.info().abbreviation.to_string()];
+                let mut cells_row = vec![id.info().display_name.to_string()];
                 cells_row.extend(cells);
                 t.row(cells_row);
             }
@@ -750,7 +750,7 @@ impl BenchmarkChapter {
             header.extend(headers.iter().map(String::as_str));
             let mut t = MarkdownTable::new(&header);
             for id in solvers().into_iter().filter(|id| !BASELINES.contains(id)) {
-                let mut cells = vec![id.info().abbreviation.to_string()];
+                let mut cells = vec![id.info().display_name.to_string()];
                 for &level in &STATICS_LEVELS_M {
                     cells.push(cost_cell(
                         rows.iter()
@@ -798,7 +798,7 @@ impl BenchmarkChapter {
                 } else {
                     cell.winners
                         .iter()
-                        .map(|s| s.info().abbreviation)
+                        .map(|s| s.info().display_name)
                         .collect::<Vec<_>>()
                         .join(", ")
                 });
@@ -870,7 +870,7 @@ impl BenchmarkChapter {
                 };
                 let d = at(VIEW_DETAIL_DT).filter(|r| r.finished());
                 t.row(vec![
-                    id.info().abbreviation.into(),
+                    id.info().display_name.into(),
                     crate::beyond::setting_label(&spec),
                     error(VIEW_DTS[0]),
                     error(VIEW_DTS[1]),

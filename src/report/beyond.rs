@@ -188,7 +188,7 @@ impl BeyondChapter {
                 Axis::linear("iterations m"),
                 Axis::log("gap to the converged step (m)"),
             );
-            panel.heading = format!("start: {}", start.id());
+            panel.heading = format!("start: {}", start.label());
             // One legend, under the second panel: the first one's series have no label.
             panel.legend = LegendPlace::Below;
             let labelled = start == Start::Step10;
@@ -209,7 +209,11 @@ impl BeyondChapter {
                 }
                 panel.series.push(
                     Series::line(
-                        if labelled { curve.spec.id.id() } else { "" },
+                        if labelled {
+                            curve.spec.id.display_name()
+                        } else {
+                            ""
+                        },
                         points,
                         colour(curve.spec.id, 0),
                     )
@@ -329,7 +333,7 @@ impl BeyondChapter {
             let info = id.info();
             let settings = grid_settings(id).expect("a grid solver has settings");
             t.row(vec![
-                format!("`{}`", info.id),
+                info.display_name.to_string(),
                 info.source.to_string(),
                 format!("[`{}`]({})", info.file, format_args!("../{}", info.file)),
                 info.iteration.unwrap_or("-").to_string(),
@@ -357,8 +361,8 @@ impl BeyondChapter {
 
         md += &format!("### {number}.3 Convergence toward the converged Backward Euler step\n\n");
         md += &format!(
-            "One step of dt = {} s at k = {} N/m, from the rope at rest and from `step10` (after \
-             ten converged Backward Euler steps of {} s from rest, a moving state), with m = 1 to \
+            "One step of dt = {} s at k = {} N/m, from the rope at rest and from a moving state \
+             (after ten converged Backward Euler steps of {} s from rest; `step10` in the data), with m = 1 to \
              {CONVERGENCE_ITERATIONS} iterations, each m a fresh solver; the gap is the largest \
              node distance to the step solved by Newton to round-off. **One start for every \
              solver:** each step starts from the inertial prediction y = x_n + h v_n + h² M⁻¹ \
@@ -366,7 +370,7 @@ impl BeyondChapter {
              construction), so that the curves and the tables below compare solvers, not starts; \
              what each solver's own start changes is measured after them. Chebyshev's ρ is the \
              plain iteration's asymptotic rate (this crate's rule, `rho_rule = asymptotic-rate`), \
-             and Anderson-ADMM uses Zhang et al. 2019's primal-residual safeguard. The XPBD family and PBD \
+             and Anderson ADMM uses Zhang et al. 2019's primal-residual safeguard. The XPBD family and PBD \
              converge to their own constraint solution, not to this step: their curves level off \
              at what they miss it by. All curves (both stiffnesses, dt = 1e-2 and 1e-3 s) are in \
              `data/convergence.csv`.\n\n",
@@ -379,7 +383,7 @@ impl BeyondChapter {
             md += &format!(
                 "![beyond_convergence](figures/{s}.svg)\n\n*Figure B1. Gap to the converged \
                  step against the iterations of one step (dt = {} s, k = {} N/m), every solver \
-                 starting from the inertial prediction, (a) from rest, (b) from step10; gaps below {} m drawn at it.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
+                 starting from the inertial prediction, (a) from rest, (b) from the moving state; gaps below {} m drawn at it.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
                 full(CONVERGENCE_DT),
                 stiffness_label(CONVERGENCE_STIFFNESS),
                 full(GAP_FLOOR),
@@ -389,8 +393,8 @@ impl BeyondChapter {
         let mut t = MarkdownTable::new(&[
             "solver",
             "iterations to 1e-6 m, from rest",
-            "from step10",
-            &format!("gap after {CONVERGENCE_ITERATIONS}, from step10 (m)"),
+            "from the moving state",
+            &format!("gap after {CONVERGENCE_ITERATIONS}, from the moving state (m)"),
         ]);
         let rest = self.iterations_to_tolerance(Start::Rest);
         let moving = self.iterations_to_tolerance(Start::Step10);
@@ -398,7 +402,7 @@ impl BeyondChapter {
             |n: Option<usize>| n.map_or(format!("> {CONVERGENCE_ITERATIONS}"), |n| n.to_string());
         for ((id, from_rest, _), (_, from_step10, last)) in rest.iter().zip(&moving) {
             t.row(vec![
-                format!("`{id}`"),
+                id.display_name().to_string(),
                 shown(*from_rest),
                 shown(*from_step10),
                 last.map_or("step failed".into(), sig4),
@@ -408,7 +412,7 @@ impl BeyondChapter {
         md += "\n";
 
         md += &format!(
-            "**Acceleration.** The same step (dt = {} s, k = {} N/m, from step10): the iterations \
+            "**Acceleration.** The same step (dt = {} s, k = {} N/m, from the moving state): the iterations \
              to a gap below {} m of each accelerated solver and of the iteration it accelerates, \
              searched up to {ACCELERATION_MAX_ITERATIONS} (one by one to {CONVERGENCE_ITERATIONS}, \
              then by doubling and bisection). An iteration of each costs one global solve; the \
@@ -427,9 +431,9 @@ impl BeyondChapter {
         };
         for a in &self.acceleration {
             t.row(vec![
-                format!("`{}`", a.solver),
+                a.solver.display_name().to_string(),
                 count(a.iterations),
-                format!("`{}`", a.base),
+                a.base.display_name().to_string(),
                 count(a.base_iterations),
                 a.ratio().map_or("-".into(), |r| format!("{}×", sig4(r))),
             ]);
@@ -443,8 +447,8 @@ impl BeyondChapter {
             .map(|a| {
                 let ratio = a.ratio();
                 format!(
-                    "on `{}` {} ({})",
-                    a.base,
+                    "on {} {} ({})",
+                    a.base.display_name(),
                     ratio.map_or("not measured".into(), |r| format!("{}× fewer", sig4(r))),
                     if ratio.is_some_and(|r| r >= 10.0) {
                         "holds"
@@ -469,12 +473,17 @@ impl BeyondChapter {
                     .iter()
                     .find(|a| a.solver == solver && a.base == base)?
                     .ratio()?;
-                Some(format!("`{solver}` on `{base}` {before}× → {}×", sig4(now)))
+                Some(format!(
+                    "{} on {} {before}× → {}×",
+                    solver.display_name(),
+                    base.display_name(),
+                    sig4(now)
+                ))
             })
             .collect();
         md += &format!(
-            "**What the one start moved.** Before issue 22 Liu 2013 and its two accelerations \
-             started each step at x_n and the others at the inertial prediction, so the ratios \
+            "**What the one start moved.** Before every solver started from the inertial \
+             prediction, Fast m-s and its two accelerations started each step at x_n and the others at the inertial prediction, so the ratios \
              compared starts as well as solvers; from one start they are {}. ADMM's \
              accelerations now extrapolate (x, ū), Zhang et al. 2019's variable, instead of \
              (z, ū).\n\n",
@@ -488,11 +497,10 @@ impl BeyondChapter {
     fn starts_section(&self, number: u32) -> String {
         let mut md = format!("### {number}.4 Each solver's own start, and Chebyshev's ρ\n\n");
         md += &format!(
-            "The same step (dt = {} s, k = {} N/m, from step10, a gap below {} m): the iterations \
+            "The same step (dt = {} s, k = {} N/m, from the moving state, a gap below {} m): the iterations \
              from each solver's own first iterate, where it is not the inertial prediction, and \
              from the inertial prediction. VBD's adaptive guess (d) uses the previous step's \
-             acceleration: its solvers first take the step before step10 (step9 to step10's \
-             start), so that its own start is a running solver's; a fresh solver's (d) is (c).\n\n",
+             acceleration: its solvers first take the step that ends at the moving state, so that its own start is a running solver's; a fresh solver's (d) is (c).\n\n",
             full(CONVERGENCE_DT),
             stiffness_label(CONVERGENCE_STIFFNESS),
             full(GAP_TOLERANCE),
@@ -510,7 +518,7 @@ impl BeyondChapter {
         };
         for e in &self.starts {
             t.row(vec![
-                format!("`{}`", e.spec.id),
+                e.spec.id.display_name().to_string(),
                 own_first_iterate(e.spec.id).map_or(
                     "x̂ = (x̃ + αh x_n)/(1 + αh), its damped prediction".into(),
                     |f| f.formula().to_string(),
@@ -522,15 +530,16 @@ impl BeyondChapter {
         md += &t.render();
         md += "\n";
         md += &format!(
-            "**ρ.** The tables above use ρ = {} for `chebyshev_liu`, the plain iteration's \
+            "**ρ.** The tables above use ρ = {} for {cheb}, the plain iteration's \
              asymptotic rate on the rope's start (`rho_rule = asymptotic-rate`, this crate's \
              rule, one ρ for every iteration count). Wang 2015 (§5.1) starts instead from the \
              ratio of the objective's gradient norms at the last two of the K iterations used \
              (`rho_rule = gradient-ratio`, ρ depending on K) and then tunes by hand. The scan: \
-             iterations of `chebyshev_liu` to {} m at the same step against ρ, searched up to \
+             iterations of {cheb} to {} m at the same step against ρ, searched up to \
              {RHO_SCAN_MAX}.\n\n",
             sig4(self.rho_default),
             full(GAP_TOLERANCE),
+            cheb = SolverId::ChebyshevLiu.display_name(),
         );
         let mut t = MarkdownTable::new(&["ρ", "iterations to 1e-6 m"]);
         for p in &self.rho_scan {
@@ -577,11 +586,15 @@ impl BeyondChapter {
                     .map_or("-".into(), |worst| sig4(worst as f64 / n as f64)),
             );
         }
-        md += "`xpbd_substeps` runs here, in the grid and in the curves with Gauss-Seidel sweeps \
-               and without constraint damping, its defaults; Macklin 2019's constraint damping \
-               (§4.1, Eq. 8) and its Jacobi sweep are options (`constraint_damping`, `sweep`), \
-               tested in `tests/newer_solvers.rs`. VBD runs with the exact local Hessian, the \
-               paper's; the projection is the option `hessian = projected`.\n\n";
+        md += &format!(
+            "{} runs here, in the grid and in the curves with Gauss-Seidel sweeps and without \
+             constraint damping, its defaults; Macklin 2019's constraint damping (§4.1, Eq. 8) \
+             and its Jacobi sweep are options (`constraint_damping`, `sweep`), tested in \
+             `tests/newer_solvers.rs`. {} runs with the exact local Hessian, the paper's; the \
+             projection is the option `hessian = projected`.\n\n",
+            SolverId::XpbdSubsteps.display_name(),
+            SolverId::Vbd.display_name(),
+        );
         md
     }
 }

@@ -101,7 +101,7 @@ pub const FILES: &[FileSchema] = &[
     },
     FileSchema {
         pattern: "configurations.csv",
-        about: "every run of Liu's other first iterate and of the ADMM candidates (section 6)",
+        about: "every run of Fast m-s's other first iterate and of the ADMM candidates (section 6)",
         columns: &[
             ("configuration", ""),
             ("table", ""),
@@ -123,7 +123,7 @@ pub const FILES: &[FileSchema] = &[
     },
     FileSchema {
         pattern: "liu_grid.csv",
-        about: "every run of the Liu hypothesis: each grid point on each Liu row and the probes of the damping interval (appendix A.3)",
+        about: "every run of the Fast m-s hypothesis: each grid point on each Fast m-s row and the probes of the damping interval (appendix A.3)",
         columns: &[
             ("configuration", ""),
             ("role", ""),

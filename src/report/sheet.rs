@@ -190,7 +190,7 @@ impl SheetChapter {
         let top = |r: &[SolverId]| {
             r.iter()
                 .take(3)
-                .map(|id| id.info().abbreviation)
+                .map(|id| id.info().display_name)
                 .collect::<Vec<_>>()
                 .join(", ")
         };
