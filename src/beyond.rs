@@ -183,7 +183,7 @@ impl Start {
     pub fn label(self) -> &'static str {
         match self {
             Start::Rest => "at rest",
-            Start::Step10 => "moving (after ten steps)",
+            Start::Step10 => "moving",
         }
     }
 

@@ -17,7 +17,9 @@ use crate::report::data::CsvFile;
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM};
+use crate::report::plot::{
+    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
+};
 use crate::report::ChapterFigure;
 
 /// The chapter's data: the benchmark's rows.
@@ -323,9 +325,10 @@ impl BenchmarkChapter {
     fn work_panel(&self, case: Case, name: &str, curves: Vec<Curve>, csv: &mut CsvFile) -> Panel {
         let mut panel = Panel::new(
             Axis::log("flops over the window"),
-            Axis::log("physical error / amplitude"),
+            Axis::log("relative error"),
         );
         panel.heading = name.into();
+        panel.legend = LegendPlace::Below;
         let baselines = BASELINES.iter().map(|&id| Curve {
             label: id.info().display_name.to_string(),
             rows: self.front(case, id),
@@ -684,13 +687,20 @@ impl BenchmarkChapter {
                rad/s hold its error near doing nothing above 1e-3 s).\n\n";
 
         md += &format!("### {number}.3 Work-precision diagrams\n\n");
-        for (case, f) in self.cases().into_iter().zip(figures) {
+        md += &format!(
+            "Figures W1-W{} show, for each case, what each solver's accuracy costs: a solver \
+             whose front lies lower and further left reaches an error for fewer flops.\n\n",
+            figures.len()
+        );
+        for (n, (case, f)) in self.cases().into_iter().zip(figures).enumerate() {
             md += &format!(
-                "![{stem}](figures/{stem}.svg)\n\n*Work and precision, {label}: each solver's front (its \
+                "![{stem}](figures/{stem}.svg)\n\n*Figure W{}. Work and precision, {label}: each solver's front (its \
                  configurations no cheaper one of its own beats) of the relative physical error against the \
-                 counted flops over the window, by family; grey: the explicit baselines (RK4 dashed, \
+                 counted flops over the window (relative error: the RMS physical error per free node over the \
+                 exact motion's RMS amplitude), by family; grey: the explicit baselines (RK4 dashed, \
                  symplectic Euler dotted) and doing nothing (the equilibrium held still, error 1).* Data: \
                  [`data/{stem}.csv`](data/{stem}.csv).\n\n",
+                n + 1,
                 stem = f.stem,
                 label = case.label()
             );

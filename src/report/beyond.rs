@@ -12,11 +12,12 @@ use crate::chebyshev::{spectral_radius, ChebyshevParams};
 use crate::error::Result;
 use crate::local_global::Base;
 use crate::registry::{SolverId, SolverSpec};
+use crate::report::benchmark::FAMILIES;
 use crate::report::data::CsvFile;
-use crate::report::figures::{colour, solver_line};
-use crate::report::format::{full, full_opt, sig4, MarkdownTable};
+use crate::report::figures::{coinciding_groups, colour, solver_line};
+use crate::report::format::{full, full_opt, short, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, LegendPlace, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
@@ -39,6 +40,28 @@ pub const CONVERGENCE_STIFFNESS: f64 = 1e6;
 
 /// A gap below this is drawn at it (log axis), m.
 const GAP_FLOOR: f64 = 1e-16;
+
+/// The rows of Figure B1, each with its short heading: the families of the work-precision
+/// figures, the damped pair joining the last.
+fn b1_families() -> Vec<(&'static str, Vec<SolverId>)> {
+    let names = ["thesis's solvers", "accelerated", "substeps, VBD, damped"];
+    let damped = [SolverId::DampedBackwardEuler, SolverId::DampedAdmm];
+    FAMILIES
+        .iter()
+        .zip(names)
+        .enumerate()
+        .map(|(i, ((_, members), name))| {
+            let mut members = members.to_vec();
+            if i + 1 == FAMILIES.len() {
+                members.extend(damped);
+            }
+            (name, members)
+        })
+        .collect()
+}
+
+/// The tolerance line of Figure B1.
+const TOLERANCE_GREY: crate::report::plot::Rgb = crate::report::plot::Rgb(120, 120, 120);
 
 /// The header of `beyond_results.csv`: the columns of `results.csv`, then the configuration
 /// (the setting's label) and the scene.
@@ -179,53 +202,77 @@ impl BeyondChapter {
     }
 
     /// The chapter's figure: the convergence curves at [`CONVERGENCE_DT`],
-    /// [`CONVERGENCE_STIFFNESS`], one panel per start.
+    /// [`CONVERGENCE_STIFFNESS`], small multiples: a row per family of solvers
+    /// ([`b1_families`]), a column per start, the tolerance [`GAP_TOLERANCE`] drawn in each;
+    /// curves that coincide are drawn once and named together.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
         let mut panels = Vec::new();
         let mut csv = CsvFile::new(&["solver", "start", "iteration", "gap_m"]);
-        for start in Start::ALL {
-            let mut panel = Panel::new(
-                Axis::linear("iterations m"),
-                Axis::log("gap to the converged step (m)"),
-            );
-            panel.heading = format!("start: {}", start.label());
-            // One legend, under the second panel: the first one's series have no label.
-            panel.legend = LegendPlace::Below;
-            let labelled = start == Start::Step10;
-            for curve in self.figure_curves(start) {
-                let points: Vec<(f64, f64)> = curve
-                    .gaps
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(i, g)| g.map(|g| ((i + 1) as f64, g.max(GAP_FLOOR))))
-                    .collect();
-                for (m, g) in &points {
+        for curve in Start::ALL.iter().flat_map(|&s| self.figure_curves(s)) {
+            for (i, g) in curve.gaps.iter().enumerate() {
+                if let Some(g) = g {
                     csv.record(vec![
                         curve.spec.id.to_string(),
-                        start.id().to_string(),
-                        m.to_string(),
-                        full(*g),
+                        curve.start.id().to_string(),
+                        (i + 1).to_string(),
+                        full(g.max(GAP_FLOOR)),
                     ]);
                 }
+            }
+        }
+        for (family, members) in b1_families() {
+            for start in Start::ALL {
+                let mut panel = Panel::new(
+                    Axis::linear("iterations m"),
+                    Axis::log("gap (m)").range(GAP_FLOOR / 3.0, 1e-2),
+                );
+                panel.heading = format!("{family}, {}", start.label());
+                panel.legend = LegendPlace::Below;
+                let curves: Vec<&ConvergenceCurve> = self
+                    .figure_curves(start)
+                    .filter(|c| members.contains(&c.spec.id))
+                    .collect();
+                let points: Vec<Vec<(f64, f64)>> = curves
+                    .iter()
+                    .map(|c| {
+                        c.gaps
+                            .iter()
+                            .enumerate()
+                            .filter_map(|(i, g)| g.map(|g| ((i + 1) as f64, g.max(GAP_FLOOR))))
+                            .collect()
+                    })
+                    .collect();
                 panel.series.push(
                     Series::line(
-                        if labelled {
-                            curve.spec.id.display_name()
-                        } else {
-                            ""
-                        },
-                        points,
-                        colour(curve.spec.id, 0),
+                        "1e-6 m",
+                        vec![
+                            (1.0, GAP_TOLERANCE),
+                            (CONVERGENCE_ITERATIONS as f64, GAP_TOLERANCE),
+                        ],
+                        TOLERANCE_GREY,
                     )
-                    .with_line(solver_line(curve.spec.id))
-                    .with_marker(Marker::None, true),
+                    .with_line(Line::Dotted),
                 );
+                for group in coinciding_groups(&points) {
+                    let id = curves[group[0]].spec.id;
+                    let names: Vec<&str> = group
+                        .iter()
+                        .map(|&i| curves[i].spec.id.display_name())
+                        .collect();
+                    panel.series.push(
+                        Series::line(names.join(" ≈ "), points[group[0]].clone(), colour(id, 0))
+                            .with_line(solver_line(id))
+                            .with_marker(Marker::None, true),
+                    );
+                }
+                panels.push(panel);
             }
-            panels.push(panel);
         }
+        let mut chart = Chart::new(FULL_WIDTH_MM, 230.0, panels);
+        chart.columns = Start::ALL.len();
         Ok(vec![ChapterFigure::new(
             "beyond_convergence",
-            &Chart::new(FULL_WIDTH_MM, 120.0, panels),
+            &chart,
             csv.text(),
         )?])
     }
@@ -381,12 +428,29 @@ impl BeyondChapter {
         );
         if let Some(f) = figures.iter().find(|f| f.stem == "beyond_convergence") {
             md += &format!(
-                "![beyond_convergence](figures/{s}.svg)\n\n*Figure B1. Gap to the converged \
-                 step against the iterations of one step (dt = {} s, k = {} N/m), every solver \
-                 starting from the inertial prediction, (a) from rest, (b) from the moving state; gaps below {} m drawn at it.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
+                "![beyond_convergence](figures/{s}.svg)\n\n*Figure B1. Gap (the largest node \
+                 distance) to the converged step against the iterations of one step (dt = {} s, k = {} N/m), every solver \
+                 starting from the inertial prediction: a row per family (the thesis's solvers; \
+                 the accelerated Projective-Dynamics solvers; {}, {} and the damped pair), from \
+                 rest (left) and from the moving state after ten steps (right); the dotted grey line is the \
+                 tolerance the tables count iterations to, {} m; gaps below {} m are drawn at it. \
+                 Curves within {} decade of each other at every iteration are drawn once and named \
+                 together (≈). The curves that rise or level off high do not converge to this \
+                 step by design: {} and {} solve their own constraint problem ({}: rigid springs), \
+                 and {}'s iterations are substeps, so more of them approach the motion of smaller \
+                 steps, not this Backward Euler step; their gap tends to the distance between the \
+                 two.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
                 full(CONVERGENCE_DT),
                 stiffness_label(CONVERGENCE_STIFFNESS),
+                SolverId::XpbdSubsteps.display_name(),
+                SolverId::Vbd.display_name(),
+                short(GAP_TOLERANCE),
                 full(GAP_FLOOR),
+                short(crate::report::figures::COINCIDE_DECADES),
+                SolverId::Pbd.display_name(),
+                SolverId::Xpbd.display_name(),
+                SolverId::Pbd.display_name(),
+                SolverId::XpbdSubsteps.display_name(),
                 s = f.stem
             );
         }

@@ -63,7 +63,7 @@ impl Figure {
 const MAX_BUCKETS: usize = 1500;
 /// Two series coincide in a drawing when every pair of their points is closer than this on a
 /// log axis, decades (12 %; under a third of a marker on the error plots' ten decades).
-const COINCIDE_DECADES: f64 = 0.05;
+pub const COINCIDE_DECADES: f64 = 0.05;
 
 const BLACK: Rgb = Rgb(0, 0, 0);
 const GREY: Rgb = Rgb(120, 120, 120);
@@ -246,13 +246,14 @@ fn coincide(a: &[(f64, f64)], b: &[(f64, f64)]) -> bool {
         })
 }
 
-/// Consecutive iteration counts whose series coincide, as groups of indices into `series`.
-fn coinciding_groups(series: &[Vec<(f64, f64)>]) -> Vec<Vec<usize>> {
+/// Series that coincide with the first of a group join it, as groups of indices into
+/// `series` in order: each group is drawn once and named together.
+pub fn coinciding_groups(series: &[Vec<(f64, f64)>]) -> Vec<Vec<usize>> {
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (i, s) in series.iter().enumerate() {
-        match groups.last_mut() {
-            Some(g) if coincide(&series[g[0]], s) => g.push(i),
-            _ => groups.push(vec![i]),
+        match groups.iter_mut().find(|g| coincide(&series[g[0]], s)) {
+            Some(g) => g.push(i),
+            None => groups.push(vec![i]),
         }
     }
     groups
