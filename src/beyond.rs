@@ -179,6 +179,14 @@ impl Start {
         }
     }
 
+    /// Its name in the report's text and figures.
+    pub fn label(self) -> &'static str {
+        match self {
+            Start::Rest => "at rest",
+            Start::Step10 => "moving",
+        }
+    }
+
     /// The start state on `system`.
     pub fn state(self, system: &MassSpringSystem) -> Result<State> {
         let mut state = system.initial_state();

@@ -94,8 +94,10 @@ pub struct OptionInfo {
 pub struct SolverInfo {
     /// The identifier in CSV files and on the command line.
     pub id: &'static str,
-    /// The abbreviation of thesis Table 8 (or a short one of its kind).
-    pub abbreviation: &'static str,
+    /// The one name the report gives the solver, in every table, legend and sentence: the
+    /// abbreviation of thesis Table 8 for the thesis's solvers, a short readable name for the
+    /// others (an accelerated solver names its base by that base's display name).
+    pub display_name: &'static str,
     /// A one-line description.
     pub summary: &'static str,
     /// The section, algorithm or paper it implements.
@@ -160,7 +162,7 @@ impl SolverId {
         match self {
             SolverId::BackwardEuler => SolverInfo {
                 id: "backward_euler",
-                abbreviation: "BE",
+                display_name: "Backward Euler",
                 summary: "Backward Euler with Newton-Raphson, the thesis's reference",
                 source: "thesis §2.1, Eqs 1-12",
                 file: "src/backward_euler.rs",
@@ -173,7 +175,7 @@ impl SolverId {
             },
             SolverId::Pbd => SolverInfo {
                 id: "pbd",
-                abbreviation: "PBD",
+                display_name: "PBD",
                 summary: "Position-Based Dynamics, Gauss-Seidel over the springs",
                 source: "thesis §2.2, Algorithm 1, Eqs 13-14",
                 file: "src/pbd.rs",
@@ -196,7 +198,7 @@ impl SolverId {
             },
             SolverId::Xpbd => SolverInfo {
                 id: "xpbd",
-                abbreviation: "XPBD",
+                display_name: "XPBD",
                 summary: "Extended PBD, compliance 1/k",
                 source: "thesis §2.2.1, Algorithm 2, Eqs 15-19, 48-51",
                 file: "src/xpbd.rs",
@@ -211,7 +213,7 @@ impl SolverId {
             },
             SolverId::FastMassSpring => SolverInfo {
                 id: "fast_mass_spring",
-                abbreviation: "Fast m-s",
+                display_name: "Fast m-s",
                 summary: "Liu et al. 2013, fast simulation of mass-spring systems",
                 source: "thesis §2.3.1, Algorithm 3, Eqs 20-29, 52-53",
                 file: "src/fast_mass_spring.rs",
@@ -224,7 +226,7 @@ impl SolverId {
             },
             SolverId::AdmmPd => SolverInfo {
                 id: "admm_pd",
-                abbreviation: "ADMM",
+                display_name: "ADMM",
                 summary: "Overby et al. 2017, ADMM ⊇ Projective Dynamics, weights sqrt(k)",
                 source: "thesis §2.3.2, Algorithm 4, Eqs 30-42, 54-56",
                 file: "src/admm.rs",
@@ -241,7 +243,7 @@ impl SolverId {
             SolverId::AndersonAdmm => anderson(Base::Admm),
             SolverId::DampedBackwardEuler => SolverInfo {
                 id: "damped_backward_euler",
-                abbreviation: "BE damped",
+                display_name: "Backward Euler damped",
                 summary: "Backward Euler with Rayleigh damping, the damped ADMM's ground truth",
                 source: "Brown, Overby, Forootaninia, Narain 2018, Accurate Dissipative Forces in Optimization Integrators",
                 file: "src/backward_euler.rs",
@@ -262,7 +264,7 @@ impl SolverId {
             },
             SolverId::DampedAdmm => SolverInfo {
                 id: "damped_admm",
-                abbreviation: "ADMM damped",
+                display_name: "ADMM damped",
                 summary: "ADMM-PD with Rayleigh damping in the optimisation (Brown et al. 2018)",
                 source: "Brown, Overby, Forootaninia, Narain 2018, Accurate Dissipative Forces in Optimization Integrators",
                 file: "src/damped_admm.rs",
@@ -288,7 +290,7 @@ impl SolverId {
             },
             SolverId::XpbdSubsteps => SolverInfo {
                 id: "xpbd_substeps",
-                abbreviation: "XPBD sub.",
+                display_name: "XPBD substeps",
                 summary: "XPBD with n substeps of one iteration per step (small steps)",
                 source: "Macklin, Storey, Lu, Terdiman, Chentanez, Jeschke, Müller 2019, Small Steps in Physics Simulation",
                 file: "src/xpbd_substeps.rs",
@@ -318,7 +320,7 @@ impl SolverId {
             },
             SolverId::Lbfgs => SolverInfo {
                 id: "lbfgs",
-                abbreviation: "L-BFGS",
+                display_name: "L-BFGS",
                 summary: "quasi-Newton L-BFGS on the incremental potential, the Liu system matrix as initial Hessian",
                 source: "Liu, Bouaziz, Kavan 2017, Quasi-Newton Methods for Real-Time Simulation of Hyperelastic Materials",
                 file: "src/quasi_newton.rs",
@@ -338,7 +340,7 @@ impl SolverId {
             },
             SolverId::Vbd => SolverInfo {
                 id: "vbd",
-                abbreviation: "VBD",
+                display_name: "VBD",
                 summary: "Vertex Block Descent: per-node Newton on the incremental potential, colour order",
                 source: "Chen, Liu, Yang, Yuksel 2024, Vertex Block Descent",
                 file: "src/vbd.rs",
@@ -364,12 +366,12 @@ impl SolverId {
             },
             SolverId::ExplicitEuler => tutorial_integrator(
                 "explicit_euler",
-                "Euler",
+                "Explicit Euler",
                 "explicit Euler (order 1; grows without damping at every dt)",
             ),
             SolverId::SymplecticEuler => tutorial_integrator(
                 "symplectic_euler",
-                "SE",
+                "Symplectic Euler",
                 "symplectic Euler (order 1; stable for omega·dt < 2)",
             ),
             SolverId::Rk4 => tutorial_integrator(
@@ -379,7 +381,7 @@ impl SolverId {
             ),
             SolverId::Rk45 => SolverInfo {
                 id: "rk45",
-                abbreviation: "RK45",
+                display_name: "RK45",
                 summary: "Dormand-Prince 5(4) with error control; dt is the sampling interval",
                 source: "beyond the tutorial: Dormand & Prince 1980",
                 file: "src/particles/adaptive.rs",
@@ -407,9 +409,9 @@ impl SolverId {
         self.info().id
     }
 
-    /// The abbreviation of thesis Table 8.
-    pub fn abbreviation(self) -> &'static str {
-        self.info().abbreviation
+    /// The one name the report gives the solver ([`SolverInfo::display_name`]).
+    pub fn display_name(self) -> &'static str {
+        self.info().display_name
     }
 
     /// Parses an identifier of [`SolverId::id`] (dashes read as underscores).
@@ -607,9 +609,9 @@ fn chebyshev(base: Base) -> SolverInfo {
             Base::Liu => "chebyshev_liu",
             Base::Admm => "chebyshev_admm",
         },
-        abbreviation: match base {
-            Base::Liu => "Cheb. Liu",
-            Base::Admm => "Cheb. ADMM",
+        display_name: match base {
+            Base::Liu => "Chebyshev Fast m-s",
+            Base::Admm => "Chebyshev ADMM",
         },
         summary: match base {
             Base::Liu => "Wang 2015's Chebyshev semi-iterative acceleration of Liu 2013",
@@ -660,9 +662,9 @@ fn anderson(base: Base) -> SolverInfo {
             Base::Liu => "anderson_liu",
             Base::Admm => "anderson_admm",
         },
-        abbreviation: match base {
-            Base::Liu => "AA Liu",
-            Base::Admm => "AA ADMM",
+        display_name: match base {
+            Base::Liu => "Anderson Fast m-s",
+            Base::Admm => "Anderson ADMM",
         },
         summary: match base {
             Base::Liu => "Peng et al. 2018's Anderson acceleration of Liu 2013, energy safeguard",
@@ -700,12 +702,12 @@ fn anderson(base: Base) -> SolverInfo {
 /// The entry of a tutorial integrator with a fixed step.
 fn tutorial_integrator(
     id: &'static str,
-    abbreviation: &'static str,
+    display_name: &'static str,
     summary: &'static str,
 ) -> SolverInfo {
     SolverInfo {
         id,
-        abbreviation,
+        display_name,
         summary,
         source: "tutorial (seed 004): Baraff & Witkin's particle system",
         file: "src/particles/integrators.rs",
@@ -1151,6 +1153,16 @@ mod tests {
         );
         let err = SolverId::from_id("newton").unwrap_err().to_string();
         assert!(err.contains("solver") && err.contains("admm_pd"), "{err}");
+    }
+
+    #[test]
+    fn every_display_name_is_unique_and_not_a_code_id() {
+        for id in SolverId::ALL {
+            let name = id.display_name();
+            let same = SolverId::ALL.iter().filter(|s| s.display_name() == name);
+            assert_eq!(same.count(), 1, "{name}");
+            assert!(!name.contains('_'), "{name} reads as a code id");
+        }
     }
 
     #[test]

@@ -1,9 +1,13 @@
 //! Every data file of the committed report is a real CSV: read back with a strict reader (no
 //! flexible records), its header as `report::schema` documents it, its column names
 //! `name_unit`, and "none" written one way only, as an empty field. Negative cases: a line with
-//! an unquoted comma, a header out of order and a `NaN` field are each rejected.
+//! an unquoted comma, a header out of order and a `NaN` field are each rejected. The files of
+//! `report/timing/` are read the same way, the committed ones and those of a `timing --quick`
+//! run into a scratch directory.
 
-use mass_spring_solvers::report::schema::{matches, schema_of, unit_suffix, FileSchema};
+use mass_spring_solvers::report::schema::{
+    matches, schema_of, timing_schema_of, unit_suffix, FileSchema, TIMING_FILES,
+};
 use std::path::Path;
 
 /// The problems of one file's text against its schema.
@@ -56,12 +60,14 @@ fn problems(name: &str, text: &str, schema: &FileSchema) -> Vec<String> {
     out
 }
 
-#[test]
-fn every_data_file_reads_back_against_its_schema() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("report/data");
+/// The problems of every CSV of `dir` against `schema_of`, and how many files were read.
+fn check_dir(
+    dir: &Path,
+    schema_of: fn(&str) -> Option<&'static FileSchema>,
+) -> (usize, Vec<String>) {
     let mut all = Vec::new();
     let mut files = 0;
-    for entry in std::fs::read_dir(&data).unwrap() {
+    for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         if !name.ends_with(".csv") {
@@ -77,7 +83,41 @@ fn every_data_file_reads_back_against_its_schema() {
             )),
         }
     }
+    (files, all)
+}
+
+#[test]
+fn every_data_file_reads_back_against_its_schema() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("report/data");
+    let (files, all) = check_dir(&data, schema_of);
     assert!(files > 30, "{files} files");
+    assert!(all.is_empty(), "{}", all.join("\n"));
+}
+
+#[test]
+fn every_committed_timing_file_reads_back_against_its_schema() {
+    let timing = Path::new(env!("CARGO_MANIFEST_DIR")).join("report/timing");
+    let (files, all) = check_dir(&timing, timing_schema_of);
+    assert_eq!(files, TIMING_FILES.len(), "one file per schema");
+    assert!(all.is_empty(), "{}", all.join("\n"));
+}
+
+/// `timing --quick` into a scratch directory: the files it writes read back too.
+#[test]
+fn a_quick_timing_run_writes_files_that_read_back() {
+    let dir = std::env::temp_dir().join(format!("csv-schema-timing-{}", std::process::id()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_timing"))
+        .args(["--quick", "--out", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (files, all) = check_dir(&dir, timing_schema_of);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(files >= 2, "{files} files");
     assert!(all.is_empty(), "{}", all.join("\n"));
 }
 

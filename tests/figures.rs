@@ -6,8 +6,8 @@ mod figure_check;
 
 use figure_check::problems;
 use mass_spring_solvers::report::plot::{
-    layout, Align, Axis, Chart, Corner, LegendPlace, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM,
-    FULL_WIDTH_MM,
+    layout, Align, Axis, Chart, Corner, LegendPlace, Line, Marker, Panel, Rgb, Series,
+    COLUMN_WIDTH_MM, FULL_WIDTH_MM,
 };
 
 /// A panel with a rising diagonal of markers from its lower left to its upper right corner.
@@ -110,4 +110,61 @@ fn a_mark_outside_its_axes_fails() {
 fn a_chart_too_small_for_its_panels_is_an_error() {
     let err = layout(&Chart::new(20.0, 20.0, vec![rising()])).unwrap_err();
     assert!(err.to_string().contains("does not fit"), "{err}");
+}
+
+#[test]
+fn two_series_told_apart_by_label_only_fail() {
+    let mut p = rising();
+    let twin = p.series[1].clone();
+    p.series.push(Series {
+        label: "same look".into(),
+        points: twin.points.iter().map(|q| (q.0, q.1 / 4.0)).collect(),
+        ..twin.clone()
+    });
+    let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p.clone()]));
+    assert!(
+        found
+            .iter()
+            .any(|f| f.contains("\"rising too\" and \"same look\" of panel 1 share colour")),
+        "{found:#?}"
+    );
+    // A dash of its own tells it apart.
+    let last = p.series.last_mut().unwrap();
+    last.style.line = Line::Dashed;
+    assert!(check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p])).is_empty());
+}
+
+#[test]
+fn a_legend_entry_without_a_mark_fails() {
+    let mut p = rising();
+    p.series[1] = p.series[1].clone().with_line(Line::None);
+    let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p]));
+    assert!(
+        found
+            .iter()
+            .any(|f| f.contains("legend entry \"rising too\" has no visible mark")),
+        "{found:#?}"
+    );
+}
+
+#[test]
+fn a_series_hidden_under_another_fails() {
+    let mut p = rising();
+    // Drawn first, then covered point for point by a wider solid line with the same markers.
+    let under = Series::line("under", p.series[0].points.clone(), Rgb(0, 0, 200))
+        .with_marker(Marker::Circle, true);
+    p.series.insert(0, under);
+    p.series[1] = p.series[1].clone().with_weight(2.0);
+    let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p.clone()]));
+    assert!(
+        found
+            .iter()
+            .any(|f| f.contains("\"under\" is hidden under \"rising\"")),
+        "{found:#?}"
+    );
+    // Drawn last it shows.
+    let under = p.series.remove(0);
+    p.series.push(under);
+    let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p]));
+    assert!(!found.iter().any(|f| f.contains("hidden")), "{found:#?}");
 }

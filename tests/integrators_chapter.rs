@@ -114,9 +114,9 @@ fn the_sections_claims_are_the_datas() {
             .min_by(|a, b| a.flops_per_step.total_cmp(&b.flops_per_step))
             .unwrap();
         assert!(section.contains(&format!(
-            "{} `{}` ({} flops)",
+            "{} {} ({} flops)",
             i.label(),
-            fewest.solver,
+            fewest.solver.display_name(),
             sig(fewest.flops_per_step, 3)
         )));
         let order = c.orders.iter().find(|o| o.integrator == i).unwrap().order;

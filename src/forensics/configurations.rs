@@ -251,9 +251,9 @@ impl ConfigurationId {
     pub fn short_label(self) -> String {
         match self {
             ConfigurationId::Faithful => "faithful".into(),
-            ConfigurationId::LiuStartInertial => "Liu from y".into(),
+            ConfigurationId::LiuStartInertial => "Fast m-s from y".into(),
             ConfigurationId::Liu(h) if h == LiuHypothesis::PRINTED => "faithful".into(),
-            ConfigurationId::Liu(_) => "Liu hypothesis".into(),
+            ConfigurationId::Liu(_) => "Fast m-s hypothesis".into(),
             ConfigurationId::Admm(c) => format!("ADMM: {}", c.variant().label()),
         }
     }
@@ -262,8 +262,8 @@ impl ConfigurationId {
     pub fn summary(self) -> String {
         match self {
             ConfigurationId::Faithful => "the printed equations and measurement rule".into(),
-            ConfigurationId::LiuStartInertial => "Liu started at y = x_n + dt·v_n".into(),
-            ConfigurationId::Liu(h) => format!("Liu with {}", h.label()),
+            ConfigurationId::LiuStartInertial => "Fast m-s started at y = x_n + dt·v_n".into(),
+            ConfigurationId::Liu(h) => format!("Fast m-s with {}", h.label()),
             ConfigurationId::Admm(c) => c.variant().label(),
         }
     }

@@ -149,8 +149,8 @@ impl Choice {
             Choice::SceneFit => {
                 "anchors at (0, 0) and (9, 0) m, rest length 1 m = the initial spacing, at rest"
             }
-            Choice::PeakStamp => "a peak stamped at its detection step (convention 4)",
-            Choice::Clock => "time accumulated in f32 (convention 5)",
+            Choice::PeakStamp => "a peak stamped at its detection step (measurement convention 4)",
+            Choice::Clock => "time accumulated in f32 (measurement convention 5)",
             Choice::Gravity => "gravity 9.81 m/s²",
             Choice::LiuFirstIterate => "first iterate x⁰ = x_n",
             Choice::LiuHypothesis => {
@@ -183,19 +183,19 @@ impl Choice {
                  checked on Tables 2-3, in `docs/thesis-scene.md` since the first commit"
             }
             Choice::PeakStamp => {
-                "identified on the dt = 0.1 s rows of Tables 2-7 (`docs/thesis-scene.md`, convention 4, \
+                "identified on the dt = 0.1 s rows of Tables 2-7 (`docs/thesis-scene.md`, measurement convention 4, \
                  first commit); Table 1 cannot identify it"
             }
             Choice::Clock => {
                 "identified on the long k = 1e3 runs, which read about 0.5 % long (`docs/thesis-scene.md`, \
-                 convention 5, first commit)"
+                 measurement convention 5, first commit)"
             }
             Choice::Gravity => {
                 "the usual value; Table 1 cannot tell it from 9.8 (`docs/thesis-scene.md`, first commit)"
             }
-            Choice::LiuFirstIterate => "an open point of Algorithm 3; both readings run on every Liu row",
+            Choice::LiuFirstIterate => "an open point of Algorithm 3; both readings run on every Fast m-s row",
             Choice::LiuHypothesis => {
-                "fitted on the Liu rows' peak counts: findings 2-4 of `docs/thesis-scene.md`, in the first \
+                "fitted on the Fast m-s rows' peak counts: findings 2-4 of `docs/thesis-scene.md`, in the first \
                  commit; the grid was laid around the fitted values later"
             }
             Choice::AdmmStart => "selected from the ADMM departures tried on the ADMM rows",
@@ -336,7 +336,7 @@ pub fn select(c: &Candidates) -> Selection {
         SolverId::FastMassSpring => {
             let y = c
                 .liu_start_inertial
-                .expect("every Liu row runs both readings");
+                .expect("every Fast m-s row runs both readings");
             let readings = format!(
                 "first iterate x_n: {}; y = x_n + dt·v_n: {}",
                 outcome(c.faithful),

@@ -17,7 +17,9 @@ use crate::report::data::CsvFile;
 use crate::report::figures::{colour, solver_line};
 use crate::report::format::{full, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM};
+use crate::report::plot::{
+    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
+};
 use crate::report::ChapterFigure;
 
 /// The chapter's data: the benchmark's rows.
@@ -281,7 +283,7 @@ impl BenchmarkChapter {
                     let curves: Vec<Curve> = family
                         .iter()
                         .map(|&id| Curve {
-                            label: id.info().abbreviation.to_string(),
+                            label: id.info().display_name.to_string(),
                             rows: self.front(case, id),
                             colour: colour(id, 0),
                             line: solver_line(id),
@@ -324,11 +326,12 @@ impl BenchmarkChapter {
     fn work_panel(&self, case: Case, name: &str, curves: Vec<Curve>, csv: &mut CsvFile) -> Panel {
         let mut panel = Panel::new(
             Axis::log("flops over the window"),
-            Axis::log("physical error / amplitude"),
+            Axis::log("relative error"),
         );
         panel.heading = name.into();
+        panel.legend = LegendPlace::Below;
         let baselines = BASELINES.iter().map(|&id| Curve {
-            label: id.info().abbreviation.to_string(),
+            label: id.info().display_name.to_string(),
             rows: self.front(case, id),
             colour: BASELINE_GREY,
             line: if id == SolverId::Rk4 {
@@ -451,7 +454,7 @@ pub struct ThesisCell {
 /// explicit baseline grey crosses (RK4 dashed, symplectic Euler dotted).
 pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
     if BASELINES.contains(&id) {
-        Series::line(id.info().abbreviation, points, BASELINE_GREY)
+        Series::line(id.info().display_name, points, BASELINE_GREY)
             .with_line(if id == SolverId::Rk4 {
                 Line::Dashed
             } else {
@@ -459,7 +462,7 @@ pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
             })
             .with_marker(Marker::Cross, false)
     } else {
-        Series::line(id.info().abbreviation, points, colour(id, 0))
+        Series::line(id.info().display_name, points, colour(id, 0))
             .with_line(solver_line(id))
             .with_marker(marker_of(id), true)
     }
@@ -660,7 +663,7 @@ impl BenchmarkChapter {
                     self.convergence(case, SolverId::BackwardEuler),
                 ),
                 (
-                    SolverId::SymplecticEuler.info().abbreviation.into(),
+                    SolverId::SymplecticEuler.info().display_name.into(),
                     self.convergence(case, SolverId::SymplecticEuler),
                 ),
             ];
@@ -688,13 +691,20 @@ impl BenchmarkChapter {
                rad/s hold its error near doing nothing above 1e-3 s).\n\n";
 
         md += &format!("### {number}.3 Work-precision diagrams\n\n");
-        for (case, f) in self.cases().into_iter().zip(figures) {
+        md += &format!(
+            "Figures W1-W{} show, for each case, what each solver's accuracy costs: a solver \
+             whose front lies lower and further left reaches an error for fewer flops.\n\n",
+            figures.len()
+        );
+        for (n, (case, f)) in self.cases().into_iter().zip(figures).enumerate() {
             md += &format!(
-                "![{stem}](figures/{stem}.svg)\n\n*Work and precision, {label}: each solver's front (its \
+                "![{stem}](figures/{stem}.svg)\n\n*Figure W{}. Work and precision, {label}: each solver's front (its \
                  configurations no cheaper one of its own beats) of the relative physical error against the \
-                 counted flops over the window, by family; grey: the explicit baselines (RK4 dashed, \
+                 counted flops over the window (relative error: the RMS physical error per free node over the \
+                 exact motion's RMS amplitude), by family; grey: the explicit baselines (RK4 dashed, \
                  symplectic Euler dotted) and doing nothing (the equilibrium held still, error 1).* Data: \
                  [`data/{stem}.csv`](data/{stem}.csv).\n\n",
+                n + 1,
                 stem = f.stem,
                 label = case.label()
             );
@@ -723,7 +733,7 @@ impl BenchmarkChapter {
                         )
                     })
                     .collect();
-                let mut cells_row = vec![id.info().abbreviation.to_string()];
+                let mut cells_row = vec![id.info().display_name.to_string()];
                 cells_row.extend(cells);
                 t.row(cells_row);
             }
@@ -754,7 +764,7 @@ impl BenchmarkChapter {
             header.extend(headers.iter().map(String::as_str));
             let mut t = MarkdownTable::new(&header);
             for id in solvers().into_iter().filter(|id| !BASELINES.contains(id)) {
-                let mut cells = vec![id.info().abbreviation.to_string()];
+                let mut cells = vec![id.info().display_name.to_string()];
                 for &level in &STATICS_LEVELS_M {
                     cells.push(cost_cell(
                         rows.iter()
@@ -802,7 +812,7 @@ impl BenchmarkChapter {
                 } else {
                     cell.winners
                         .iter()
-                        .map(|s| s.info().abbreviation)
+                        .map(|s| s.info().display_name)
                         .collect::<Vec<_>>()
                         .join(", ")
                 });
@@ -876,7 +886,7 @@ impl BenchmarkChapter {
                 };
                 let d = at(VIEW_DETAIL_DT).filter(|r| r.finished());
                 t.row(vec![
-                    id.info().abbreviation.into(),
+                    id.info().display_name.into(),
                     crate::beyond::setting_label(&spec),
                     error(VIEW_DTS[0]),
                     error(VIEW_DTS[1]),

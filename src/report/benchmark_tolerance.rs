@@ -169,7 +169,7 @@ fn case_table(rows: &[Row], case: Case) -> MarkdownTable {
     }
     let mut t = MarkdownTable::new(&header);
     for id in solvers {
-        let mut cells = vec![id.info().abbreviation.to_string()];
+        let mut cells = vec![id.info().display_name.to_string()];
         for target in SOLVER_ERROR_TARGETS_M {
             for &dt in &dts {
                 cells.push(point(rows, case, id, target, dt).map_or("–".into(), cell));
@@ -218,7 +218,7 @@ fn cheapest_table(rows: &[Row]) -> MarkdownTable {
                     .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()));
                 cells.push(best.map_or("none".into(), |r| {
                     let id: SolverId = r.solver.parse().expect("a benchmark row names a solver");
-                    format!("{} ({})", id.info().abbreviation, sci3(r.flops.unwrap()))
+                    format!("{} ({})", id.info().display_name, sci3(r.flops.unwrap()))
                 }));
             }
             t.row(cells);

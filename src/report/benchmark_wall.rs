@@ -341,7 +341,7 @@ pub fn comparisons(timing: &WallTiming) -> Vec<Comparison> {
 }
 
 fn name(id: SolverId) -> &'static str {
-    id.info().abbreviation
+    id.info().display_name
 }
 
 /// The wall time per flop of every solver on every case, with each case's largest over least.

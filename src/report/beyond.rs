@@ -12,11 +12,12 @@ use crate::chebyshev::{spectral_radius, ChebyshevParams};
 use crate::error::Result;
 use crate::local_global::Base;
 use crate::registry::{SolverId, SolverSpec};
+use crate::report::benchmark::FAMILIES;
 use crate::report::data::CsvFile;
-use crate::report::figures::{colour, solver_line};
-use crate::report::format::{full, full_opt, sig4, MarkdownTable};
+use crate::report::figures::{coinciding_groups, colour, solver_line};
+use crate::report::format::{full, full_opt, short, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, LegendPlace, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
@@ -39,6 +40,28 @@ pub const CONVERGENCE_STIFFNESS: f64 = 1e6;
 
 /// A gap below this is drawn at it (log axis), m.
 const GAP_FLOOR: f64 = 1e-16;
+
+/// The rows of Figure B1, each with its short heading: the families of the work-precision
+/// figures, the damped pair joining the last.
+fn b1_families() -> Vec<(&'static str, Vec<SolverId>)> {
+    let names = ["thesis's solvers", "accelerated", "substeps, VBD, damped"];
+    let damped = [SolverId::DampedBackwardEuler, SolverId::DampedAdmm];
+    FAMILIES
+        .iter()
+        .zip(names)
+        .enumerate()
+        .map(|(i, ((_, members), name))| {
+            let mut members = members.to_vec();
+            if i + 1 == FAMILIES.len() {
+                members.extend(damped);
+            }
+            (name, members)
+        })
+        .collect()
+}
+
+/// The tolerance line of Figure B1.
+const TOLERANCE_GREY: crate::report::plot::Rgb = crate::report::plot::Rgb(120, 120, 120);
 
 /// The header of `beyond_results.csv`: the columns of `results.csv`, then the configuration
 /// (the setting's label) and the scene.
@@ -179,49 +202,77 @@ impl BeyondChapter {
     }
 
     /// The chapter's figure: the convergence curves at [`CONVERGENCE_DT`],
-    /// [`CONVERGENCE_STIFFNESS`], one panel per start.
+    /// [`CONVERGENCE_STIFFNESS`], small multiples: a row per family of solvers
+    /// ([`b1_families`]), a column per start, the tolerance [`GAP_TOLERANCE`] drawn in each;
+    /// curves that coincide are drawn once and named together.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
         let mut panels = Vec::new();
         let mut csv = CsvFile::new(&["solver", "start", "iteration", "gap_m"]);
-        for start in Start::ALL {
-            let mut panel = Panel::new(
-                Axis::linear("iterations m"),
-                Axis::log("gap to the converged step (m)"),
-            );
-            panel.heading = format!("start: {}", start.id());
-            // One legend, under the second panel: the first one's series have no label.
-            panel.legend = LegendPlace::Below;
-            let labelled = start == Start::Step10;
-            for curve in self.figure_curves(start) {
-                let points: Vec<(f64, f64)> = curve
-                    .gaps
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(i, g)| g.map(|g| ((i + 1) as f64, g.max(GAP_FLOOR))))
-                    .collect();
-                for (m, g) in &points {
+        for curve in Start::ALL.iter().flat_map(|&s| self.figure_curves(s)) {
+            for (i, g) in curve.gaps.iter().enumerate() {
+                if let Some(g) = g {
                     csv.record(vec![
                         curve.spec.id.to_string(),
-                        start.id().to_string(),
-                        m.to_string(),
-                        full(*g),
+                        curve.start.id().to_string(),
+                        (i + 1).to_string(),
+                        full(g.max(GAP_FLOOR)),
                     ]);
                 }
+            }
+        }
+        for (family, members) in b1_families() {
+            for start in Start::ALL {
+                let mut panel = Panel::new(
+                    Axis::linear("iterations m"),
+                    Axis::log("gap (m)").range(GAP_FLOOR / 3.0, 1e-2),
+                );
+                panel.heading = format!("{family}, {}", start.label());
+                panel.legend = LegendPlace::Below;
+                let curves: Vec<&ConvergenceCurve> = self
+                    .figure_curves(start)
+                    .filter(|c| members.contains(&c.spec.id))
+                    .collect();
+                let points: Vec<Vec<(f64, f64)>> = curves
+                    .iter()
+                    .map(|c| {
+                        c.gaps
+                            .iter()
+                            .enumerate()
+                            .filter_map(|(i, g)| g.map(|g| ((i + 1) as f64, g.max(GAP_FLOOR))))
+                            .collect()
+                    })
+                    .collect();
                 panel.series.push(
                     Series::line(
-                        if labelled { curve.spec.id.id() } else { "" },
-                        points,
-                        colour(curve.spec.id, 0),
+                        "1e-6 m",
+                        vec![
+                            (1.0, GAP_TOLERANCE),
+                            (CONVERGENCE_ITERATIONS as f64, GAP_TOLERANCE),
+                        ],
+                        TOLERANCE_GREY,
                     )
-                    .with_line(solver_line(curve.spec.id))
-                    .with_marker(Marker::None, true),
+                    .with_line(Line::Dotted),
                 );
+                for group in coinciding_groups(&points) {
+                    let id = curves[group[0]].spec.id;
+                    let names: Vec<&str> = group
+                        .iter()
+                        .map(|&i| curves[i].spec.id.display_name())
+                        .collect();
+                    panel.series.push(
+                        Series::line(names.join(" ≈ "), points[group[0]].clone(), colour(id, 0))
+                            .with_line(solver_line(id))
+                            .with_marker(Marker::None, true),
+                    );
+                }
+                panels.push(panel);
             }
-            panels.push(panel);
         }
+        let mut chart = Chart::new(FULL_WIDTH_MM, 230.0, panels);
+        chart.columns = Start::ALL.len();
         Ok(vec![ChapterFigure::new(
             "beyond_convergence",
-            &Chart::new(FULL_WIDTH_MM, 120.0, panels),
+            &chart,
             csv.text(),
         )?])
     }
@@ -329,7 +380,7 @@ impl BeyondChapter {
             let info = id.info();
             let settings = grid_settings(id).expect("a grid solver has settings");
             t.row(vec![
-                format!("`{}`", info.id),
+                info.display_name.to_string(),
                 info.source.to_string(),
                 format!("[`{}`]({})", info.file, format_args!("../{}", info.file)),
                 info.iteration.unwrap_or("-").to_string(),
@@ -357,8 +408,8 @@ impl BeyondChapter {
 
         md += &format!("### {number}.3 Convergence toward the converged Backward Euler step\n\n");
         md += &format!(
-            "One step of dt = {} s at k = {} N/m, from the rope at rest and from `step10` (after \
-             ten converged Backward Euler steps of {} s from rest, a moving state), with m = 1 to \
+            "One step of dt = {} s at k = {} N/m, from the rope at rest and from a moving state \
+             (after ten converged Backward Euler steps of {} s from rest; `step10` in the data), with m = 1 to \
              {CONVERGENCE_ITERATIONS} iterations, each m a fresh solver; the gap is the largest \
              node distance to the step solved by Newton to round-off. **One start for every \
              solver:** each step starts from the inertial prediction y = x_n + h v_n + h² M⁻¹ \
@@ -366,7 +417,7 @@ impl BeyondChapter {
              construction), so that the curves and the tables below compare solvers, not starts; \
              what each solver's own start changes is measured after them. Chebyshev's ρ is the \
              plain iteration's asymptotic rate (this crate's rule, `rho_rule = asymptotic-rate`), \
-             and Anderson-ADMM uses Zhang et al. 2019's primal-residual safeguard. The XPBD family and PBD \
+             and Anderson ADMM uses Zhang et al. 2019's primal-residual safeguard. The XPBD family and PBD \
              converge to their own constraint solution, not to this step: their curves level off \
              at what they miss it by. All curves (both stiffnesses, dt = 1e-2 and 1e-3 s) are in \
              `data/convergence.csv`.\n\n",
@@ -377,20 +428,37 @@ impl BeyondChapter {
         );
         if let Some(f) = figures.iter().find(|f| f.stem == "beyond_convergence") {
             md += &format!(
-                "![beyond_convergence](figures/{s}.svg)\n\n*Figure B1. Gap to the converged \
-                 step against the iterations of one step (dt = {} s, k = {} N/m), every solver \
-                 starting from the inertial prediction, (a) from rest, (b) from step10; gaps below {} m drawn at it.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
+                "![beyond_convergence](figures/{s}.svg)\n\n*Figure B1. Gap (the largest node \
+                 distance) to the converged step against the iterations of one step (dt = {} s, k = {} N/m), every solver \
+                 starting from the inertial prediction: a row per family (the thesis's solvers; \
+                 the accelerated Projective-Dynamics solvers; {}, {} and the damped pair), from \
+                 rest (left) and from the moving state after ten steps (right); the dotted grey line is the \
+                 tolerance the tables count iterations to, {} m; gaps below {} m are drawn at it. \
+                 Curves within {} decade of each other at every iteration are drawn once and named \
+                 together (≈). The curves that rise or level off high do not converge to this \
+                 step by design: {} and {} solve their own constraint problem ({}: rigid springs), \
+                 and {}'s iterations are substeps, so more of them approach the motion of smaller \
+                 steps, not this Backward Euler step; their gap tends to the distance between the \
+                 two.* Data: [`data/{s}.csv`](data/{s}.csv).\n\n",
                 full(CONVERGENCE_DT),
                 stiffness_label(CONVERGENCE_STIFFNESS),
+                SolverId::XpbdSubsteps.display_name(),
+                SolverId::Vbd.display_name(),
+                short(GAP_TOLERANCE),
                 full(GAP_FLOOR),
+                short(crate::report::figures::COINCIDE_DECADES),
+                SolverId::Pbd.display_name(),
+                SolverId::Xpbd.display_name(),
+                SolverId::Pbd.display_name(),
+                SolverId::XpbdSubsteps.display_name(),
                 s = f.stem
             );
         }
         let mut t = MarkdownTable::new(&[
             "solver",
             "iterations to 1e-6 m, from rest",
-            "from step10",
-            &format!("gap after {CONVERGENCE_ITERATIONS}, from step10 (m)"),
+            "from the moving state",
+            &format!("gap after {CONVERGENCE_ITERATIONS}, from the moving state (m)"),
         ]);
         let rest = self.iterations_to_tolerance(Start::Rest);
         let moving = self.iterations_to_tolerance(Start::Step10);
@@ -398,7 +466,7 @@ impl BeyondChapter {
             |n: Option<usize>| n.map_or(format!("> {CONVERGENCE_ITERATIONS}"), |n| n.to_string());
         for ((id, from_rest, _), (_, from_step10, last)) in rest.iter().zip(&moving) {
             t.row(vec![
-                format!("`{id}`"),
+                id.display_name().to_string(),
                 shown(*from_rest),
                 shown(*from_step10),
                 last.map_or("step failed".into(), sig4),
@@ -408,7 +476,7 @@ impl BeyondChapter {
         md += "\n";
 
         md += &format!(
-            "**Acceleration.** The same step (dt = {} s, k = {} N/m, from step10): the iterations \
+            "**Acceleration.** The same step (dt = {} s, k = {} N/m, from the moving state): the iterations \
              to a gap below {} m of each accelerated solver and of the iteration it accelerates, \
              searched up to {ACCELERATION_MAX_ITERATIONS} (one by one to {CONVERGENCE_ITERATIONS}, \
              then by doubling and bisection). An iteration of each costs one global solve; the \
@@ -427,9 +495,9 @@ impl BeyondChapter {
         };
         for a in &self.acceleration {
             t.row(vec![
-                format!("`{}`", a.solver),
+                a.solver.display_name().to_string(),
                 count(a.iterations),
-                format!("`{}`", a.base),
+                a.base.display_name().to_string(),
                 count(a.base_iterations),
                 a.ratio().map_or("-".into(), |r| format!("{}×", sig4(r))),
             ]);
@@ -443,8 +511,8 @@ impl BeyondChapter {
             .map(|a| {
                 let ratio = a.ratio();
                 format!(
-                    "on `{}` {} ({})",
-                    a.base,
+                    "on {} {} ({})",
+                    a.base.display_name(),
                     ratio.map_or("not measured".into(), |r| format!("{}× fewer", sig4(r))),
                     if ratio.is_some_and(|r| r >= 10.0) {
                         "holds"
@@ -469,12 +537,17 @@ impl BeyondChapter {
                     .iter()
                     .find(|a| a.solver == solver && a.base == base)?
                     .ratio()?;
-                Some(format!("`{solver}` on `{base}` {before}× → {}×", sig4(now)))
+                Some(format!(
+                    "{} on {} {before}× → {}×",
+                    solver.display_name(),
+                    base.display_name(),
+                    sig4(now)
+                ))
             })
             .collect();
         md += &format!(
-            "**What the one start moved.** Before issue 22 Liu 2013 and its two accelerations \
-             started each step at x_n and the others at the inertial prediction, so the ratios \
+            "**What the one start moved.** Before every solver started from the inertial \
+             prediction, Fast m-s and its two accelerations started each step at x_n and the others at the inertial prediction, so the ratios \
              compared starts as well as solvers; from one start they are {}. ADMM's \
              accelerations now extrapolate (x, ū), Zhang et al. 2019's variable, instead of \
              (z, ū).\n\n",
@@ -488,11 +561,10 @@ impl BeyondChapter {
     fn starts_section(&self, number: u32) -> String {
         let mut md = format!("### {number}.4 Each solver's own start, and Chebyshev's ρ\n\n");
         md += &format!(
-            "The same step (dt = {} s, k = {} N/m, from step10, a gap below {} m): the iterations \
+            "The same step (dt = {} s, k = {} N/m, from the moving state, a gap below {} m): the iterations \
              from each solver's own first iterate, where it is not the inertial prediction, and \
              from the inertial prediction. VBD's adaptive guess (d) uses the previous step's \
-             acceleration: its solvers first take the step before step10 (step9 to step10's \
-             start), so that its own start is a running solver's; a fresh solver's (d) is (c).\n\n",
+             acceleration: its solvers first take the step that ends at the moving state, so that its own start is a running solver's; a fresh solver's (d) is (c).\n\n",
             full(CONVERGENCE_DT),
             stiffness_label(CONVERGENCE_STIFFNESS),
             full(GAP_TOLERANCE),
@@ -510,7 +582,7 @@ impl BeyondChapter {
         };
         for e in &self.starts {
             t.row(vec![
-                format!("`{}`", e.spec.id),
+                e.spec.id.display_name().to_string(),
                 own_first_iterate(e.spec.id).map_or(
                     "x̂ = (x̃ + αh x_n)/(1 + αh), its damped prediction".into(),
                     |f| f.formula().to_string(),
@@ -522,15 +594,16 @@ impl BeyondChapter {
         md += &t.render();
         md += "\n";
         md += &format!(
-            "**ρ.** The tables above use ρ = {} for `chebyshev_liu`, the plain iteration's \
+            "**ρ.** The tables above use ρ = {} for {cheb}, the plain iteration's \
              asymptotic rate on the rope's start (`rho_rule = asymptotic-rate`, this crate's \
              rule, one ρ for every iteration count). Wang 2015 (§5.1) starts instead from the \
              ratio of the objective's gradient norms at the last two of the K iterations used \
              (`rho_rule = gradient-ratio`, ρ depending on K) and then tunes by hand. The scan: \
-             iterations of `chebyshev_liu` to {} m at the same step against ρ, searched up to \
+             iterations of {cheb} to {} m at the same step against ρ, searched up to \
              {RHO_SCAN_MAX}.\n\n",
             sig4(self.rho_default),
             full(GAP_TOLERANCE),
+            cheb = SolverId::ChebyshevLiu.display_name(),
         );
         let mut t = MarkdownTable::new(&["ρ", "iterations to 1e-6 m"]);
         for p in &self.rho_scan {
@@ -577,11 +650,15 @@ impl BeyondChapter {
                     .map_or("-".into(), |worst| sig4(worst as f64 / n as f64)),
             );
         }
-        md += "`xpbd_substeps` runs here, in the grid and in the curves with Gauss-Seidel sweeps \
-               and without constraint damping, its defaults; Macklin 2019's constraint damping \
-               (§4.1, Eq. 8) and its Jacobi sweep are options (`constraint_damping`, `sweep`), \
-               tested in `tests/newer_solvers.rs`. VBD runs with the exact local Hessian, the \
-               paper's; the projection is the option `hessian = projected`.\n\n";
+        md += &format!(
+            "{} runs here, in the grid and in the curves with Gauss-Seidel sweeps and without \
+             constraint damping, its defaults; Macklin 2019's constraint damping (§4.1, Eq. 8) \
+             and its Jacobi sweep are options (`constraint_damping`, `sweep`), tested in \
+             `tests/newer_solvers.rs`. {} runs with the exact local Hessian, the paper's; the \
+             projection is the option `hessian = projected`.\n\n",
+            SolverId::XpbdSubsteps.display_name(),
+            SolverId::Vbd.display_name(),
+        );
         md
     }
 }

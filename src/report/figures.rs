@@ -63,7 +63,7 @@ impl Figure {
 const MAX_BUCKETS: usize = 1500;
 /// Two series coincide in a drawing when every pair of their points is closer than this on a
 /// log axis, decades (12 %; under a third of a marker on the error plots' ten decades).
-const COINCIDE_DECADES: f64 = 0.05;
+pub const COINCIDE_DECADES: f64 = 0.05;
 
 const BLACK: Rgb = Rgb(0, 0, 0);
 const GREY: Rgb = Rgb(120, 120, 120);
@@ -246,13 +246,14 @@ fn coincide(a: &[(f64, f64)], b: &[(f64, f64)]) -> bool {
         })
 }
 
-/// Consecutive iteration counts whose series coincide, as groups of indices into `series`.
-fn coinciding_groups(series: &[Vec<(f64, f64)>]) -> Vec<Vec<usize>> {
+/// Series that coincide with the first of a group join it, as groups of indices into
+/// `series` in order: each group is drawn once and named together.
+pub fn coinciding_groups(series: &[Vec<(f64, f64)>]) -> Vec<Vec<usize>> {
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (i, s) in series.iter().enumerate() {
-        match groups.last_mut() {
-            Some(g) if coincide(&series[g[0]], s) => g.push(i),
-            _ => groups.push(vec![i]),
+        match groups.iter_mut().find(|g| coincide(&series[g[0]], s)) {
+            Some(g) => g.push(i),
+            None => groups.push(vec![i]),
         }
     }
     groups
@@ -345,7 +346,7 @@ fn error_against_dt(
             Axis::log("Δt (s)").range(6e-4, 0.17),
             Axis::log("rest-state error (m)").range(y_range.0, y_range.1),
         );
-        panel.heading = solver.abbreviation().to_string();
+        panel.heading = solver.display_name().to_string();
         panel.legend = LegendPlace::Below;
         let pub_groups = coinciding_groups(published);
         let our_groups = if ours.iter().all(|o| o.is_empty()) {
@@ -365,7 +366,7 @@ fn error_against_dt(
                 s.points = series[index].clone();
                 let label = group_label(counts, g);
                 if g.len() > 1 {
-                    merged.push(format!("{} {source} {label}", solver.abbreviation()));
+                    merged.push(format!("{} {source} {label}", solver.display_name()));
                 }
                 // Where both sources group alike, one entry (ours' look) names the colour.
                 s.label = match (same, is_published) {
@@ -424,10 +425,11 @@ fn error_against_dt(
         format!(
             "Figure {number}. Rest-state error against Δt, k = {} N/m, one panel per solver: {which}. Published \
              values hollow on dashed lines, ours filled on solid lines, one colour and marker per iteration count \
-             (darker for fewer). The error is the sum over the nodes of the distance between the final positions \
-             and those of our Backward Euler reference of the same stiffness (the thesis's measure, convention \
-             7). Same axes in every panel.{merged}",
-            stiffness_text(stiffness)
+             (darker for fewer). The error is the distance between the final positions and those of our \
+             Backward Euler reference of the same stiffness, {} (the thesis's measure). Same axes in every \
+             panel.{merged}",
+            stiffness_text(stiffness),
+            crate::report::tables::summed_over_free_nodes()
         ),
         &chart,
         csv_rows.text(),
@@ -1196,7 +1198,7 @@ fn figure13(runs: &FigureRuns) -> Result<Figure> {
             "Figure 13. The rope's motion over the first {} s, Backward Euler against Fast m-s (k = 10³ N/m, \
              Δt = 0.1 s, 1 iteration). The thesis does not say what it plots; we plot the height of node 4, a middle \
              node and the lowest at rest, which shows the bounces directly: the reference oscillates about its rest \
-             height while one Liu iteration per step creeps down with hardly a bounce. Markers every {} Fast m-s \
+             height while one Fast m-s iteration per step creeps down with hardly a bounce. Markers every {} Fast m-s \
              steps.{extra}",
             sig_short(FIGURE13_WINDOW_S),
             FIGURE13_MARKER_EVERY
@@ -1243,14 +1245,14 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
     for (solver, key) in STIFF_MIDDLE {
         if let Some((spec, run)) = runs.get(key) {
             add(
-                format!("{} {} it.", solver.abbreviation(), spec.iterations),
+                format!("{} {} it.", solver.display_name(), spec.iterations),
                 solver.id(),
                 run,
                 colour(solver, 1),
             );
             present.push(format!(
                 "{} {} iterations (ends at {} s)",
-                solver.abbreviation(),
+                solver.display_name(),
                 spec.iterations,
                 sig4(run.end_time())
             ));
@@ -1289,19 +1291,21 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
             GREY,
         );
     }
-    let first_peaks: Vec<String> =
-        std::iter::once(runs.get(BE_STIFF).map(|(_, r)| ("BE".to_string(), r)))
-            .flatten()
-            .chain(STIFF_MIDDLE.iter().filter_map(|(s, key)| {
-                runs.get(key)
-                    .map(|(_, r)| (s.abbreviation().to_string(), r))
-            }))
-            .filter_map(|(name, r)| {
-                r.peaks
-                    .first()
-                    .map(|p| format!("{name} {} J", sig4(p.energy)))
-            })
-            .collect();
+    let first_peaks: Vec<String> = std::iter::once(
+        runs.get(BE_STIFF)
+            .map(|(_, r)| (SolverId::BackwardEuler.display_name().to_string(), r)),
+    )
+    .flatten()
+    .chain(STIFF_MIDDLE.iter().filter_map(|(s, key)| {
+        runs.get(key)
+            .map(|(_, r)| (s.display_name().to_string(), r))
+    }))
+    .filter_map(|(name, r)| {
+        r.peaks
+            .first()
+            .map(|p| format!("{name} {} J", sig4(p.energy)))
+    })
+    .collect();
     let what = if envelope {
         "the kinetic energy at each of its peaks (the envelope of the oscillation) over each whole run, on a \
          logarithmic axis, so that a constant damping rate is a straight line; the dotted line is the stopping \
@@ -1514,7 +1518,7 @@ fn parity(data: &ReportData) -> Result<Figure> {
     }
     for solver in SolverId::THESIS_TABLES {
         chart.legend.push(Entry {
-            label: solver.abbreviation().to_string(),
+            label: solver.display_name().to_string(),
             style: Series::points("", Vec::new(), GREY)
                 .with_marker(solver_marker(solver), false)
                 .style,

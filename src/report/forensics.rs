@@ -75,7 +75,7 @@ pub fn counts_table(f: &Forensics) -> MarkdownTable {
         };
         let mut cells = vec![format!(
             "Table {table} ({}, k = {k})",
-            first.solver.abbreviation()
+            first.solver.display_name()
         )];
         cells.extend(count_cells(f.counts(Some(table))));
         t.row(cells);
@@ -187,7 +187,7 @@ pub fn evidence_table(f: &Forensics) -> (MarkdownTable, String) {
         ">T/2 pub. (s)",
         ">T/2 ours (s)",
         ">T/2 dev.",
-        ">error ours (m)",
+        &crate::report::tables::summed_error_header("ours"),
         ">note",
     ]);
     let mut notes = String::new();
@@ -248,11 +248,11 @@ fn row_note(f: &Forensics, e: &RowEvidence) -> String {
 fn short_choice(c: Choice) -> &'static str {
     match c {
         Choice::SceneFit => "scene fit",
-        Choice::PeakStamp => "convention 4",
-        Choice::Clock => "convention 5",
+        Choice::PeakStamp => "peak time stamp",
+        Choice::Clock => "f32 clock",
         Choice::Gravity => "gravity",
         Choice::LiuFirstIterate => "first iterate",
-        Choice::LiuHypothesis => "Liu hypothesis",
+        Choice::LiuHypothesis => "Fast m-s hypothesis",
         Choice::AdmmStart => "ADMM start",
     }
 }
@@ -318,7 +318,7 @@ pub fn time_convention_table(faithful: &ResultSet) -> MarkdownTable {
         let (dev_thesis, dev_exact) = (dev(|m| m.half_period_thesis), dev(|m| m.half_period_exact));
         t.row(vec![
             table.to_string(),
-            rows[0].published.solver.abbreviation().into(),
+            rows[0].published.solver.display_name().into(),
             rows.len().to_string(),
             thesis.to_string(),
             exact.to_string(),
@@ -484,9 +484,9 @@ pub fn liu_as_admm_table(f: &Forensics) -> MarkdownTable {
     let mut t = MarkdownTable::new(&[
         "ADMM row",
         ">peaks pub.",
-        ">peaks Liu (y, 1 it.)",
+        ">peaks Fast m-s (y, 1 it.)",
         ">T/2 pub. (s)",
-        ">T/2 Liu (s)",
+        ">T/2 Fast m-s (s)",
         ">T/2 dev.",
         "meets the rule",
     ]);
@@ -532,7 +532,7 @@ pub fn damping_scan(f: &Forensics) -> Vec<(f64, Vec<usize>, usize)> {
             });
             let measured: Vec<&Measured> = rows
                 .iter()
-                .map(|r| point.row(r).expect("the grid holds every Liu row"))
+                .map(|r| point.row(r).expect("the grid holds every Fast m-s row"))
                 .collect();
             (
                 LIU_DAMPING_GRID[damping],
@@ -763,7 +763,7 @@ pub fn gravity_table(f: &Forensics) -> MarkdownTable {
     let mut t = MarkdownTable::new(&[
         "row",
         "configuration",
-        ">error pub. (m)",
+        &crate::report::tables::summed_error_header("pub."),
         same.as_str(),
         reference.as_str(),
         solver.as_str(),
@@ -816,7 +816,7 @@ pub fn section(f: &Forensics) -> String {
     md += "**The rule of evidence** (one rule, `crate::forensics::evidence`). A row's reproduction rests on the \
            printed algorithm and on *choices*: values at points the thesis leaves open (the scene fitted on Table \
            1, conventions 4 and 5 of `docs/thesis-scene.md`, the gravity, Liu's first iterate) and departures from \
-           the printed algorithm (the Liu hypothesis, the ADMM start). Each choice gives the row a class, strongest \
+           the printed algorithm (the Fast m-s hypothesis, the ADMM start). Each choice gives the row a class, strongest \
            first: **faithful** (every reading of the choice we ran reproduces the row: it does not rest on it); \
            **interpretation** (a point the text leaves open, resolved one way, where the other reading does not \
            reproduce the row, its outcome given, or where the choice was identified on this row); **predicted** \
@@ -846,7 +846,7 @@ pub fn section(f: &Forensics) -> String {
     );
     md += "### 6.1 The choices and the rows that rest on them\n\n";
     md += &choices_table(f).render();
-    md += "\nThe evidence of every row, the time conventions' other readings, the Liu hypothesis with its \
+    md += "\nThe evidence of every row, the time conventions' other readings, the Fast m-s hypothesis with its \
            parameters' intervals, every ADMM candidate and the gravity study are in appendix A.\n\n";
     md
 }
@@ -858,7 +858,7 @@ pub fn appendix(f: &Forensics, faithful: &ResultSet) -> String {
     md += "### A.1 Evidence for every row\n\n";
     md += &format!(
         "Our numbers are those of the configuration named; errors against our faithful reference of the same \
-         stiffness, as the sum of per-node distances (convention 7; below {:e} m they are the round-off of \
+         stiffness, as the sum of per-node distances (measurement convention 7 of `docs/thesis-scene.md`; below {:e} m they are the round-off of \
          converged solves and are printed as that bound). \"marginal\" marks a row that passes with a T/2 \
          deviation above {} %.\n\n",
         crate::report::format::ROUND_OFF_REST_ERROR_M,
@@ -871,28 +871,28 @@ pub fn appendix(f: &Forensics, faithful: &ResultSet) -> String {
     md += "\n### A.2 The time conventions and their other readings\n\n";
     md += "Convention 4 stamps a peak at the step that detects it; its other reading stamps it at its own sample. \
            Convention 5 accumulates time in f32; its other reading in f64. At dt = 1e-3 s either reading moves T/2 \
-           by a few thousandths of a percent to a few tenths, so Table 1 cannot identify convention 4; the \
+           by a few thousandths of a percent to a few tenths, so Table 1 cannot identify the peak time stamp; the \
            rows that can are listed in section 6.1. Per table, the faithful runs: how many rows' published T/2 lies \
            closer to our f32 detection-step value and how many to our exact value (the 0.5 % tolerance is wider \
            than the gap between the two at dt = 1e-3).\n\n";
     md += &time_convention_table(faithful).render();
-    md += "\n### A.3 Liu 2013: the open first iterate and the fitted hypothesis\n\n";
-    md += "Algorithm 3 does not say where each step's iteration starts. Both readings were run on every Liu row; \
+    md += "\n### A.3 Fast m-s: the open first iterate and the fitted hypothesis\n\n";
+    md += "Algorithm 3 does not say where each step's iteration starts. Both readings were run on every Fast m-s row; \
            a row reproduced by one only is an interpretation.\n\n";
     md += &liu_readings_table(f, faithful).render();
-    md += "\nStarted at y with one iteration, Liu's step is almost ADMM's with the start x⁰ = x_n + dt·v_n (appendix \
+    md += "\nStarted at y with one iteration, Fast m-s's step is almost ADMM's with the start x⁰ = x_n + dt·v_n (appendix \
            A.4). Run on the ADMM one-iteration rows, measured against the published ADMM numbers:\n\n";
     md += &liu_as_admm_table(f).render();
     let reproduced = f.liu_as_admm.iter().filter(|m| m.reproduces()).count();
     md += &format!(
-        "\n{reproduced} of the {} published ADMM one-iteration rows meet the rule with Liu started at y.\n\n",
+        "\n{reproduced} of the {} published ADMM one-iteration rows meet the rule with Fast m-s started at y.\n\n",
         f.liu_as_admm.len()
     );
     let fitted_rows = rows_resting_on(f, Choice::LiuHypothesis);
     md += &format!(
         "Forensic findings 2-4 form one hypothesis with three free parameters: the first peak exempt from the \
          stopping threshold, a velocity damping c after each step, and a stopping threshold at k = 1e6. Its \
-         values, c = 0.05 s⁻¹ and 1e-4 J, were fitted on the Liu rows' peak counts (findings 3 and 4 of \
+         values, c = 0.05 s⁻¹ and 1e-4 J, were fitted on the Fast m-s rows' peak counts (findings 3 and 4 of \
          `docs/thesis-scene.md`, in the repository's first commit); the grid of {} points (c in {{{}}} s⁻¹, \
          threshold 1e-3 or 1e-4 J at k = 1e6, exemption or not) was laid around them later. So every row it \
          reproduces is **fitted**, {} rows ({}), and no split of the same rows can make one predicted. The fit: exact peak \
@@ -952,7 +952,7 @@ pub fn appendix(f: &Forensics, faithful: &ResultSet) -> String {
          run at different gravities ({} and {} m/s²) give errors of their size. Provenance: {PROVENANCE}. So \
          this is a description, not a test: every solver row runs under the configuration of its evidence \
          class, with the reference or the solvers at {} m/s², and the table counts the floor rows within \
-         {}-{} of the published error (sum of per-node distances, convention 7; twins once). Ours/published \
+         {}-{} of the published error (sum of per-node distances, measurement convention 7 of `docs/thesis-scene.md`; twins once). Ours/published \
          in brackets, ✓ within the band; both norms and the errors to the exact equilibria in \
          [`data/gravity-mismatch.csv`](data/gravity-mismatch.csv).\n\n",
         short(ERROR_CHECK_ABOVE),

@@ -65,6 +65,15 @@ pub fn signed(diff: i64) -> String {
     }
 }
 
+/// A count with its noun, singular for one: `1 iteration`, `30 iterations`.
+pub fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// The shortest decimal text that parses back to exactly `x` (Rust's `{:?}` for `f64`:
 /// `0.001`, `1000000.0`, `3.7e-24`), for machine-readable files.
 pub fn full(x: f64) -> String {
@@ -201,6 +210,13 @@ pub fn opt_rest_error(e: Option<f64>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_count_of_one_is_singular() {
+        assert_eq!(counted(1, "iteration"), "1 iteration");
+        assert_eq!(counted(0, "iteration"), "0 iterations");
+        assert_eq!(counted(30, "solver"), "30 solvers");
+    }
 
     #[test]
     fn significant_digits() {

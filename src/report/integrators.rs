@@ -432,7 +432,7 @@ impl IntegratorsChapter {
         );
         let mut t = MarkdownTable::new(&header);
         for id in minimizing_solvers() {
-            let mut row = vec![format!("`{id}`")];
+            let mut row = vec![id.display_name().to_string()];
             for i in OptimizationIntegrator::ALL {
                 row.push(self.cost(id, i).map_or("–".into(), |c| {
                     format!(
@@ -456,9 +456,9 @@ impl IntegratorsChapter {
             .filter_map(|i| {
                 self.cheapest(i).map(|c| {
                     format!(
-                        "{} `{}` ({} flops)",
+                        "{} {} ({} flops)",
                         i.label(),
-                        c.solver,
+                        c.solver.display_name(),
                         sig(c.flops_per_step, 3)
                     )
                 })

@@ -397,9 +397,9 @@ fn findings(data: &ReportData) -> String {
         .filter_map(|a| {
             Some(format!(
                 "{} {}× fewer than {}",
-                a.solver.info().abbreviation,
+                a.solver.info().display_name,
                 sig(a.ratio()?, 3),
-                a.base.info().abbreviation
+                a.base.info().display_name
             ))
         })
         .collect();
@@ -452,7 +452,7 @@ fn findings(data: &ReportData) -> String {
             let id: SolverId = r.solver.parse().ok()?;
             Some(format!(
                 "{} at k = {:e} N/m (dt = {} s, {} flops)",
-                id.info().abbreviation,
+                id.info().display_name,
                 c.stiffness,
                 short(r.dt_s),
                 sig(r.flops?, 2)
@@ -496,7 +496,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         let missing: Vec<&str> = SolverId::THESIS_TABLES
             .into_iter()
             .filter(|s| !solvers_in(r).contains(s))
-            .map(|s| s.abbreviation())
+            .map(|s| s.display_name())
             .collect();
         md += &format!(
             "> **Partial report:** {run} of {} experiments were run; not run: {}. Their cells read `–` and \
@@ -507,7 +507,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         );
     }
     md += &findings(data);
-    md += "\n";
+    md += "\nEach solver has one name throughout, listed with its code id and its paper in appendix B.\n\n";
     // The contents come from the body's headings, and every reference is linked at the end.
     let head = md;
     let mut md = String::new();
@@ -530,18 +530,19 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
          first peak below {} J, which is counted.\n\
          - **T/2, thesis convention** (used for every comparison with published numbers): the time stamp of the \
          last peak divided by the number of peaks, a peak stamped at the step that detects it, time accumulated \
-         in single precision as the thesis's code did (convention 5 of `docs/thesis-scene.md`).\n\
+         in single precision as the thesis's code did (measurement convention 5 of `docs/thesis-scene.md`).\n\
          - **T/2, exact convention** (shown beside it): the mean interval between consecutive peaks, each at its \
          own sample, time in double precision.\n\
          - **Relative T error**: $|T/2 - T/2_{{ref}}|/T/2_{{ref}}$ against our reference of the same stiffness.\n\
-         - **Error** (rest state): the sum over the nodes of the distance between the final positions and those \
-         of our reference of the same stiffness.\n\n\
+         - **Error** (rest state): the distance between the final positions and those of our reference of the \
+         same stiffness, {} (the thesis's measure; the benchmark's errors of sections 10-13 are per node).\n\n\
          **Reproduction rule** (one rule for tests, report and summaries): a row is reproduced ({}) when, under \
          the thesis convention, |peaks − published| ≤ max(1, round(0.005 × published)) and |T/2 − published| ≤ \
          {} % of published; otherwise {}. The rest-state error is checked only where the published error \
          exceeds {}: ours/published within {}-{} ({} or {} after the ratio); smaller published errors are floors \
          that depend on where a run stops inside its residual oscillation, compared but not asserted (\"floor\").\n\n",
         short(STOP_THRESHOLD_J),
+        tables::summed_over_free_nodes(),
         tables::PASS,
         short(100.0 * HALF_PERIOD_TOLERANCE),
         tables::FAIL,
@@ -632,7 +633,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
             "**{}** — [`{}`](../{}#L{})\n\n```rust\n{}\n```\n\n",
-            tables::solver_name(*solver),
+            solver.display_name(),
             quote.file,
             quote.file,
             quote.line,
@@ -670,6 +671,11 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         md += "\n## Appendix A. The forensic details\n\n";
         md += &forensics::appendix(f, r);
     }
+    md += "\n## Appendix B. Solver names\n\n";
+    md += "Each solver has one name in this report's text, tables and figures (the thesis's \
+           abbreviation of Table 8 for its own solvers), defined in the registry \
+           (`src/registry.rs`); the data files and `mss` use its code id.\n\n";
+    md += &tables::solver_glossary().render();
 
     navigation::linkify(&format!("{head}{}\n{md}", navigation::contents(&md)))
 }

@@ -447,6 +447,15 @@ pub enum Mark {
     Segment((f64, f64), (f64, f64)),
 }
 
+/// A series as drawn: its axes, legend text, style and the points inside its axes, pt.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DrawnSeries {
+    pub panel: usize,
+    pub label: String,
+    pub style: Style,
+    pub points: Vec<(f64, f64)>,
+}
+
 /// A laid-out figure: every text box, data mark and axes rectangle, pt, y down.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Layout {
@@ -459,6 +468,10 @@ pub struct Layout {
     pub marks: Vec<(usize, Mark)>,
     /// The box of every legend (swatches and texts).
     pub legends: Vec<Rect>,
+    /// Every series in drawing order (a later one is drawn over an earlier one).
+    pub series: Vec<DrawnSeries>,
+    /// Every legend entry: (index in `legends`, entry).
+    pub legend_entries: Vec<(usize, Entry)>,
     shapes: Vec<Shape>,
 }
 
@@ -788,6 +801,8 @@ struct Builder {
     texts: Vec<TextBox>,
     marks: Vec<(usize, Mark)>,
     legends: Vec<Rect>,
+    series: Vec<DrawnSeries>,
+    legend_entries: Vec<(usize, Entry)>,
     shapes: Vec<Shape>,
 }
 
@@ -859,7 +874,9 @@ impl Builder {
         }
         let (placed, w, h) = legend_rows(entries, max_width, one_column);
         let row_h = TEXT_PT * 1.35;
+        let legend = self.legends.len();
         for (e, (dx, row)) in entries.iter().zip(placed) {
+            self.legend_entries.push((legend, (*e).clone()));
             let x = origin.0 + dx;
             let mid = origin.1 + row as f64 * row_h + row_h / 2.0;
             let s = &e.style;
@@ -948,6 +965,8 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
         texts: Vec::new(),
         marks: Vec::new(),
         legends: Vec::new(),
+        series: Vec::new(),
+        legend_entries: Vec::new(),
         shapes: Vec::new(),
     };
     let outer = 4.0;
@@ -1104,6 +1123,8 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
         texts: b.texts,
         marks: b.marks,
         legends: b.legends,
+        series: b.series,
+        legend_entries: b.legend_entries,
         shapes: b.shapes,
     })
 }
@@ -1226,6 +1247,20 @@ fn draw_panel(
         });
     }
     for s in &panel.series {
+        b.series.push(DrawnSeries {
+            panel: index,
+            label: s.label.clone(),
+            style: s.style,
+            points: s
+                .points
+                .iter()
+                .filter(|p| valid(p))
+                .map(|&p| to_pt(p))
+                .filter(|c| {
+                    c.0 >= frame.x0 && c.0 <= frame.x1 && c.1 >= frame.y0 && c.1 <= frame.y1
+                })
+                .collect(),
+        });
         if s.style.line != Line::None {
             let mut run: Vec<(f64, f64)> = Vec::new();
             let flush = |run: &mut Vec<(f64, f64)>, b: &mut Builder| {

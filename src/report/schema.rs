@@ -101,7 +101,7 @@ pub const FILES: &[FileSchema] = &[
     },
     FileSchema {
         pattern: "configurations.csv",
-        about: "every run of Liu's other first iterate and of the ADMM candidates (section 6)",
+        about: "every run of Fast m-s's other first iterate and of the ADMM candidates (section 6)",
         columns: &[
             ("configuration", ""),
             ("table", ""),
@@ -123,7 +123,7 @@ pub const FILES: &[FileSchema] = &[
     },
     FileSchema {
         pattern: "liu_grid.csv",
-        about: "every run of the Liu hypothesis: each grid point on each Liu row and the probes of the damping interval (appendix A.3)",
+        about: "every run of the Fast m-s hypothesis: each grid point on each Fast m-s row and the probes of the damping interval (appendix A.3)",
         columns: &[
             ("configuration", ""),
             ("role", ""),
@@ -552,6 +552,90 @@ pub const FILES: &[FileSchema] = &[
         published_names: false,
     },
 ];
+
+/// Every data file of `report/timing/`, written by `make timing` (`src/bin/timing/`) from
+/// the serde rows of [`crate::report::benchmark_wall`] and the scaling study.
+pub const TIMING_FILES: &[FileSchema] = &[
+    FileSchema {
+        pattern: "benchmark_wall.csv",
+        about: "every dynamics configuration of the benchmark timed on one core, beside its flops and relative physical error",
+        columns: &[
+            ("scene", ""),
+            ("stiffness_n_per_m", "N/m"),
+            ("solver", ""),
+            ("iterations", ""),
+            ("integrator", ""),
+            ("stopping", ""),
+            ("dt_s", "s"),
+            ("wall_s", "s"),
+            ("cpu_s", "s"),
+            ("wall_spread", ""),
+            ("flagged", ""),
+            ("flops", ""),
+            ("physical_rel", ""),
+        ],
+        published_names: false,
+    },
+    FileSchema {
+        pattern: "machine.csv",
+        about: "who measured: the commit, the machine, when, the load and the run time",
+        columns: &[
+            ("commit", ""),
+            ("uncommitted_changes", ""),
+            ("cpu", ""),
+            ("cores", ""),
+            ("toolchain", ""),
+            ("measured_utc", ""),
+            ("load_before", ""),
+            ("load_after", ""),
+            ("run_time_s", "s"),
+        ],
+        published_names: false,
+    },
+    FileSchema {
+        pattern: "scaling.csv",
+        about: "the sheet's scaling study: each solver's set-up, iteration and step times at each size",
+        columns: &[
+            ("solver", ""),
+            ("n", ""),
+            ("nodes", ""),
+            ("springs", ""),
+            ("factor_nnz", ""),
+            ("setup_s", "s"),
+            ("setup_cpu_s", "s"),
+            ("setup_spread", ""),
+            ("local_s", "s"),
+            ("local_cpu_s", "s"),
+            ("local_spread", ""),
+            ("global_s", "s"),
+            ("global_cpu_s", "s"),
+            ("global_spread", ""),
+            ("iteration_s", "s"),
+            ("iteration_cpu_s", "s"),
+            ("step_s", "s"),
+            ("step_cpu_s", "s"),
+            ("step_spread", ""),
+            ("step_repeats", ""),
+            ("peak_bytes", "bytes"),
+        ],
+        published_names: false,
+    },
+    FileSchema {
+        pattern: "bandwidth.csv",
+        about: "the read bandwidth at each size of Fast m-s's factor",
+        columns: &[
+            ("n", ""),
+            ("factor_bytes", "bytes"),
+            ("read_bandwidth_bytes_per_s", "bytes/s"),
+        ],
+        published_names: false,
+    },
+];
+
+/// The schema of a file of `report/timing/`.
+pub fn timing_schema_of(name: &str) -> Option<&'static FileSchema> {
+    TIMING_FILES.iter().find(|f| matches(f.pattern, name))
+}
 
 /// Whether `name` matches `pattern`, `*` standing for any text and `[ab]` for one of its
 /// characters.

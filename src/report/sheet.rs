@@ -13,15 +13,16 @@ use crate::report::data::CsvFile;
 use crate::report::figures::colour;
 use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{
+    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
+};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
 use crate::sheet_equilibrium::{report_equilibria, Equilibrium};
-use crate::system::Vec3;
 
-/// The horizontal coordinate of a view.
-type Projection = fn(&Vec3) -> f64;
+/// The colour of the stiff sheet's profiles in Figure S1 (the soft one's is Backward Euler's).
+const PROFILE_BLUE: Rgb = Rgb(0, 114, 178);
 
 /// Every result of the chapter.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,47 +40,49 @@ impl SheetChapter {
     }
 
     /// The chapter's figure: the exact rest states of the 10 × 10 sheet at both stiffnesses,
-    /// (a) seen along z (x against y), (b) seen along x (z against y), to scale.
+    /// the edge and centre-line profiles seen along z (x against y), to scale.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
         let mut csv = CsvFile::new(&["stiffness_n_per_m", "node", "x_m", "y_m", "z_m"]);
-        let views: [(&str, Projection); 2] = [("x (m)", |p| p.x), ("z (m)", |p| p.z)];
-        let mut panels = Vec::new();
-        for (view, (label, horizontal)) in views.iter().enumerate() {
-            let mut panel = Panel::new(Axis::linear(*label), Axis::linear("y (m)"));
-            panel.equal_aspect = true;
-            for (k, (stiffness, _, e)) in self
-                .equilibria
-                .iter()
-                .filter(|(_, n, _)| *n == SHEET_NODES_PER_SIDE)
-                .enumerate()
-            {
-                let points: Vec<(f64, f64)> = e.x.iter().map(|p| (horizontal(p), p.y)).collect();
-                if view == 0 {
-                    for (i, p) in e.x.iter().enumerate() {
-                        csv.record(vec![
-                            full(*stiffness),
-                            i.to_string(),
-                            full(p.x),
-                            full(p.y),
-                            full(p.z),
-                        ]);
-                    }
-                }
-                let legend = if view == 1 {
-                    format!("k = {} N/m", stiffness_label(*stiffness))
-                } else {
-                    String::new()
-                };
+        let n = SHEET_NODES_PER_SIDE;
+        // Node i·n + j sits at x = i, z = j (m) at rest: the edge is j = 0, the centre line
+        // the row nearest the middle (the sheet is symmetric about it).
+        let rows = [("edge", 0), ("centre line", (n - 1) / 2)];
+        let mut panel = Panel::new(Axis::linear("x (m)"), Axis::linear("y (m)"));
+        panel.equal_aspect = true;
+        panel.legend = LegendPlace::Below;
+        for (k, (stiffness, _, e)) in self
+            .equilibria
+            .iter()
+            .filter(|(_, nodes, _)| *nodes == n)
+            .enumerate()
+        {
+            for (i, p) in e.x.iter().enumerate() {
+                csv.record(vec![
+                    full(*stiffness),
+                    i.to_string(),
+                    full(p.x),
+                    full(p.y),
+                    full(p.z),
+                ]);
+            }
+            for (r, (name, j)) in rows.iter().enumerate() {
+                let points: Vec<(f64, f64)> = (0..n)
+                    .map(|i| (e.x[i * n + j].x, e.x[i * n + j].y))
+                    .collect();
                 panel.series.push(
-                    Series::points(legend, points, colour(SolverId::BackwardEuler, 0))
-                        .with_marker([Marker::Circle, Marker::Cross][k % 2], k == 0),
+                    Series::line(
+                        format!("k = {} N/m, {name}", stiffness_label(*stiffness)),
+                        points,
+                        [colour(SolverId::BackwardEuler, 0), PROFILE_BLUE][k % 2],
+                    )
+                    .with_line([Line::Solid, Line::Dashed][r])
+                    .with_marker([Marker::Circle, Marker::Cross][k % 2], r == 0),
                 );
             }
-            panels.push(panel);
         }
         Ok(vec![ChapterFigure::new(
             "sheet_rest_states",
-            &Chart::new(FULL_WIDTH_MM, 70.0, panels),
+            &Chart::new(FULL_WIDTH_MM, 80.0, vec![panel]),
             csv.text(),
         )?])
     }
@@ -148,8 +151,11 @@ impl SheetChapter {
         if let Some(f) = figures.iter().find(|f| f.stem == "sheet_rest_states") {
             md += &format!(
                 "![sheet_rest_states](figures/{s}.svg)\n\n*Figure S1. The exact rest states of \
-                 the {n} × {n} sheet, to scale: (a) seen along z, (b) seen along x.* Data: \
-                 [`data/{s}.csv`](data/{s}.csv).\n\n",
+                 the {n} × {n} sheet, to scale (the same metre on both axes), seen along z: the \
+                 height of the nodes of one edge (z = 0, solid, filled markers) and of the centre \
+                 line (the row nearest the middle, dashed, hollow markers) against x, at each stiffness; the sheet is symmetric \
+                 in x and z, so the other edges and the view along x are the same curves.* Data, \
+                 every node: [`data/{s}.csv`](data/{s}.csv).\n\n",
                 s = f.stem,
                 n = SHEET_NODES_PER_SIDE
             );
@@ -190,7 +196,7 @@ impl SheetChapter {
         let top = |r: &[SolverId]| {
             r.iter()
                 .take(3)
-                .map(|id| id.info().abbreviation)
+                .map(|id| id.info().display_name)
                 .collect::<Vec<_>>()
                 .join(", ")
         };

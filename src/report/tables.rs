@@ -13,8 +13,8 @@ use crate::experiments::{
 use crate::metrics::STOP_THRESHOLD_J;
 use crate::registry::SolverId;
 use crate::report::format::{
-    full, opt4, percent, rest_error, sci3, sig4, signed, MarkdownTable, ROUND_OFF_REST_ERROR_M,
-    SIGNIFICANT_DIGITS,
+    counted, full, opt4, percent, rest_error, sci3, sig4, signed, MarkdownTable,
+    ROUND_OFF_REST_ERROR_M, SIGNIFICANT_DIGITS,
 };
 use std::sync::OnceLock;
 
@@ -180,25 +180,46 @@ fn dash() -> String {
     "–".into()
 }
 
+/// The free nodes of the thesis rope, over which its rest-state error is summed
+/// (measurement convention 7 of `docs/thesis-scene.md`).
+fn rope_free_nodes() -> usize {
+    let rope = crate::scene::thesis_rope(1e3).expect("the thesis rope builds");
+    rope.nodes().iter().filter(|n| !n.fixed).count()
+}
+
+/// How the thesis's rest-state error adds up, for every sentence that shows it.
+pub fn summed_over_free_nodes() -> String {
+    format!("summed over {} free nodes", rope_free_nodes())
+}
+
+/// The header of a column of the thesis's rest-state error: `which` (`pub.`, `ours`) with
+/// its unit and its sum, right-aligned.
+pub fn summed_error_header(which: &str) -> String {
+    format!(">error {which} (m, Σ {} nodes)", rope_free_nodes())
+}
+
 /// One of Tables 1-7: every published row beside ours, the verdict first; T/2 and errors
 /// published and ours side by side (the published T/2 as printed; errors in one scientific
 /// format, 3 significant digits). The exact convention's T/2 and the relative T errors are in
 /// `data/results.csv`.
 pub fn results_table(results: &ResultSet, table: u8) -> MarkdownTable {
     let reference = table == 1;
-    let mut header = vec!["status", ">dt (s)", ">iter."];
+    let mut header: Vec<String> = ["status", ">dt (s)", ">iter."].map(String::from).to_vec();
     if reference {
-        header.push(">k (N/m)");
+        header.push(">k (N/m)".into());
     }
-    header.extend([
-        ">peaks pub.",
-        ">peaks ours",
-        ">T/2 pub. (s)",
-        ">T/2 ours (s)",
-        ">T/2 dev.",
-    ]);
+    header.extend(
+        [
+            ">peaks pub.",
+            ">peaks ours",
+            ">T/2 pub. (s)",
+            ">T/2 ours (s)",
+            ">T/2 dev.",
+        ]
+        .map(String::from),
+    );
     if !reference {
-        header.extend([">error pub. (m)", ">error ours (m)"]);
+        header.extend([summed_error_header("pub."), summed_error_header("ours")]);
     }
     let mut t = MarkdownTable::new(&header);
     for row in published_table(table) {
@@ -291,9 +312,25 @@ pub fn table8() -> MarkdownTable {
             _ => "one colour of its own",
         };
         t.row(vec![
-            kind.abbreviation().into(),
+            kind.display_name().into(),
             solver_name(kind).into(),
             colour.into(),
+        ]);
+    }
+    t
+}
+
+/// The glossary of solver names: every solver of the registry, its one display name, its
+/// identifier in the data files and on the command line, and the paper or section it follows.
+pub fn solver_glossary() -> MarkdownTable {
+    let mut t = MarkdownTable::new(&["name in this report", "code id", "what it is", "source"]);
+    for id in SolverId::ALL {
+        let info = id.info();
+        t.row(vec![
+            info.display_name.into(),
+            format!("`{}`", info.id),
+            info.summary.into(),
+            info.source.into(),
         ]);
     }
     t
@@ -307,14 +344,14 @@ pub fn table9(results: &ResultSet) -> MarkdownTable {
         ">dt (s)",
         ">iter.",
         ">k (N/m)",
-        ">error pub.",
-        ">error ours",
+        &summed_error_header("pub."),
+        &summed_error_header("ours"),
         ">ours/pub.",
     ]);
     for row in view_rows(k, dt, indices) {
         let m = measured(results, row);
         t.row(vec![
-            row.solver.abbreviation().into(),
+            row.solver.display_name().into(),
             full(row.dt_s),
             row.iterations.to_string(),
             stiffness_label(row.stiffness),
@@ -346,7 +383,7 @@ pub fn kinetic_view(results: &ResultSet, table: u8) -> MarkdownTable {
         let m = measured(results, row);
         t.row(vec![
             status(m),
-            row.solver.abbreviation().into(),
+            row.solver.display_name().into(),
             full(row.dt_s),
             row.iterations.to_string(),
             p.ke_peaks.clone(),
@@ -437,7 +474,7 @@ pub fn summary(results: &ResultSet) -> MarkdownTable {
         total.error_within += n.error_within;
         t.row(summary_cells(
             table.to_string(),
-            first.solver.abbreviation(),
+            first.solver.display_name(),
             k,
             n,
         ));
@@ -526,10 +563,10 @@ pub fn explain(m: &Measured, evidence: Option<&RowEvidence>) -> String {
     };
     let found = match (evidence, p.solver) {
         (Some(e), _) if e.evidence.reproduced() => format!(
-            "section 6 reproduces it as {} with `{}` ({})",
+            "section 6 reproduces it as {}: {} (configuration `{}` in `data/reproduction.csv`)",
             e.evidence.id(),
-            e.configuration.id(),
-            e.configuration.summary()
+            e.configuration.summary(),
+            e.configuration.id()
         ),
         (Some(e), _) => format!("section 6 classes it {}", e.evidence.id()),
         (None, SolverId::Xpbd) => "not expected: an independent prototype and a third-party XPBD \
@@ -558,10 +595,10 @@ pub fn explanations(results: &ResultSet, forensics: Option<&Forensics>) -> Strin
         for row in published_table(table) {
             if let Some(m) = measured(results, row).filter(|m| !m.reproduces()) {
                 out += &format!(
-                    "- Table {table}, {} dt = {} s, {} iterations, k = {}: {}\n",
-                    row.solver.abbreviation(),
+                    "- Table {table}, {} dt = {} s, {}, k = {}: {}\n",
+                    row.solver.display_name(),
                     full(row.dt_s),
-                    row.iterations,
+                    counted(row.iterations, "iteration"),
                     stiffness_label(row.stiffness),
                     explain(m, forensics.and_then(|f| f.evidence_of(row)))
                 );

@@ -7,11 +7,109 @@
 //! - no text box or legend box intersects a data mark (marker or line piece) of any panel;
 //! - no two text boxes intersect, no legend box covers a text other than its own, and no two
 //!   legends overlap;
-//! - every mark lies inside its panel's axes, and every text inside the figure.
+//! - every mark lies inside its panel's axes, and every text inside the figure;
+//! - no two labelled series of one axes, and no two entries of one legend, share colour,
+//!   marker and dash (issue 25: line style or marker redundant with colour);
+//! - every legend entry has a visible swatch, and every labelled series a mark of its own
+//!   that no later series draws over (a series hidden under another is named with it, not
+//!   drawn twice).
 
 use mass_spring_solvers::report::plot::{
-    Layout, Mark, Rect, TextRole, PT_PER_MM, SVG_UNITS_PER_PT,
+    DrawnSeries, Layout, Line, Mark, Marker, Rect, Rgb, Style, TextRole, PT_PER_MM,
+    SVG_UNITS_PER_PT, WHITE,
 };
+
+/// Points closer than this are drawn on top of each other, pt.
+const COINCIDENT_PT: f64 = 0.5;
+
+/// What tells a series apart in print: colour, dash, marker (and its fill, where it has one).
+fn encoding(s: &Style) -> (Rgb, Line, Marker, bool) {
+    (
+        s.color,
+        s.line,
+        s.marker,
+        s.marker != Marker::None && s.filled,
+    )
+}
+
+/// Whether `over` hides every point of `under`: it passes through each of them and draws
+/// at least as much there (a marker of the same shape and size, filled; a solid line as wide).
+fn hides(over: &DrawnSeries, under: &DrawnSeries) -> bool {
+    let (o, u) = (&over.style, &under.style);
+    let marker_hidden =
+        u.marker == Marker::None || (o.marker == u.marker && o.radius >= u.radius && o.filled);
+    let line_hidden = u.line == Line::None || (o.line == Line::Solid && o.width >= u.width);
+    !under.points.is_empty()
+        && marker_hidden
+        && line_hidden
+        && under.points.iter().all(|p| {
+            over.points
+                .iter()
+                .any(|q| (p.0 - q.0).abs() <= COINCIDENT_PT && (p.1 - q.1).abs() <= COINCIDENT_PT)
+        })
+}
+
+/// The encoding and visibility problems of a figure's series and legends.
+fn series_problems(name: &str, layout: &Layout) -> Vec<String> {
+    let mut out = Vec::new();
+    let labelled: Vec<&DrawnSeries> = layout
+        .series
+        .iter()
+        .filter(|s| !s.label.is_empty())
+        .collect();
+    for (i, a) in labelled.iter().enumerate() {
+        for b in labelled[i + 1..].iter().filter(|b| b.panel == a.panel) {
+            if encoding(&a.style) == encoding(&b.style) {
+                out.push(format!(
+                    "{name}: series {:?} and {:?} of panel {} share colour, marker and dash",
+                    a.label,
+                    b.label,
+                    a.panel + 1
+                ));
+            }
+        }
+    }
+    for (i, (legend, a)) in layout.legend_entries.iter().enumerate() {
+        let visible_line = a.style.line != Line::None && a.style.width > 0.0;
+        let visible_marker = a.style.marker != Marker::None && a.style.radius > 0.0;
+        if a.style.color == WHITE || !(visible_line || visible_marker) {
+            out.push(format!(
+                "{name}: legend entry {:?} has no visible mark",
+                a.label
+            ));
+        }
+        for (other, b) in &layout.legend_entries[i + 1..] {
+            if other == legend && a.label != b.label && encoding(&a.style) == encoding(&b.style) {
+                out.push(format!(
+                    "{name}: legend entries {:?} and {:?} share colour, marker and dash",
+                    a.label, b.label
+                ));
+            }
+        }
+    }
+    for (i, a) in layout.series.iter().enumerate() {
+        if a.label.is_empty() {
+            continue;
+        }
+        if a.points.is_empty() {
+            out.push(format!(
+                "{name}: series {:?} is in the legend but draws nothing",
+                a.label
+            ));
+        } else if let Some(b) = layout.series[i + 1..]
+            .iter()
+            .find(|b| b.panel == a.panel && b.label != a.label && hides(b, a))
+        {
+            out.push(format!(
+                "{name}: series {:?} is hidden under {:?} in panel {}",
+                a.label,
+                b.label,
+                a.panel + 1
+            ));
+        }
+    }
+    out
+}
 
 /// Smallest text at the printed size, pt.
 pub const MIN_TEXT_PT: f64 = 8.0;
@@ -155,5 +253,6 @@ pub fn problems(name: &str, layout: &Layout, svg: &str) -> Vec<String> {
             }
         }
     }
+    out.extend(series_problems(name, layout));
     out
 }

@@ -427,7 +427,7 @@ fn explanations_start_from_our_run() {
     let text = explanations(faithful_results(), Some(forensic_results()));
     let line_of = |dt: f64| {
         text.lines()
-            .find(|l| l.starts_with(&format!("- Table 5, Fast m-s dt = {dt} s, 1 iterations")))
+            .find(|l| l.starts_with(&format!("- Table 5, Fast m-s dt = {dt} s, 1 iteration,")))
             .unwrap()
             .to_string()
     };

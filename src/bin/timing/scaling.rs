@@ -315,7 +315,7 @@ fn run_child(exe: &Path, solver: &Solver, n: usize) -> Result<Point> {
     if !out.status.success() {
         return Err(Error::Input(format!(
             "{} at n = {n} failed: {}",
-            solver.id.abbreviation(),
+            solver.id.display_name(),
             String::from_utf8_lossy(&out.stderr).trim()
         )));
     }
@@ -328,7 +328,7 @@ fn run_child(exe: &Path, solver: &Solver, n: usize) -> Result<Point> {
         .ok_or_else(|| {
             Error::Input(format!(
                 "{} at n = {n}: no result in {stdout:?}",
-                solver.id.abbreviation()
+                solver.id.display_name()
             ))
         })
 }
@@ -363,7 +363,7 @@ pub fn scaling_study(sides: &[usize]) -> Result<Scaling> {
             let p = run_child(&exe, solver, n)?;
             eprintln!(
                 "timing: n = {n:>3} {:<15} iteration {:>10} (CPU), step {:>10}, peak {:>5} MiB  [{:.1} s]",
-                solver.id.abbreviation(),
+                solver.id.display_name(),
                 seconds(p.iteration_cpu_s),
                 seconds(p.step_cpu_s),
                 p.peak_bytes >> 20,

@@ -58,7 +58,7 @@ pub fn figure(study: &Scaling) -> Result<String> {
         iteration.series.push(styled(xy(|p| p.iteration_cpu_s)));
         setup.series.push(styled(xy(|p| p.setup_cpu_s)));
         legend.push(Entry {
-            label: id.abbreviation().into(),
+            label: id.display_name().into(),
             style: styled(Vec::new()).style,
         });
     }
@@ -125,7 +125,7 @@ pub fn scaling_md(study: &Scaling) -> String {
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for p in points {
-        let name = SolverId::from_id(&p.solver).map_or("?", |s| s.abbreviation());
+        let name = SolverId::from_id(&p.solver).map_or("?", |s| s.display_name());
         let _ = writeln!(
             w,
             "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {} MiB |",
@@ -173,7 +173,7 @@ pub fn scaling_md(study: &Scaling) -> String {
         let _ = writeln!(
             w,
             "| {} | {} | {} | {} |",
-            solver.id.abbreviation(),
+            solver.id.display_name(),
             fit(|p| p.iteration_cpu_s),
             fit(|p| p.setup_cpu_s),
             fit(|p| p.step_cpu_s)
@@ -258,7 +258,7 @@ fn targets_md(study: &Scaling) -> String {
          320 × 320 sheet (102,400 nodes) under 1 s of CPU and 2 GB.\n"
     );
     for id in [SolverId::FastMassSpring, SolverId::AdmmPd] {
-        let name = id.abbreviation();
+        let name = id.display_name();
         if let Some(p) = study.point(id, 100) {
             let bound = study.bound(p).map_or(f64::NAN, |(g, l)| g + l);
             let limit = (0.5e-3_f64).max(1.5 * bound);

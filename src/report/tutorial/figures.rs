@@ -383,52 +383,67 @@ pub fn pendulum_energy(run: &PendulumRun) -> Result<ChapterFigure> {
     )
 }
 
-/// Figure T6: the cloth falling 10 m, side view to scale, each frame shifted along x.
+/// The vertical exaggeration of Figure T6 (b): the cloth at contact is a few centimetres tall.
+pub const CONTACT_EXAGGERATION: f64 = 10.0;
+
+/// Figure T6: (a) the centre of mass's height against its closed form, with the first
+/// contact; (b) the cloth at the first contact, side view, heights × [`CONTACT_EXAGGERATION`].
 pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
-    let width_m = (run.params.cloth.nx - 1) as f64 * run.params.cloth.spacing;
-    // A metre between frames leaves room for each frame's time above it.
-    let shift = width_m + 1.0;
-    let x_end = (run.frames.len() as f64 - 1.0) * shift + width_m + 0.5;
-    let mut panel = Panel::new(
-        Axis::linear(format!(
-            "x (m), frame k shifted by k × {} m",
-            sig_short(shift)
-        ))
-        .range(-0.5, x_end),
-        Axis::linear("height y (m)").range(-0.5, run.params.height + 1.0),
+    let mut fall = Panel::new(
+        Axis::linear("t (s)"),
+        Axis::linear("height of the centre of mass (m)"),
     );
-    panel.equal_aspect = true;
-    panel.legend = LegendPlace::Below;
-    panel
+    fall.legend = LegendPlace::Below;
+    fall.series
+        .push(Series::line("RK4, Δt = 1e-3 s", run.centre.clone(), BLUE).with_weight(1.6));
+    fall.series.push(
+        Series::line("closed form (drag fall)", run.closed_centre.clone(), BLACK)
+            .with_line(Line::Dashed),
+    );
+    fall.series.push(
+        Series::line(
+            format!("first contact, t = {} s", sig4(run.first_contact)),
+            vec![
+                (run.first_contact, 0.0),
+                (run.first_contact, run.params.height),
+            ],
+            GREY,
+        )
+        .with_line(Line::Dotted),
+    );
+    let (t, x) = run
+        .frames
+        .iter()
+        .find(|(t, _)| *t == run.first_contact)
+        .unwrap_or(&run.frames[run.frames.len() - 1]);
+    let mut contact = Panel::new(
+        Axis::linear("x (m)"),
+        Axis::linear(format!("height y (m) × {}", short(CONTACT_EXAGGERATION))),
+    );
+    contact.equal_aspect = true;
+    contact.legend = LegendPlace::Below;
+    contact.heading = format!("t = {} s", sig4(*t));
+    let width_m = (run.params.cloth.nx - 1) as f64 * run.params.cloth.spacing;
+    contact.series.push(
+        Series::line("floor", vec![(-0.1, 0.0), (width_m + 0.1, 0.0)], GREY).with_weight(2.0),
+    );
+    // Every spring in one series, a NaN point between springs.
+    let springs = run
+        .springs
+        .iter()
+        .flat_map(|&(a, b)| {
+            [
+                (x[a].x, x[a].y * CONTACT_EXAGGERATION),
+                (x[b].x, x[b].y * CONTACT_EXAGGERATION),
+                (f64::NAN, f64::NAN),
+            ]
+        })
+        .collect();
+    contact
         .series
-        .push(Series::line("floor", vec![(-0.5, 0.0), (x_end, 0.0)], GREY).with_weight(2.0));
+        .push(Series::line("springs (side view)", springs, BLUE).with_weight(0.8));
     let mut csv = CsvFile::new(&["time_s", "particle", "x_m", "y_m", "z_m"]);
-    for (k, (t, x)) in run.frames.iter().enumerate() {
-        let dx = k as f64 * shift;
-        // Every spring of the frame in one series, a NaN point between springs.
-        let springs = run
-            .springs
-            .iter()
-            .flat_map(|&(a, b)| {
-                [
-                    (x[a].x + dx, x[a].y),
-                    (x[b].x + dx, x[b].y),
-                    (f64::NAN, f64::NAN),
-                ]
-            })
-            .collect();
-        let label = if k == 0 { "springs (side view)" } else { "" };
-        panel
-            .series
-            .push(Series::line(label, springs, BLUE).with_weight(0.8));
-        let top = x.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
-        panel.label(
-            (dx + width_m / 2.0, top),
-            (0.0, 5.0),
-            Align::Middle,
-            format!("{} s", sig_short(*t)),
-            BLACK,
-        );
+    for (t, x) in &run.frames {
         for (i, p) in x.iter().enumerate() {
             csv.record(vec![
                 full(*t),
@@ -441,7 +456,7 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
     }
     ChapterFigure::new(
         "tutorial_cloth_drop",
-        &Chart::new(COLUMN_WIDTH_MM, 100.0, vec![panel]),
+        &Chart::new(FULL_WIDTH_MM, 85.0, vec![fall, contact]),
         csv.text(),
     )
 }

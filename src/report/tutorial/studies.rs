@@ -915,6 +915,9 @@ pub struct ClothDropRun {
     pub springs: Vec<(usize, usize)>,
     /// (t, positions) at [`CLOTH_FRAMES`] and at the first contact.
     pub frames: Vec<(f64, Vec<Vec3>)>,
+    /// The centre of mass's height at every step, simulated and in closed form: (t, m).
+    pub centre: Vec<(f64, f64)>,
+    pub closed_centre: Vec<(f64, f64)>,
     /// First time a particle reached the floor, s, and the closed form of the drag fall.
     pub first_contact: f64,
     pub closed_contact: f64,
@@ -961,6 +964,8 @@ pub fn cloth_drop() -> Result<ClothDropRun> {
         }
     }
     let mut frames = vec![(0.0, state.x.clone())];
+    let centre_of = |x: &[Vec3]| x.iter().map(|p| p.y).sum::<f64>() / n;
+    let mut centre = vec![(0.0, centre_of(&state.x))];
     let mut first_contact = None;
     let (mut max_centre_error, mut lowest): (f64, f64) = (0.0, f64::INFINITY);
     for step in 1..=(CLOTH_TIME / dt).round() as usize {
@@ -968,13 +973,13 @@ pub fn cloth_drop() -> Result<ClothDropRun> {
         let t = step as f64 * dt;
         let low = state.x.iter().map(|x| x.y).fold(f64::INFINITY, f64::min);
         lowest = lowest.min(low);
+        centre.push((t, centre_of(&state.x)));
         if first_contact.is_none() {
             if low <= 0.0 {
                 first_contact = Some(t);
                 frames.push((t, state.x.clone()));
             } else {
-                let centre = state.x.iter().map(|x| x.y).sum::<f64>() / n;
-                max_centre_error = max_centre_error.max((centre - closed(t)).abs());
+                max_centre_error = max_centre_error.max((centre_of(&state.x) - closed(t)).abs());
             }
         }
         if CLOTH_FRAMES[1..].iter().any(|f| (f - t).abs() < 0.5 * dt) {
@@ -982,11 +987,18 @@ pub fn cloth_drop() -> Result<ClothDropRun> {
         }
     }
     frames.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let closed_centre = centre
+        .iter()
+        .map(|&(t, _)| (t, closed(t)))
+        .take_while(|&(_, y)| y >= 0.0)
+        .collect();
     Ok(ClothDropRun {
         params,
         dt,
         springs,
         frames,
+        centre,
+        closed_centre,
         first_contact: first_contact.unwrap_or(f64::NAN),
         closed_contact: lo,
         max_centre_error,

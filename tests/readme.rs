@@ -1,0 +1,137 @@
+//! The README names only what exists: every relative link and every path in a code span is a
+//! file or directory of the repository, every `--test NAME` a test target of `tests/`, every
+//! `make TARGET` a target of the Makefile; and its count of reproduced rows is the report's.
+//! The negative case: a README naming a stale test file, test target, make target and link
+//! fails on each.
+
+use std::path::Path;
+
+/// Files the README links that another line of work writes; each must be removed from here
+/// when it lands (the test then checks it like any other link).
+const WRITTEN_ELSEWHERE: &[&str] = &["docs/performance.md"];
+
+/// The test targets of `tests/`: `tests/NAME.rs` or `tests/NAME/main.rs`.
+fn test_target_exists(root: &Path, name: &str) -> bool {
+    root.join("tests").join(format!("{name}.rs")).is_file()
+        || root.join("tests").join(name).join("main.rs").is_file()
+}
+
+/// The Makefile's targets: `name:` at the start of a line.
+fn make_targets(root: &Path) -> Vec<String> {
+    std::fs::read_to_string(root.join("Makefile"))
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.split_once(':').map(|(t, _)| t))
+        .filter(|t| !t.is_empty() && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '-'))
+        .map(String::from)
+        .collect()
+}
+
+/// The words that follow `marker` in `text` (`--test thesis` → `thesis`).
+fn words_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
+    text.match_indices(marker)
+        .filter_map(|(i, _)| {
+            text[i + marker.len()..]
+                .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'))
+                .next()
+        })
+        .filter(|w| !w.is_empty())
+        .collect()
+}
+
+/// The relative link targets of Markdown links and images, anchors dropped.
+fn link_targets(text: &str) -> Vec<&str> {
+    text.match_indices("](")
+        .filter_map(|(i, _)| {
+            let rest = &text[i + 2..];
+            let target = &rest[..rest.find(')')?];
+            let target = target.split('#').next()?;
+            (!target.is_empty() && !target.contains("://")).then_some(target)
+        })
+        .collect()
+}
+
+/// Paths in code spans: a span that starts with a directory of the repository.
+fn code_paths(text: &str) -> Vec<&str> {
+    const ROOTS: [&str; 8] = [
+        "src/",
+        "tests/",
+        "docs/",
+        "report/",
+        "data/",
+        "benches/",
+        "snapshots/",
+        "scenes/",
+    ];
+    text.split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|span| ROOTS.iter().any(|r| span.starts_with(r)))
+        .filter(|span| !span.contains(['*', ' ']))
+        .collect()
+}
+
+/// Everything the README names that does not exist.
+fn problems(readme: &str, root: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    for target in link_targets(readme).into_iter().chain(code_paths(readme)) {
+        if !root.join(target).exists() && !WRITTEN_ELSEWHERE.contains(&target) {
+            out.push(format!("{target} does not exist"));
+        }
+    }
+    for name in words_after(readme, "--test ") {
+        if !test_target_exists(root, name) {
+            out.push(format!("--test {name}: no such test target"));
+        }
+    }
+    let targets = make_targets(root);
+    for name in words_after(readme, "make ") {
+        if !targets.iter().any(|t| t == name) {
+            out.push(format!("make {name}: no such Makefile target"));
+        }
+    }
+    out
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn everything_the_readme_names_exists() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let found = problems(&readme, root());
+    assert!(found.is_empty(), "{found:#?}");
+    assert!(readme.lines().count() <= 150, "the README is a front page");
+    // It names the two commands, and the make targets it names were found.
+    assert!(readme.contains("make report") && readme.contains("make test"));
+}
+
+#[test]
+fn a_stale_name_fails() {
+    let stale = "Run `cargo test --test report` after `make everything`; see \
+                 `tests/report.rs` and [the notes](docs/notes.md). \
+                 Fine: `cargo test --test thesis`, `make test`, [report](report/REPORT.md).";
+    let found = problems(stale, root());
+    assert_eq!(
+        found,
+        [
+            "docs/notes.md does not exist",
+            "tests/report.rs does not exist",
+            "--test report: no such test target",
+            "make everything: no such Makefile target",
+        ],
+        "{found:#?}"
+    );
+}
+
+#[test]
+fn the_readmes_count_of_reproduced_rows_is_the_reports() {
+    let phrase = |text: &str| {
+        let at = text.find(" of the thesis's 56 published rows").unwrap();
+        text[..at].rsplit(' ').next().unwrap().to_string()
+    };
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let report = std::fs::read_to_string(root().join("report/REPORT.md")).unwrap();
+    assert_eq!(phrase(&readme), phrase(&report));
+}
