@@ -122,7 +122,7 @@ pub const TOLERANCE_CAP: usize = 200;
 /// mass is $`(I + \tau^2 M^{-1}K)\,\delta x`$, with $`K \succeq 0`$ near the rope's taut
 /// states), and the errors of successive steps add at most, if the motion does not amplify
 /// them; a per-step tolerance of $`\varepsilon`$ itself would let a run of $`W/\Delta t`$
-/// steps drift that many times further (the test of `tests/benchmark.rs` shows it).
+/// steps drift that many times further (the test of `tests/thesis/benchmark.rs` shows it).
 pub fn step_residual_tolerance(target: f64, dt: f64, window: f64) -> f64 {
     target * dt / window
 }

@@ -10,7 +10,7 @@ use crate::report::benchmark::of_case;
 use crate::report::format::{sci3, sig, MarkdownTable};
 
 /// A tolerance point whose achieved solver error is within this factor of its target meets
-/// it (the hypothesis of `tests/benchmark.rs`, fixed before the first run).
+/// it (the hypothesis of `tests/thesis/benchmark.rs`, fixed before the first run).
 pub const WITHIN: f64 = 10.0;
 
 /// The tolerance points of `rows`, in their order.
@@ -101,7 +101,7 @@ pub fn section(label: &str, rows: &[Row]) -> String {
             .join(", ")
     );
     md += &format!(
-        "The hypothesis, fixed before the first run (`tests/benchmark.rs`, \
+        "The hypothesis, fixed before the first run (`tests/thesis/benchmark.rs`, \
          `the_tolerance_points_reach_their_targets`): a point whose steps all met their residual \
          ends within {WITHIN:.0} × its target. Of the {} points, {} never reached the cap, and {} \
          of those end within {WITHIN:.0} × their target (the largest ratio {}); the test also shows \
