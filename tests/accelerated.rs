@@ -16,6 +16,7 @@ use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::first_iterate::FirstIterate;
 use mass_spring_solvers::local_global::{AdmmMerit, Base};
 use mass_spring_solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::report::beyond::{accelerations, nudged_starts};
 use mass_spring_solvers::scene::{thesis_rope, THESIS_STIFFNESSES};
 use mass_spring_solvers::{Error, MassSpringSystem, State, TimeStepper, Vec3};
 
@@ -543,4 +544,51 @@ fn wangs_gradient_ratio_grows_with_the_iterations() {
     assert_eq!(solver.spectral_radius(), ratios[1]);
     let zero = gradient_ratio(&system, dt, Base::Liu, first, &start, 0).unwrap_err();
     assert!(zero.to_string().contains("iterations"), "{zero}");
+}
+
+/// The acceleration table's ratios with their round-off: the counts from the start and from
+/// the start nudged by one unit in the last place ([`nudged_starts`]: one coordinate moved by
+/// one ulp, every other bit kept); the ratio lies within its range, and the range is printed
+/// where it is not a point. Negative case, the hypothesis that a one-ulp nudge cannot move a
+/// count: Anderson-ADMM, which stalls near the tolerance, needs a different count from a
+/// nudged start.
+#[test]
+fn the_acceleration_ratios_carry_their_round_off() {
+    let system = thesis_rope(1e6).unwrap();
+    let start = step10(&system);
+    for nudged in nudged_starts(&start) {
+        let moved: Vec<(usize, u64)> = start
+            .x
+            .iter()
+            .zip(&nudged.x)
+            .enumerate()
+            .flat_map(|(i, (a, b))| {
+                (0..3).filter_map(move |c| {
+                    let d = a[c].to_bits().abs_diff(b[c].to_bits());
+                    (d != 0).then_some((i, d))
+                })
+            })
+            .collect();
+        assert_eq!(moved, [(1, 1)]);
+        assert_eq!(nudged.v, start.v);
+    }
+    let accelerations = accelerations().unwrap();
+    for a in &accelerations {
+        let (lo, hi) = a.ratio_range().unwrap();
+        let r = a.ratio().unwrap();
+        assert!(lo <= r && r <= hi, "{}", a.solver);
+        let label = a.ratio_label().unwrap();
+        assert_eq!(label.contains('('), lo < hi, "{}: {label}", a.solver);
+    }
+    let anderson_admm = accelerations
+        .iter()
+        .find(|a| a.solver == SolverId::AndersonAdmm)
+        .unwrap();
+    assert!(
+        anderson_admm
+            .nudged
+            .iter()
+            .any(|(n, _)| *n != anderson_admm.iterations),
+        "{anderson_admm:?}"
+    );
 }
