@@ -4,7 +4,7 @@
 //! Doc comments are parsed as rustdoc parses them (pulldown-cmark 0.11, rustdoc's options,
 //! smart punctuation included) and read as `katex-header.html` reads the HTML: inline math is a
 //! code span flanked by `$` in the same text (`` $`...`$ ``), display math a ```` ```math ````
-//! block (README, "Contributor notes: equations"). Any other `$`, or a TeX command in plain
+//! block (`docs/building.md`, "Contributor notes: equations"). Any other `$`, or a TeX command in plain
 //! text, is math that Markdown rewrites before KaTeX sees it (`\,` loses its backslash, `U_*`
 //! opens an emphasis). REPORT.md is read as GitHub reads it, with pulldown-cmark's math
 //! extension (`$...$`, `$$...$$`). Set `REPORT_MD` to check another REPORT.md (one generated

@@ -677,16 +677,16 @@ fn an_output_whose_parent_is_missing_is_refused_and_creates_nothing() {
     assert_eq!(tree(&base), before);
 }
 
-/// The README's promises about files each name their test: every test named in its section
-/// "What the tools promise about files" exists, and the section names at least the tests of
-/// this issue's cases.
+/// The promises about files each name their test: every test named in the section "What the
+/// tools promise about files" of `docs/building.md` (linked from the README) exists, and the
+/// section names at least the tests of this issue's cases.
 #[test]
 fn every_promise_about_files_in_the_readme_names_a_test_that_exists() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let readme = std::fs::read_to_string(root.join("docs/building.md")).unwrap();
     let start = readme
         .find("## What the tools promise about files")
-        .expect("the README has the section");
+        .expect("docs/building.md has the section");
     let section = &readme[start..];
     let section = &section[..section[3..].find("\n## ").map_or(section.len(), |e| e + 3)];
     let mut sources = String::new();
@@ -710,7 +710,7 @@ fn every_promise_about_files_in_the_readme_names_a_test_that_exists() {
     for test in named {
         assert!(
             sources.contains(&format!("fn {test}()")),
-            "the README names {test}, which is no test"
+            "docs/building.md names {test}, which is no test"
         );
     }
 }
