@@ -6,10 +6,6 @@
 
 use std::path::Path;
 
-/// Files the README links that another line of work writes; each must be removed from here
-/// when it lands (the test then checks it like any other link).
-const WRITTEN_ELSEWHERE: &[&str] = &["docs/performance.md"];
-
 /// The test targets of `tests/`: `tests/NAME.rs` or `tests/NAME/main.rs`.
 fn test_target_exists(root: &Path, name: &str) -> bool {
     root.join("tests").join(format!("{name}.rs")).is_file()
@@ -75,7 +71,7 @@ fn code_paths(text: &str) -> Vec<&str> {
 fn problems(readme: &str, root: &Path) -> Vec<String> {
     let mut out = Vec::new();
     for target in link_targets(readme).into_iter().chain(code_paths(readme)) {
-        if !root.join(target).exists() && !WRITTEN_ELSEWHERE.contains(&target) {
+        if !root.join(target).exists() {
             out.push(format!("{target} does not exist"));
         }
     }

@@ -96,12 +96,17 @@ pub fn solver_marker(solver: SolverId) -> Marker {
     }
 }
 
-/// The line of a solver in a figure of many solvers: solid for the thesis's four; for the
-/// others, with [`colour`], a (colour, line) pair of their own (five colours, then the next
-/// line style).
+/// The line of a solver in a figure of many solvers: solid for Backward Euler and XPBD, dashed
+/// for Fast m-s, dotted for ADMM; for the others, with [`colour`], a (colour, line) pair of
+/// their own (five colours, then the next line style).
 pub fn solver_line(solver: SolverId) -> Line {
-    if SolverId::THESIS_TABLES.contains(&solver) {
-        return Line::Solid;
+    // The thesis's three iterative solvers have a dash of their own besides their hue, so
+    // that they stay apart in grey print and under deuteranopia.
+    match solver {
+        SolverId::FastMassSpring => return Line::Dashed,
+        SolverId::AdmmPd => return Line::Dotted,
+        _ if SolverId::THESIS_TABLES.contains(&solver) => return Line::Solid,
+        _ => {}
     }
     [Line::Solid, Line::Dashed, Line::Dotted][registry_index(solver) / OTHER_SOLVERS.len() % 3]
 }
@@ -1059,9 +1064,17 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
             let t = i as f64 * run.dt;
             let e = run.kinetic_energy[i];
             let c = palette[n % palette.len()];
+            // A marker of its own besides the colour, for grey print and colour-blind readers.
+            let (marker, filled) = [
+                (Marker::Circle, true),
+                (Marker::Triangle, true),
+                (Marker::Square, true),
+                (Marker::Cross, true),
+                (Marker::Circle, false),
+            ][n % 5];
             energy
                 .series
-                .push(Series::points("", vec![(t, e)], c).with_marker(Marker::Circle, true));
+                .push(Series::points("", vec![(t, e)], c).with_marker(marker, filled));
             // Peaks labelled above, minima (the curve rises on both sides) below.
             let offset = if n % 2 == 1 { 6.0 } else { -12.0 };
             energy.label(
@@ -1083,7 +1096,7 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
                         xy(&state.x),
                         c,
                     )
-                    .with_marker(Marker::Circle, true)
+                    .with_marker(marker, filled)
                     .with_marker_scale(0.8),
                 );
                 for (node, p) in state.x.iter().enumerate() {
@@ -1229,7 +1242,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
     };
     let mut csv_series = Vec::new();
     let mut drawn = Vec::new();
-    let mut add = |label: String, key: &str, run: &Run, color: Rgb| {
+    let mut add = |label: String, key: &str, run: &Run, color: Rgb, line: Line| {
         let until = cut.unwrap_or(run.end_time());
         let points = if envelope {
             run.peaks.iter().map(|p| (p.time_exact, p.energy)).collect()
@@ -1238,7 +1251,11 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
         };
         // The reference thin, the solvers thicker, so the short runs stand out.
         let weight = if run.dt < 0.01 { 0.8 } else { 1.4 };
-        drawn.push(Series::line(label, points.clone(), color).with_weight(weight));
+        drawn.push(
+            Series::line(label, points.clone(), color)
+                .with_weight(weight)
+                .with_line(line),
+        );
         csv_series.push((key.to_string(), points));
     };
     let mut present = Vec::new();
@@ -1249,6 +1266,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
                 solver.id(),
                 run,
                 colour(solver, 1),
+                solver_line(solver),
             );
             present.push(format!(
                 "{} {} iterations (ends at {} s)",
@@ -1264,6 +1282,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
             "backward_euler",
             run,
             BLACK,
+            Line::Solid,
         );
         // The reference first in the data, last (on top) in the drawing.
         csv_series.rotate_right(1);
@@ -1322,7 +1341,8 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
         format!("fig{number}-kinetic-energy-k1e6-dt0.01{}", if envelope { "" } else { "-cut" }),
         format!(
             "Figure {number}. Kinetic energy against time, k = 10⁶ N/m, Δt = 0.01 s, the middle iteration count of \
-             each solver ({}), with the Backward Euler reference (Δt = 0.001 s): {what}. First peaks: {}. The \
+             each solver ({}; XPBD solid, Fast m-s dashed, ADMM dotted), with the Backward Euler reference \
+             (Δt = 0.001 s, thin black): {what}. First peaks: {}. The \
              thesis: the reference peaks at about 6 J and XPBD's first peak exceeds 8 J.",
             if present.is_empty() { "not run".to_string() } else { present.join("; ") },
             if first_peaks.is_empty() { "–".to_string() } else { first_peaks.join(", ") }
