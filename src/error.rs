@@ -125,3 +125,34 @@ impl From<crate::catenary::CatenaryError> for Error {
         }
     }
 }
+
+/// Why a command-line tool (`report`, `timing`) stops: bad input, found before anything runs
+/// or is measured (exit 2), or a failure of the run or of writing its files (exit 1).
+#[derive(Debug)]
+pub enum Failure {
+    Input(Error),
+    Run(Error),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Run(e)
+    }
+}
+
+impl Failure {
+    /// Prints the error after the tool's name on stderr and gives the exit code: 2 for bad
+    /// input, 1 for a failed run.
+    pub fn exit(self, tool: &str) -> std::process::ExitCode {
+        match self {
+            Failure::Input(e) => {
+                eprintln!("{tool}: {e}");
+                std::process::ExitCode::from(2)
+            }
+            Failure::Run(e) => {
+                eprintln!("{tool}: {e}");
+                std::process::ExitCode::FAILURE
+            }
+        }
+    }
+}

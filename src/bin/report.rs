@@ -12,6 +12,7 @@
 //! `run-info.md`; a live counter shows too when stderr is a terminal.
 
 use clap::Parser;
+use mass_spring_solvers::error::Failure;
 use mass_spring_solvers::experiments::{published_rows, run_all, Configuration, PublishedRow};
 use mass_spring_solvers::forensics::{Evidence, Forensics};
 use mass_spring_solvers::registry::SolverId;
@@ -84,18 +85,6 @@ fn progress(label: &'static str) -> impl Fn(usize, usize) + Sync {
                 let _ = writeln!(err);
             }
         }
-    }
-}
-
-/// Why `report` stops: bad input, found before anything runs (exit 2), or a failed run (1).
-enum Failure {
-    Input(Error),
-    Run(Error),
-}
-
-impl From<Error> for Failure {
-    fn from(e: Error) -> Self {
-        Failure::Run(e)
     }
 }
 
@@ -246,13 +235,6 @@ fn main() -> ExitCode {
             println!("{summary}");
             ExitCode::SUCCESS
         }
-        Err(Failure::Input(e)) => {
-            eprintln!("report: {e}");
-            ExitCode::from(2)
-        }
-        Err(Failure::Run(e)) => {
-            eprintln!("report: {e}");
-            ExitCode::FAILURE
-        }
+        Err(failure) => failure.exit("report"),
     }
 }

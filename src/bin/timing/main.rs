@@ -24,7 +24,7 @@ mod scaling;
 mod scaling_md;
 
 use clap::Parser;
-use mass_spring_solvers::error::{Error, Result};
+use mass_spring_solvers::error::{Error, Failure, Result};
 use mass_spring_solvers::output_file::{Links, OutputFile};
 use mass_spring_solvers::report::benchmark::rows_csv;
 use mass_spring_solvers::report::benchmark_wall::{WallTiming, MACHINE_CSV, WALL_CSV};
@@ -61,27 +61,7 @@ fn main() -> ExitCode {
             println!("{message}");
             ExitCode::SUCCESS
         }
-        Err(Failure::Input(e)) => {
-            eprintln!("timing: {e}");
-            ExitCode::from(2)
-        }
-        Err(Failure::Run(e)) => {
-            eprintln!("timing: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-/// Why `timing` stops: bad input, found before anything is measured (exit 2), or a failure of
-/// the measurements or of writing their files (exit 1).
-enum Failure {
-    Input(Error),
-    Run(Error),
-}
-
-impl From<Error> for Failure {
-    fn from(e: Error) -> Self {
-        Failure::Run(e)
+        Err(failure) => failure.exit("timing"),
     }
 }
 
