@@ -201,15 +201,11 @@ fn a_residual_step_meets_its_residual() {
         let rope = thesis_rope(k).unwrap();
         let state = Start::Step10.state(&rope).unwrap();
         for id in iterative() {
-            // PBD's hard constraints admit only the straight rope (nine springs of 1 m between
-            // anchors 9 m apart), so its residual falls too slowly to meet a tolerance within
-            // any cap; XPBD's multipliers are not visible from outside its step.
+            // XPBD's multipliers are not visible from outside its step; the damped solvers
+            // refuse the mode (below).
             if matches!(
                 id,
-                SolverId::Pbd
-                    | SolverId::Xpbd
-                    | SolverId::DampedBackwardEuler
-                    | SolverId::DampedAdmm
+                SolverId::Xpbd | SolverId::DampedBackwardEuler | SolverId::DampedAdmm
             ) {
                 continue;
             }
@@ -218,6 +214,13 @@ fn a_residual_step_meets_its_residual() {
                 ..SolverSpec::new(id, 20_000)
             };
             let (stopped, m) = one_step(&spec, &rope, &state, dt);
+            if id == SolverId::Pbd {
+                // PBD's hard constraints admit only the straight rope (nine springs of 1 m
+                // between anchors 9 m apart): its residual does not reach the tolerance in
+                // 20 000 iterations (section 12.8 says so).
+                assert_eq!(m, 20_000, "PBD, k = {k}");
+                continue;
+            }
             assert!(m < 20_000, "{id}, k = {k}: capped");
             let r = stage_residual(&rope, &state, &stopped, dt);
             assert!(r <= tolerance, "{id}, k = {k}: residual {r:e} after {m}");

@@ -90,7 +90,9 @@ pub fn section(label: &str, rows: &[Row]) -> String {
          constraint residual, the largest |C_j + α̃_j λ_j| (Eq 16, α̃ = 0 for PBD). A step's \
          residual of ε Δt / W lets the W / Δt steps of the window add up to ε if the motion does \
          not amplify them; a step's residual of ε itself would let them drift W / Δt times \
-         further. The stiff sheet has none (tried, 52 of its 60 points reached the cap). PBD's hard \
+         further. The stiff sheet has none: tried while these points were designed, most of its \
+         points reached the cap at a cost of twice all the others (`sweep::tolerance_configurations` \
+         records the count). PBD's hard \
          constraints admit only the straight rope (nine springs of 1 m between anchors 9 m \
          apart): its residual falls too slowly to meet any of these tolerances within the cap \
          (nor within 20 000 iterations in one step, `tests/tolerance.rs`).\n\n",

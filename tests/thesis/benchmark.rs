@@ -388,6 +388,11 @@ fn the_tolerance_points_reach_their_targets() {
             r.dt_s
         );
     }
+    // Section 12.8's claim on PBD: none of its points meets its residual in every step.
+    assert!(points
+        .iter()
+        .filter(|r| r.solver == "pbd")
+        .all(|r| r.capped_fraction.is_some_and(|c| c > 0.0)));
     // The counts section 12.8 states, recomputed here.
     let summary = Summary::of(&chapter().rows);
     assert_eq!(
