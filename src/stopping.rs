@@ -253,12 +253,13 @@ impl Convergence {
         self.met
     }
 
-    /// The stage problem's residual at `x`, m (the [`Stopping::Residual`] doc).
+    /// The stage problem's residual at `x`, m (the [`Stopping::Residual`] doc); infinite, so
+    /// that the step runs to its cap, for a test not built for its system
+    /// ([`Convergence::for_system`]) or a stage not begun ([`Convergence::begin_stage`]).
     fn stage_residual(&mut self, x: impl Iterator<Item = Vec3>) -> f64 {
-        let system = self
-            .system
-            .as_ref()
-            .expect("a residual mode is built for its system");
+        let Some(system) = self.system.as_ref().filter(|_| !self.anchor.is_empty()) else {
+            return f64::INFINITY;
+        };
         self.previous.clear();
         self.previous.extend(x);
         system.forces(&self.previous, &mut self.forces);
@@ -322,6 +323,19 @@ mod tests {
         assert_eq!(c.log().steps_by_iterations, vec![0, 0, 0, 2]);
         assert_eq!(c.log().capped, 0);
         assert_eq!(c.log().mean_iterations(), Some(3.0));
+    }
+
+    /// A residual test built without its system, or a stage not begun, runs every step to its
+    /// cap (and logs it capped) rather than panicking.
+    #[test]
+    fn a_residual_test_without_its_stage_never_converges() {
+        let mut c = Convergence::new(Stopping::residual(1e3).unwrap());
+        c.begin([Vec3::zeros()].into_iter());
+        for _ in 0..3 {
+            assert!(!c.converged([Vec3::zeros()].into_iter()));
+        }
+        c.end_step(0);
+        assert_eq!(c.log().capped, 1);
     }
 
     #[test]

@@ -116,11 +116,15 @@ pub fn nudged_starts(state: &State) -> [State; 2] {
     let nudge = |up: bool| {
         let mut s = state.clone();
         let y = s.x[1].y;
-        s.x[1].y = f64::from_bits(if up == (y >= 0.0) {
-            y.to_bits() + 1
+        // `f64::next_up` and `next_down` are newer than the crate's MSRV: the neighbour by
+        // its bits, away from zero when the step and the sign agree, the least subnormal at 0.
+        s.x[1].y = if y == 0.0 {
+            f64::from_bits(1).copysign(if up { 1.0 } else { -1.0 })
+        } else if up == (y > 0.0) {
+            f64::from_bits(y.to_bits() + 1)
         } else {
-            y.to_bits() - 1
-        });
+            f64::from_bits(y.to_bits() - 1)
+        };
         s
     };
     [nudge(false), nudge(true)]

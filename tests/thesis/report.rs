@@ -9,7 +9,6 @@
 //! accept it with `INSTA_UPDATE=always cargo test --test thesis`.
 
 use mass_spring_solvers::benchmark::Case;
-use mass_spring_solvers::beyond::GridScene;
 use mass_spring_solvers::experiments::{faithful_results, published_rows};
 use mass_spring_solvers::forensics::forensic_results;
 use mass_spring_solvers::report::benchmark::BenchmarkChapter;
@@ -31,16 +30,7 @@ use std::sync::OnceLock;
 use super::lock;
 
 /// The benchmark's two rope cases (the sheet's are `make report`'s).
-pub const ROPES: [Case; 2] = [
-    Case {
-        scene: GridScene::Rope,
-        stiffness: 1e3,
-    },
-    Case {
-        scene: GridScene::Rope,
-        stiffness: 1e6,
-    },
-];
+pub const ROPES: [Case; 2] = [Case::ALL[0], Case::ALL[1]];
 
 /// The benchmark on the rope, computed once per test process: the report data's benchmark and
 /// the one `benchmark.rs` tests (the whole benchmark costs most of a minute of CPU; `make
