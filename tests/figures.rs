@@ -3,6 +3,8 @@
 //! pass on the report's figures (`tests/report.rs`) means something.
 
 mod figure_check;
+#[path = "figure_check/numbering.rs"]
+mod numbering;
 
 use figure_check::problems;
 use mass_spring_solvers::report::plot::{
@@ -167,4 +169,49 @@ fn a_series_hidden_under_another_fails() {
     p.series.push(under);
     let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p]));
     assert!(!found.iter().any(|f| f.contains("hidden")), "{found:#?}");
+}
+
+#[test]
+fn figures_out_of_order_unnumbered_lettered_or_uncited_fail() {
+    use numbering::{numbering_problems, uncited};
+    let good = "See [Figure 1](#f1) and [Figure 16](#f16).\n\n\
+                <a id=\"f1\"></a>![Figure 1](figures/fig01-cloth.svg)\n\n*Figure 1. Cloth.*\n\n\
+                <a id=\"f16\"></a>![Figure 16](figures/parity.svg)\n\n*Figure 16. Parity.*\n\n\
+                - [`data/parity.csv`](data/parity.csv): the points of [Figure 16](#f16).\n";
+    assert!(
+        numbering_problems(good).is_empty(),
+        "{:?}",
+        numbering_problems(good)
+    );
+    assert!(uncited(good).is_empty());
+    // Ours before the thesis's: out of order.
+    let swapped = "<a id=\"f16\"></a>![Figure 16](figures/parity.svg)\n\n*Figure 16. Parity.*\n\n\
+                   <a id=\"f1\"></a>![Figure 1](figures/fig01-cloth.svg)\n\n*Figure 1. Cloth.*\n";
+    let found = numbering_problems(swapped);
+    assert!(
+        found.iter().any(|f| f.contains("Figure 1 after Figure 16")),
+        "{found:?}"
+    );
+    // A figure without a numbered caption, one with a letter, one numbered off the sequence.
+    let unnumbered = good.replace("*Figure 16. Parity.*", "*Parity.*");
+    let found = numbering_problems(&unnumbered);
+    assert!(
+        found.iter().any(|f| f.contains("has no numbered caption")),
+        "{found:?}"
+    );
+    let lettered = good.replace("Figure 16](#f16)", "Figure B1](#fB1)");
+    let found = numbering_problems(&lettered);
+    assert!(found.iter().any(|f| f.contains("Figure B1")), "{found:?}");
+    let skipped = good.replace("Figure 16", "Figure 17");
+    let found = numbering_problems(&skipped);
+    assert!(
+        found.iter().any(|f| f.contains("is Figure 17, not 16")),
+        "{found:?}"
+    );
+    // Cited only in its own caption and in the data list: uncited.
+    let caption_only = good.replace(
+        "See [Figure 1](#f1) and [Figure 16](#f16).",
+        "See [Figure 1](#f1).",
+    );
+    assert_eq!(uncited(&caption_only), vec![16]);
 }

@@ -691,14 +691,21 @@ impl BenchmarkChapter {
                rad/s hold its error near doing nothing above 1e-3 s).\n\n";
 
         md += &format!("### {number}.3 Work-precision diagrams\n\n");
+        let cited: Vec<String> = self
+            .cases()
+            .into_iter()
+            .zip(1..=figures.len())
+            .map(|(case, n)| format!("Figure W{n} the {}", case.label()))
+            .collect();
         md += &format!(
-            "Figures W1-W{} show, for each case, what each solver's accuracy costs: a solver \
-             whose front lies lower and further left reaches an error for fewer flops.\n\n",
-            figures.len()
+            "The work-precision diagrams ({}) show, for each case, what each solver's accuracy \
+             costs: a solver whose front lies lower and further left reaches an error for fewer \
+             flops.\n\n",
+            cited.join("; ")
         );
         for (n, (case, f)) in self.cases().into_iter().zip(figures).enumerate() {
             md += &format!(
-                "![{stem}](figures/{stem}.svg)\n\n*Figure W{}. Work and precision, {label}: each solver's front (its \
+                "![Figure W{0}](figures/{stem}.svg)\n\n*Figure W{0}. Work and precision, {label}: each solver's front (its \
                  configurations no cheaper one of its own beats) of the relative physical error against the \
                  counted flops over the window (relative error: the RMS physical error per free node over the \
                  exact motion's RMS amplitude), by family; grey: the explicit baselines (RK4 dashed, \

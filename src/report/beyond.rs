@@ -470,7 +470,7 @@ impl BeyondChapter {
              plain iteration's asymptotic rate (this crate's rule, `rho_rule = asymptotic-rate`), \
              and Anderson ADMM uses Zhang et al. 2019's primal-residual safeguard. The XPBD family and PBD \
              converge to their own constraint solution, not to this step: their curves level off \
-             at what they miss it by. All curves (both stiffnesses, dt = 1e-2 and 1e-3 s) are in \
+             at what they miss it by (Figure B1). All curves (both stiffnesses, dt = 1e-2 and 1e-3 s) are in \
              `data/convergence.csv`.\n\n",
             full(CONVERGENCE_DT),
             stiffness_label(CONVERGENCE_STIFFNESS),

@@ -30,7 +30,9 @@ use crate::system::Vec3;
 /// One figure: file stem (`fig05-error-dt-k1e3`), caption, layout, SVG and CSV text.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Figure {
-    pub number: u8,
+    /// The caption's key: the thesis's number, or one of ours (`P1`) that
+    /// [`crate::report::navigation::number_figures`] numbers.
+    pub key: String,
     pub stem: String,
     pub caption: String,
     /// Every text box, data mark and axes rectangle, for the figure test.
@@ -41,7 +43,7 @@ pub struct Figure {
 
 impl Figure {
     fn new(
-        number: u8,
+        key: impl ToString,
         stem: impl Into<String>,
         caption: String,
         chart: &Chart,
@@ -49,7 +51,7 @@ impl Figure {
     ) -> Result<Self> {
         let layout = layout(chart)?;
         Ok(Self {
-            number,
+            key: key.to_string(),
             stem: stem.into(),
             caption,
             svg: layout.svg(),
@@ -1563,10 +1565,10 @@ fn parity(data: &ReportData) -> Result<Figure> {
         },
     });
     Figure::new(
-        16,
+        PARITY_FIGURE,
         "parity",
         format!(
-            "Figure 16. Ours against published for every row, log-log: (a) the kinetic-energy peak count \
+            "Figure {PARITY_FIGURE}. Ours against published for every row, log-log: (a) the kinetic-energy peak count \
              ({n_peaks} rows), (b) T/2 under the thesis convention ({n_half} rows) and (c) the rest-state error \
              ({n_error} solver rows; Table 1 has none). Ours are the faithful configuration's numbers; the dashed \
              line is ours = published and the grey band the reproduction rule (peaks within max(1, round(0.005 × \
@@ -1581,7 +1583,10 @@ fn parity(data: &ReportData) -> Result<Figure> {
     )
 }
 
-/// Figures 1-15 and the parity figure (16), in order.
+/// The parity figure's key (it is not the thesis's).
+pub const PARITY_FIGURE: &str = "P1";
+
+/// Figures 1-15 and the parity figure, in order.
 pub fn all(data: &ReportData) -> Result<Vec<Figure>> {
     let pd = [SolverId::FastMassSpring, SolverId::AdmmPd];
     let all3 = [SolverId::Xpbd, SolverId::FastMassSpring, SolverId::AdmmPd];

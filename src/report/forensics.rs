@@ -852,8 +852,9 @@ pub fn section(f: &Forensics) -> String {
 }
 
 /// The forensic chapter's details (the report's appendix A, without its heading): every row's
-/// evidence, the time conventions, the Liu hypothesis, the ADMM candidates, the gravity study.
-pub fn appendix(f: &Forensics, faithful: &ResultSet) -> String {
+/// evidence (followed by `parity_figure`, ours against published, as Markdown), the time
+/// conventions, the Liu hypothesis, the ADMM candidates, the gravity study.
+pub fn appendix(f: &Forensics, faithful: &ResultSet, parity_figure: &str) -> String {
     let mut md = String::new();
     md += "### A.1 Evidence for every row\n\n";
     md += &format!(
@@ -868,7 +869,9 @@ pub fn appendix(f: &Forensics, faithful: &ResultSet) -> String {
     md += &table.render();
     md += "\n";
     md += &notes;
-    md += "\n### A.2 The time conventions and their other readings\n\n";
+    md += "\n";
+    md += parity_figure;
+    md += "### A.2 The time conventions and their other readings\n\n";
     md += "Convention 4 stamps a peak at the step that detects it; its other reading stamps it at its own sample. \
            Convention 5 accumulates time in f32; its other reading in f64. At dt = 1e-3 s either reading moves T/2 \
            by a few thousandths of a percent to a few tenths, so Table 1 cannot identify the peak time stamp; the \

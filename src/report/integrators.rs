@@ -341,8 +341,8 @@ impl IntegratorsChapter {
         md += &format!(
             "The positions of the rope at k = {:e} N/m at t = {} s from its start, every stage \
              solved to round-off (Newton, `src/converged_stage.rs`), against the exact motion \
-             (RK4 at {} of its stability limit), as the largest node distance, for h = {} s. \
-             The least-squares slopes, against the targets the issue fixed before the run \
+             (RK4 at {} of its stability limit), as the largest node distance, for h = {} s \
+             (Figure I1). The least-squares slopes, against the targets the issue fixed before the run \
              (1 ± 0.1 for Backward Euler, 2 ± 0.1 for the others, \
              `tests/optimization_integrators.rs`), are: Backward Euler {}, implicit midpoint {}, \
              BDF2 {}, TR-BDF2 {}.\n\n",
@@ -357,7 +357,7 @@ impl IntegratorsChapter {
         );
         for f in figures {
             md += &format!(
-                "![Orders of the integrators](figures/{stem}.svg)\n\n*The error at t = {} s \
+                "![Figure I1](figures/{stem}.svg)\n\n*Figure I1. The error at t = {} s \
                  of each integrator against its time step, on the k = {:e} N/m rope, stages \
                  solved to round-off.* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 short(ORDER_TIME_S),

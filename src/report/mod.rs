@@ -240,13 +240,13 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     Ok(files)
 }
 
-fn figure_md(figures: &[figures::Figure], number: u8) -> String {
+fn figure_md(figures: &[figures::Figure], key: &str) -> String {
     figures
         .iter()
-        .find(|f| f.number == number)
+        .find(|f| f.key == key)
         .map(|f| {
             format!(
-                "![Figure {number}](figures/{stem}.svg)\n\n*{caption}* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
+                "![Figure {key}](figures/{stem}.svg)\n\n*{caption}* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 stem = f.stem,
                 caption = f.caption
             )
@@ -512,16 +512,20 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     let head = md;
     let mut md = String::new();
     md += "## 1. Mass-spring systems (§2.1)\n\n";
-    md += &figure_md(figures, 1);
+    md += "A mass-spring system is a set of point masses joined by springs; Figure 1 redraws the \
+           thesis's example, a cloth, from this crate's sheet.\n\n";
+    md += &figure_md(figures, "1");
 
     md += "## 2. The test scene (§3.1-3.3)\n\n";
     md += "The thesis states the rope's topology and masses but not its geometry; the values below were fitted \
-           to Table 1 and checked against Tables 2 and 3 (`docs/thesis-scene.md`).\n\n";
+           to Table 1 and checked against Tables 2 and 3 (`docs/thesis-scene.md`). Figure 2 sets the rest \
+           state of our reference beside the exact catenary (section 8 gives the distances), Figure 3 draws \
+           the rope's nodes and springs and Figure 4 the distance constraint that PBD and XPBD project.\n\n";
     md += &scene_table().render();
     md += "\n";
-    md += &figure_md(figures, 2);
-    md += &figure_md(figures, 3);
-    md += &figure_md(figures, 4);
+    md += &figure_md(figures, "2");
+    md += &figure_md(figures, "3");
+    md += &figure_md(figures, "4");
 
     md += "## 3. Measurements (§4.2)\n\n";
     md += &format!(
@@ -568,8 +572,10 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
            `docs/thesis-scene.md`; a faithful implementation is the default and is not tuned to the published \
            numbers):\n\n";
     md += &tables::explanations(r, data.forensics.as_ref());
-    md += "\n";
-    md += &figure_md(figures, 16);
+    md += &format!(
+        "\nFigure {} (appendix A.1) sets ours against the published number for every row.\n\n",
+        figures::PARITY_FIGURE
+    );
 
     md += "## 6. Forensic reproduction: how each published number arose\n\n";
     match &data.forensics {
@@ -581,17 +587,26 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &table_md(r, 8);
     md += "### 7.1 Statics\n\n";
     md += &table_md(r, 9);
+    md += "Figure 5 (k = 1e3 N/m) and Figure 7 (k = 1e6 N/m) set each solver's rest-state error against \
+           Δt, published beside ours, and Figure 9 and Figure 10 the two Projective Dynamics methods alone, \
+           as the thesis does; Figure 6 and Figure 8 draw XPBD's rest state against Backward Euler's at the \
+           two stiffnesses.\n\n";
     for n in 5..=10 {
-        md += &figure_md(figures, n);
+        md += &figure_md(figures, &n.to_string());
     }
     md += "### 7.2 Dynamics\n\n";
-    md += &figure_md(figures, 11);
-    md += &figure_md(figures, 12);
+    md += "Figure 11 shows how the kinetic energy of the reference peaks, which the peak count and T/2 \
+           measure, and Figure 12 the rope's motion over one period beside it. Figure 13 follows a node of \
+           the rope under Backward Euler and Fast m-s at Δt = 0.1 s; Figure 14 (the peaks, on a log axis) \
+           and Figure 15 (the kinetic energy itself, cut when Fast m-s comes to rest) set the three solvers \
+           at Δt = 0.01 s beside the reference.\n\n";
+    md += &figure_md(figures, "11");
+    md += &figure_md(figures, "12");
     md += &table_md(r, 10);
     md += &table_md(r, 11);
-    md += &figure_md(figures, 13);
-    md += &figure_md(figures, 14);
-    md += &figure_md(figures, 15);
+    md += &figure_md(figures, "13");
+    md += &figure_md(figures, "14");
+    md += &figure_md(figures, "15");
     md += &table_md(r, 12);
 
     md += "## 8. Analytic catenary against the Newton rest state\n\n";
@@ -669,7 +684,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &v.table().render();
     if let Some(f) = &data.forensics {
         md += "\n## Appendix A. The forensic details\n\n";
-        md += &forensics::appendix(f, r);
+        md += &forensics::appendix(f, r, &figure_md(figures, figures::PARITY_FIGURE));
     }
     md += "\n## Appendix B. Solver names\n\n";
     md += "Each solver has one name in this report's text, tables and figures (the thesis's \
@@ -677,5 +692,6 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
            (`src/registry.rs`); the data files and `mss` use its code id.\n\n";
     md += &tables::solver_glossary().render();
 
-    navigation::linkify(&format!("{head}{}\n{md}", navigation::contents(&md)))
+    let document = format!("{head}{}\n{md}", navigation::contents(&md));
+    navigation::linkify(&navigation::number_figures(&document))
 }

@@ -3,6 +3,10 @@
 //! turned into a link to its anchor. Run once over the finished Markdown, so that no chapter
 //! writes a link by hand and none goes stale.
 //!
+//! Figures are numbered here too, in one sequence ([`number_figures`]): each chapter captions its
+//! figures with a key of its own (`*Figure T1.*`, `*Figure B1.*`), and the thesis's figures with
+//! the thesis's numbers.
+//!
 //! Anchors are inline HTML (`<a id="s6.4"></a>`) at the start of the heading, the table's bold
 //! title or the figure's image: explicit ids work in every renderer (GitHub's, markdown-it's),
 //! where generated heading ids differ between them.
@@ -18,6 +22,92 @@ pub fn table_id(number: &str) -> String {
 
 pub fn figure_id(number: &str) -> String {
     format!("f{number}")
+}
+
+/// The thesis's figures keep the thesis's numbers, 1 to this (our figures mirror them).
+pub const THESIS_FIGURES: u32 = 15;
+
+/// The keys of a document's figure captions (`*Figure KEY. ...*` after an image), in order.
+fn caption_keys(md: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut image = false;
+    let mut fenced = false;
+    for line in md.lines() {
+        if line.starts_with("```") {
+            fenced = !fenced;
+        }
+        if fenced {
+            continue;
+        }
+        if image {
+            if let Some(key) = line.strip_prefix("*Figure ").and_then(number_at) {
+                out.push(key);
+            }
+        }
+        if line.starts_with("![") {
+            image = true;
+        } else if !line.trim().is_empty() {
+            image = false;
+        }
+    }
+    out
+}
+
+/// `md` with its figures in one sequence: a caption key that is a thesis figure's number (1 to
+/// [`THESIS_FIGURES`]) stays; every other key becomes the next number from
+/// `THESIS_FIGURES + 1` in order of first appearance, in its caption and in every
+/// "Figure KEY" of the text (code spans aside).
+pub fn number_figures(md: &str) -> String {
+    let mut next = THESIS_FIGURES;
+    let mut numbers: Vec<(String, String)> = Vec::new();
+    for key in caption_keys(md) {
+        let thesis = key
+            .parse::<u32>()
+            .is_ok_and(|n| (1..=THESIS_FIGURES).contains(&n));
+        if thesis || numbers.iter().any(|(k, _)| k == key) {
+            continue;
+        }
+        next += 1;
+        numbers.push((key.to_string(), next.to_string()));
+    }
+    let mut out = String::with_capacity(md.len());
+    let mut fenced = false;
+    for line in md.split_inclusive('\n') {
+        if line.starts_with("```") {
+            fenced = !fenced;
+        }
+        if fenced {
+            out += line;
+            continue;
+        }
+        let mut in_code = false;
+        let mut rest = line;
+        while let Some(c) = rest.chars().next() {
+            if c == '`' {
+                in_code = !in_code;
+            }
+            let word = ["Figures ", "Figure "]
+                .into_iter()
+                .find(|w| !in_code && rest.starts_with(w));
+            if let Some(word) = word {
+                let after = &rest[word.len()..];
+                if let Some((key, number)) =
+                    number_at(after).and_then(|key| numbers.iter().find(|(k, _)| k == key))
+                {
+                    out += word;
+                    out += number;
+                    rest = &after[key.len()..];
+                    continue;
+                }
+                out += word;
+                rest = after;
+                continue;
+            }
+            out.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    out
 }
 
 /// What a line anchors, if anything: (id, heading level for the contents, its text).
@@ -286,5 +376,19 @@ mod tests {
             toc.contains("- [6. Forensics](#s6)\n  - [6.4 Liu](#s6.4)"),
             "{toc}"
         );
+    }
+
+    #[test]
+    fn figures_are_numbered_in_one_sequence() {
+        let md = "![a](a.svg)\n\n*Figure 1. Thesis.*\n\nSee Figure T1, Figures B1 and `Figure T1`.\n\n\
+                  ![b](b.svg)\n\n*Figure T1. Ours.*\n\n![c](c.svg)\n\n*Figure 2. Thesis.*\n\n\
+                  ![d](d.svg)\n\n*Figure B1. Ours too.*\n\nFigure 16 and Figure T2 are not captions.\n";
+        let out = number_figures(md);
+        assert!(out.contains("*Figure 16. Ours.*"), "{out}");
+        assert!(out.contains("*Figure 17. Ours too.*"));
+        assert!(out.contains("*Figure 1. Thesis.*") && out.contains("*Figure 2. Thesis.*"));
+        assert!(out.contains("See Figure 16, Figures 17 and `Figure T1`."));
+        // Negative cases: a number or key without a caption is not renumbered.
+        assert!(out.contains("Figure 16 and Figure T2 are not captions."));
     }
 }

@@ -169,7 +169,7 @@ pub const FILES: &[FileSchema] = &[
     },
     FileSchema {
         pattern: "parity.csv",
-        about: "every published row with its class and the published and our peak count, T/2 and rest-state error (Figure 16)",
+        about: "every published row with its class and the published and our peak count, T/2 and rest-state error (Figure P1)",
         columns: &[
             ("table", ""),
             ("solver", ""),

@@ -128,7 +128,8 @@ impl SheetChapter {
                stiffness), every linear solve through the crate's scalar banded LDLᵀ; `data/\
                sheet_equilibrium.csv` has every node at full precision. The tests check the \
                residual with an independent force routine, a positive smallest Hessian eigenvalue, \
-               the symmetries x ↦ 9 − x and z ↦ 9 − z, and independence of the start.\n\n";
+               the symmetries x ↦ 9 − x and z ↦ 9 − z, and independence of the start. \
+               Figure S1 draws both rest states to scale.\n\n";
         let mut t = MarkdownTable::new(&[
             "k (N/m)",
             "n",

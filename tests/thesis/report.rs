@@ -99,6 +99,8 @@ fn files() -> &'static [OutputFile] {
 
 #[path = "../figure_check/mod.rs"]
 mod figure_check;
+#[path = "../figure_check/numbering.rs"]
+mod numbering;
 
 fn snapshot(name: &str, text: &str) {
     insta::with_settings!({snapshot_path => "../../snapshots", prepend_module_to_snapshot => false}, {
@@ -436,6 +438,16 @@ fn every_figure_rasterises_at_its_stated_size() {
 /// anchor that exists, every section in the contents, no table wider than ten columns.
 /// Negative cases in `report::navigation`'s unit test (a reference without an anchor stays
 /// plain).
+/// One numbering sequence for every figure, each cited where the text discusses it
+/// (`tests/figure_check/numbering.rs`; its failing cases are in `tests/figures.rs`).
+#[test]
+fn the_figures_are_numbered_in_one_sequence_and_each_is_cited() {
+    let report = file("REPORT.md");
+    let problems = numbering::numbering_problems(report);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert_eq!(numbering::uncited(report), Vec::<u32>::new());
+}
+
 #[test]
 fn the_report_opens_with_its_findings_and_every_link_lands() {
     let report = file("REPORT.md");

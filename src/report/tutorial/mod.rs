@@ -253,7 +253,7 @@ impl TutorialChapter {
             .find(|s| s.method == studies::Method(SolverId::ExplicitEuler))
             .map_or(f64::NAN, |s| s.slope);
         md += &format!(
-            "\nThe tutorial's \"Euler es un Runge-Kutta de orden 2\" does not hold: explicit Euler's error falls \
+            "\nThe tutorial's \"Euler es un Runge-Kutta de orden 2\" does not hold (Figure T1): explicit Euler's error falls \
              with slope {} — it is the one-stage Runge-Kutta method, of order 1 (the order-2 ones are midpoint and \
              Heun). Dormand-Prince 5 is the fifth-order solution of the adaptive pair of {number}.5, here with a \
              fixed step, which checks its tableau.\n\n",
@@ -292,7 +292,7 @@ impl TutorialChapter {
         }
         md += &t.render();
         md += &format!(
-            "\nExplicit Euler's measured limit is the bisection's resolution, not a stable range: its growth per \
+            "\nExplicit Euler's measured limit (Figure T2) is the bisection's resolution, not a stable range: its growth per \
              step, $\\sqrt{{1 + h^2\\omega^2}} - 1 \\approx h^2\\omega^2/2$, is below the threshold {} only for hω \
              < {}. Data: [`data/tutorial_stability.csv`](data/tutorial_stability.csv).\n\n",
             sig(studies::GROWTH_THRESHOLD, 1),
@@ -307,7 +307,7 @@ impl TutorialChapter {
         let p = &self.pair;
         let mut md = format!("### {number}.3 Forces against their closed forms\n\n");
         md += &format!(
-            "**Drag.** A particle of {} kg falling from rest under g = {} m/s² with drag f = −k_f v, k_f = {} N·s/m \
+            "**Drag** (Figure T3 (a)). A particle of {} kg falling from rest under g = {} m/s² with drag f = −k_f v, k_f = {} N·s/m \
              (RK4, h = {} s): its speed follows $\\frac{{mg}}{{k_f}}(1 - e^{{-k_f t/m}})$ to within {} m/s over \
              {} s, and at t = 20 m/k_f it is {} m/s against the terminal velocity m g / k_f = {} m/s.\n\n",
             full(m),
@@ -320,7 +320,7 @@ impl TutorialChapter {
             full(d.terminal)
         );
         md += &format!(
-            "**The damped spring.** Two free particles of {} and {} kg joined by the tutorial's spring (k_s = {} \
+            "**The damped spring** (Figure T3 (b)). Two free particles of {} and {} kg joined by the tutorial's spring (k_s = {} \
              N/m, k_d = {} N·s/m, rest length {} m), released at rest {} m stretched, no gravity (RK4, h = {} s, \
              {} s). The stretch obeys μ ü = −k_s u − k_d u̇ with the reduced mass μ = {} kg; the decay rate and \
              the frequency are measured from the stretch's maxima (a least-squares fit of their logarithm, and \
@@ -432,7 +432,7 @@ impl TutorialChapter {
         );
         let first_contact = p.contacts.first().map_or(f64::NAN, |c| c.0);
         md += &format!(
-            "**The pendulum** of the tutorial's six frames: {} particles of {} kg on damped springs ({} m, k_s = {} \
+            "**The pendulum** of the tutorial's six frames (Figure T4; its energy in Figure T5): {} particles of {} kg on damped springs ({} m, k_s = {} \
              N/m, k_d = {} N·s/m) hanging from a pivot {} m above the floor, released horizontal at rest, with \
              drag k_f = {} N·s/m and restitution {} ({}, h = {} s). The chain is longer than the pivot is high, so \
              it strikes the floor (first at t = {} s) and bounces. Over {} s its mechanical energy falls from {} \
@@ -476,7 +476,7 @@ impl TutorialChapter {
         let c = &self.cloth;
         let cp = &c.params;
         md += &format!(
-            "**The cloth falling 10 m.** The tutorial's example: a {}×{} cloth (a particle per vertex of a \
+            "**The cloth falling 10 m** (Figure T6). The tutorial's example: a {}×{} cloth (a particle per vertex of a \
              triangle mesh, {} kg each, a spring per edge, k_s = {} N/m, k_d = {} N·s/m) dropped flat from {} m \
              onto the floor (restitution {}) with a light drag k_f = {} N·s/m (RK4, h = {} s). The springs' \
              forces cancel in the sum, so until the first contact the centre of mass falls exactly as one \
@@ -577,7 +577,7 @@ impl TutorialChapter {
             studies::log_log_slope(&runs.iter().map(|r| (r.tolerance, f(r))).collect::<Vec<_>>())
         };
         md += &format!(
-            "\nOn the pendulum the error falls with the tolerance (fitted slope {}) and the accepted steps grow \
+            "\nOn the pendulum the error falls with the tolerance (Figure T7; fitted slope {}) and the accepted steps grow \
              as T to the power {} (a fifth-order method: −1/5 expected away from contacts). For comparison, RK4 \
              with a fixed step: {}.\n\n",
             sig(slope(&a.pendulum, &|r| r.error), 3),
