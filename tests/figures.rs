@@ -5,6 +5,8 @@
 mod figure_check;
 #[path = "figure_check/numbering.rs"]
 mod numbering;
+#[path = "figure_check/scale.rs"]
+mod scale;
 
 use figure_check::problems;
 use mass_spring_solvers::report::plot::{
@@ -36,12 +38,8 @@ fn check(chart: &Chart) -> Vec<String> {
 
 #[test]
 fn a_clean_chart_passes() {
-    for place in [LegendPlace::Right, LegendPlace::Below] {
-        let mut p = rising();
-        p.legend = place;
-        let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p]));
-        assert!(found.is_empty(), "{place:?}: {found:#?}");
-    }
+    let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![rising()]));
+    assert!(found.is_empty(), "{found:#?}");
     let found = check(&Chart::new(FULL_WIDTH_MM, 60.0, vec![rising(), rising()]));
     assert!(found.is_empty(), "{found:#?}");
 }
@@ -127,7 +125,15 @@ fn two_series_told_apart_by_label_only_fail() {
     assert!(
         found
             .iter()
-            .any(|f| f.contains("\"rising too\" and \"same look\" of panel 1 share colour")),
+            .any(|f| f.contains("\"rising too\" and \"same look\" of panel 1 share marker")),
+        "{found:#?}"
+    );
+    // A colour of its own is not enough: without colour they look the same.
+    let mut recoloured = p.clone();
+    recoloured.series.last_mut().unwrap().style.color = Rgb(0, 0, 200);
+    let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![recoloured]));
+    assert!(
+        found.iter().any(|f| f.contains("share marker and dash")),
         "{found:#?}"
     );
     // A dash of its own tells it apart.
@@ -179,31 +185,31 @@ fn figures_out_of_order_unnumbered_lettered_or_uncited_fail() {
                 <a id=\"f16\"></a>![Figure 16](figures/parity.svg)\n\n*Figure 16. Parity.*\n\n\
                 - [`data/parity.csv`](data/parity.csv): the points of [Figure 16](#f16).\n";
     assert!(
-        numbering_problems(good).is_empty(),
+        numbering_problems(good, 16).is_empty(),
         "{:?}",
-        numbering_problems(good)
+        numbering_problems(good, 16)
     );
     assert!(uncited(good).is_empty());
     // Ours before the thesis's: out of order.
     let swapped = "<a id=\"f16\"></a>![Figure 16](figures/parity.svg)\n\n*Figure 16. Parity.*\n\n\
                    <a id=\"f1\"></a>![Figure 1](figures/fig01-cloth.svg)\n\n*Figure 1. Cloth.*\n";
-    let found = numbering_problems(swapped);
+    let found = numbering_problems(swapped, 16);
     assert!(
         found.iter().any(|f| f.contains("Figure 1 after Figure 16")),
         "{found:?}"
     );
     // A figure without a numbered caption, one with a letter, one numbered off the sequence.
     let unnumbered = good.replace("*Figure 16. Parity.*", "*Parity.*");
-    let found = numbering_problems(&unnumbered);
+    let found = numbering_problems(&unnumbered, 16);
     assert!(
         found.iter().any(|f| f.contains("has no numbered caption")),
         "{found:?}"
     );
     let lettered = good.replace("Figure 16](#f16)", "Figure B1](#fB1)");
-    let found = numbering_problems(&lettered);
+    let found = numbering_problems(&lettered, 16);
     assert!(found.iter().any(|f| f.contains("Figure B1")), "{found:?}");
     let skipped = good.replace("Figure 16", "Figure 17");
-    let found = numbering_problems(&skipped);
+    let found = numbering_problems(&skipped, 16);
     assert!(
         found.iter().any(|f| f.contains("is Figure 17, not 16")),
         "{found:?}"
@@ -215,3 +221,21 @@ fn figures_out_of_order_unnumbered_lettered_or_uncited_fail() {
     );
     assert_eq!(uncited(&caption_only), vec![16]);
 }
+
+#[test]
+fn a_rope_not_drawn_to_scale_has_an_exaggeration_above_one() {
+    // A sagging rope, 9 m wide and 1.5 m deep, on a column-wide panel.
+    let rope: Vec<(f64, f64)> = (0..10)
+        .map(|i| (i as f64, -1.5 * (1.0 - ((i as f64 - 4.5) / 4.5).powi(2))))
+        .collect();
+    let mut p = Panel::new(Axis::linear("x (m)"), Axis::linear("y (m)"));
+    p.series.push(Series::line("rope", rope, Rgb(0, 0, 0)));
+    let stretched = layout(&Chart::new(COLUMN_WIDTH_MM, 70.0, vec![p.clone()])).unwrap();
+    let e = scale::vertical_exaggeration(&stretched, 0);
+    assert!(e > 2.0, "stretched: ×{e}");
+    p.equal_aspect = true;
+    let to_scale = layout(&Chart::new(COLUMN_WIDTH_MM, 70.0, vec![p])).unwrap();
+    let e = scale::vertical_exaggeration(&to_scale, 0);
+    assert!((e - 1.0).abs() < 1e-9, "to scale: ×{e}");
+}
+

@@ -14,11 +14,11 @@ use crate::optimization_integrator::OptimizationIntegrator;
 use crate::registry::SolverId;
 use crate::report::benchmark_wall::WallTiming;
 use crate::report::data::CsvFile;
-use crate::report::figures::{colour, solver_line};
+use crate::report::figures::{colour, family_marker, solver_line};
 use crate::report::format::{full, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
 use crate::report::plot::{
-    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
+    place_clear_labels, Align, Axis, Chart, Label, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
 };
 use crate::report::ChapterFigure;
 
@@ -168,8 +168,8 @@ impl BenchmarkChapter {
             .collect()
     }
 
-    /// A solver's work-precision front on a case under the thesis's scheme: its
-    /// configurations (every setting and time step) that no cheaper one of its own beats in
+    /// A solver's work-precision front on a case under the thesis's scheme: the
+    /// [`epsilon_front`] of its configurations (every setting and time step) in flops and
     /// relative physical error, cheapest first.
     pub fn front(&self, case: Case, solver: SolverId) -> Vec<&Row> {
         let integrator = if solver.is_minimizing() {
@@ -183,23 +183,20 @@ impl BenchmarkChapter {
     /// [`BenchmarkChapter::front`] under an integrator (its key; empty for a solver's own
     /// scheme).
     pub fn front_under(&self, case: Case, solver: SolverId, integrator: &str) -> Vec<&Row> {
-        let mut rows: Vec<&Row> = self
+        let rows: Vec<&Row> = self
             .dynamics(case)
             .into_iter()
             .filter(|r| r.solver == solver.id() && r.integrator == integrator)
             .filter(|r| r.flops.is_some() && r.physical_rel.is_some())
             .collect();
-        rows.sort_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()));
-        let mut front: Vec<&Row> = Vec::new();
-        for r in rows {
-            if front
-                .last()
-                .is_none_or(|l| r.physical_rel.unwrap() < l.physical_rel.unwrap())
-            {
-                front.push(r);
-            }
-        }
-        front
+        let points: Vec<(f64, f64)> = rows
+            .iter()
+            .map(|r| (r.flops.unwrap(), r.physical_rel.unwrap()))
+            .collect();
+        epsilon_front(&points, FRONT_EPSILON)
+            .into_iter()
+            .map(|i| rows[i])
+            .collect()
     }
 
     /// A solver's relative physical error against dt on a case at its first setting, under
@@ -261,6 +258,86 @@ impl BenchmarkChapter {
     }
 }
 
+/// The time steps labelled on the work-precision fronts, s: the decades of the grid.
+const LABELLED_DTS: [f64; 4] = [0.1, 0.01, 0.001, 0.0001];
+
+/// Where a front's Δt label may go around its point (offset pt, alignment), in order of
+/// preference: above, below, right, left.
+const DT_LABEL_PLACES: [((f64, f64), Align); 4] = [
+    ((0.0, 6.0), Align::Middle),
+    ((0.0, -12.0), Align::Middle),
+    ((6.0, -3.0), Align::Start),
+    ((-6.0, -3.0), Align::End),
+];
+
+/// The candidate Δt labels of a panel's fronts: each point at a [`LABELLED_DTS`] step, in
+/// the curve's colour, with its [`DT_LABEL_PLACES`].
+fn dt_labels(curves: &[Curve]) -> Vec<Vec<Label>> {
+    curves
+        .iter()
+        .flat_map(|c| {
+            c.rows
+                .iter()
+                .filter(|r| LABELLED_DTS.contains(&r.dt_s))
+                .map(move |r| {
+                    DT_LABEL_PLACES
+                        .iter()
+                        .map(|&(offset, align)| Label {
+                            at: (r.flops.unwrap(), r.physical_rel.unwrap()),
+                            offset,
+                            align,
+                            text: full(r.dt_s),
+                            color: c.colour,
+                        })
+                        .collect()
+                })
+        })
+        .collect()
+}
+
+/// The ε of the work-precision fronts: configurations within 10 % of each other in both cost
+/// and error are one point of the front.
+pub const FRONT_EPSILON: f64 = 0.1;
+
+/// The ε-Pareto front of (cost, error) points, as indices cheapest first. A point
+/// ε-dominates another when it costs at most (1 + ε) times as much and its error is at most
+/// (1 + ε) times as large. The front is built in two passes: in order of cost, a point is kept
+/// when its error is below the last kept one's divided by (1 + ε); then, from the most
+/// expensive down, a kept point is dropped when the next kept one costs at most (1 + ε) times
+/// as much (it is as cheap, within ε, and better). Every point left out is ε-dominated by a
+/// point of the front, and no point of the front ε-dominates another; with ε = 0 it is the
+/// strict front (each point beats every cheaper one).
+pub fn epsilon_front(points: &[(f64, f64)], epsilon: f64) -> Vec<usize> {
+    let grow = 1.0 + epsilon;
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| {
+        points[a]
+            .0
+            .total_cmp(&points[b].0)
+            .then(points[a].1.total_cmp(&points[b].1))
+    });
+    let mut kept: Vec<usize> = Vec::new();
+    for i in order {
+        if kept
+            .last()
+            .is_none_or(|&l| points[i].1 * grow < points[l].1)
+        {
+            kept.push(i);
+        }
+    }
+    let mut front: Vec<usize> = Vec::new();
+    for &i in kept.iter().rev() {
+        if front
+            .last()
+            .is_none_or(|&next| points[next].0 > grow * points[i].0)
+        {
+            front.push(i);
+        }
+    }
+    front.reverse();
+    front
+}
+
 impl BenchmarkChapter {
     /// The work-precision figures, one per case: a panel per family of solvers under the
     /// thesis's scheme and a panel of Newton under each integrator, with the baselines and the
@@ -279,6 +356,7 @@ impl BenchmarkChapter {
                     "panel",
                 ]);
                 let mut panels = Vec::new();
+                let mut labels = Vec::new();
                 for (name, family) in FAMILIES {
                     let curves: Vec<Curve> = family
                         .iter()
@@ -287,9 +365,10 @@ impl BenchmarkChapter {
                             rows: self.front(case, id),
                             colour: colour(id, 0),
                             line: solver_line(id),
-                            marker: marker_of(id),
+                            marker: family_marker(id),
                         })
                         .collect();
+                    labels.push(dt_labels(&curves));
                     panels.push(self.work_panel(case, name, curves, &mut csv));
                 }
                 let newton: Vec<Curve> = OptimizationIntegrator::ALL
@@ -308,6 +387,7 @@ impl BenchmarkChapter {
                         ][k],
                     })
                     .collect();
+                labels.push(dt_labels(&newton));
                 panels.push(self.work_panel(
                     case,
                     "Newton under each integrator",
@@ -316,6 +396,9 @@ impl BenchmarkChapter {
                 ));
                 let mut chart = Chart::new(FULL_WIDTH_MM, 250.0, panels);
                 chart.columns = 1;
+                for (panel, candidates) in labels.into_iter().enumerate() {
+                    place_clear_labels(&mut chart, panel, candidates)?;
+                }
                 ChapterFigure::new(stem(case), &chart, csv.text())
             })
             .collect()
@@ -329,7 +412,6 @@ impl BenchmarkChapter {
             Axis::log("relative error"),
         );
         panel.heading = name.into();
-        panel.legend = LegendPlace::Below;
         let baselines = BASELINES.iter().map(|&id| Curve {
             label: id.info().display_name.to_string(),
             rows: self.front(case, id),
@@ -464,7 +546,7 @@ pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
     } else {
         Series::line(id.info().display_name, points, colour(id, 0))
             .with_line(solver_line(id))
-            .with_marker(marker_of(id), true)
+            .with_marker(family_marker(id), true)
     }
 }
 
@@ -477,15 +559,6 @@ pub fn doing_nothing(lo: f64, hi: f64) -> Series {
 
 fn first_setting(solver: SolverId) -> usize {
     crate::benchmark::sweep::settings(solver)[0].iterations
-}
-
-fn marker_of(id: SolverId) -> Marker {
-    [
-        Marker::Circle,
-        Marker::Square,
-        Marker::Triangle,
-        Marker::Cross,
-    ][SolverId::ALL.iter().position(|&s| s == id).unwrap_or(0) % 4]
 }
 
 /// The figure's file stem of a case.
@@ -705,15 +778,19 @@ impl BenchmarkChapter {
         );
         for (n, (case, f)) in self.cases().into_iter().zip(figures).enumerate() {
             md += &format!(
-                "![Figure W{0}](figures/{stem}.svg)\n\n*Figure W{0}. Work and precision, {label}: each solver's front (its \
-                 configurations no cheaper one of its own beats) of the relative physical error against the \
+                "![Figure W{0}](figures/{stem}.svg)\n\n*Figure W{0}. Work and precision, {label}: each solver's ε-front \
+                 (ε = {eps}: a configuration is left out when another of its own costs at most {grow} times \
+                 as much with at most {grow} times its error) of the relative physical error against the \
                  counted flops over the window (relative error: the RMS physical error per free node over the \
-                 exact motion's RMS amplitude), by family; grey: the explicit baselines (RK4 dashed, \
+                 exact motion's RMS amplitude), by family; the numbers beside a front are the time step Δt (s) \
+                 of its points at 0.1, 0.01, 0.001 and 0.0001 s, in its colour, where there is room; grey: the explicit baselines (RK4 dashed, \
                  symplectic Euler dotted) and doing nothing (the equilibrium held still, error 1).* Data: \
                  [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 n + 1,
                 stem = f.stem,
-                label = case.label()
+                label = case.label(),
+                eps = full(FRONT_EPSILON),
+                grow = full(1.0 + FRONT_EPSILON)
             );
         }
 
@@ -1043,4 +1120,44 @@ pub fn mean_with_interval(taus: &[f64]) -> Option<(f64, f64, f64)> {
     means.sort_by(f64::total_cmp);
     let at = |q: f64| means[((q * (means.len() - 1) as f64).round() as usize).min(means.len() - 1)];
     Some((mean(taus), at(0.025), at(0.975)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::epsilon_front;
+
+    /// Whether `a` ε-dominates `b`.
+    fn dominates(a: (f64, f64), b: (f64, f64), epsilon: f64) -> bool {
+        a.0 <= (1.0 + epsilon) * b.0 && a.1 <= (1.0 + epsilon) * b.1
+    }
+
+    #[test]
+    fn the_epsilon_front_covers_every_point_and_no_point_of_it_dominates_another() {
+        // Costs 1 to 12 with a plateau, near-duplicates and points off the front.
+        let points = [
+            (1.0, 1.0),
+            (1.05, 0.5),  // 5 % dearer, twice as good: replaces (1, 1)
+            (2.0, 0.49),  // 2 % better only: left out, covered by (1.05, 0.5)
+            (3.0, 0.2),   // kept
+            (3.2, 0.19),  // 5 % better: left out
+            (6.0, 0.05),  // kept
+            (5.0, 0.3),   // worse than a cheaper point
+            (12.0, 0.01), // kept
+        ];
+        let front = epsilon_front(&points, 0.1);
+        assert_eq!(front, vec![1, 3, 5, 7]);
+        for (i, &p) in points.iter().enumerate() {
+            if !front.contains(&i) {
+                assert!(front.iter().any(|&f| dominates(points[f], p, 0.1)), "{i}");
+            }
+        }
+        for &a in &front {
+            for &b in front.iter().filter(|&&b| b != a) {
+                assert!(!dominates(points[a], points[b], 0.1), "{a} over {b}");
+            }
+        }
+        // The strict front keeps every improvement, however small (the failing case of the
+        // ε-front's purpose: near-duplicates drawn as separate points).
+        assert_eq!(epsilon_front(&points, 0.0), vec![0, 1, 2, 3, 4, 5, 7]);
+    }
 }

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::registry::SolverId;
 use crate::report::benchmark::{doing_nothing, front_series, of_case, FAMILIES};
 use crate::report::format::{short, sig, MarkdownTable};
-use crate::report::plot::{Axis, Chart, LegendPlace, Panel, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, Panel, FULL_WIDTH_MM};
 use crate::report::ChapterFigure;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -579,7 +579,6 @@ pub fn figure(rows: &[WallRow], case: Case) -> Result<ChapterFigure> {
                 Axis::log("physical error / exact amplitude"),
             );
             panel.heading = (*family).into();
-            panel.legend = LegendPlace::Below;
             let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
             for &id in ids.iter().chain(BASELINES.iter()) {
                 let front =

@@ -14,10 +14,10 @@ use crate::local_global::Base;
 use crate::registry::{SolverId, SolverSpec};
 use crate::report::benchmark::FAMILIES;
 use crate::report::data::CsvFile;
-use crate::report::figures::{coinciding_groups, colour, solver_line};
+use crate::report::figures::{coinciding_groups, colour, family_marker, solver_line};
 use crate::report::format::{full, full_opt, short, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series, FULL_WIDTH_MM};
+use crate::report::plot::{Axis, Chart, Line, Panel, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{thesis_rope, THESIS_STIFFNESSES};
@@ -60,6 +60,10 @@ fn b1_families() -> Vec<(&'static str, Vec<SolverId>)> {
         })
         .collect()
 }
+
+/// Figure B1 marks every this many iterations of a curve (its marker tells the solvers of a
+/// family apart besides colour and dash).
+const B1_MARKER_EVERY: usize = 20;
 
 /// The tolerance line of Figure B1.
 const TOLERANCE_GREY: crate::report::plot::Rgb = crate::report::plot::Rgb(120, 120, 120);
@@ -278,7 +282,6 @@ impl BeyondChapter {
                     Axis::log("gap (m)").range(GAP_FLOOR / 3.0, 1e-2),
                 );
                 panel.heading = format!("{family}, {}", start.label());
-                panel.legend = LegendPlace::Below;
                 let curves: Vec<&ConvergenceCurve> = self
                     .figure_curves(start)
                     .filter(|c| members.contains(&c.spec.id))
@@ -313,7 +316,8 @@ impl BeyondChapter {
                     panel.series.push(
                         Series::line(names.join(" ≈ "), points[group[0]].clone(), colour(id, 0))
                             .with_line(solver_line(id))
-                            .with_marker(Marker::None, true),
+                            .with_marker(family_marker(id), true)
+                            .with_marker_every(B1_MARKER_EVERY),
                     );
                 }
                 panels.push(panel);

@@ -16,8 +16,8 @@ use crate::registry::SolverId;
 use crate::report::data::CsvFile;
 use crate::report::format::{full, full_opt, sig4};
 use crate::report::plot::{
-    layout, power_of_ten, Align, Arrow, Axis, Band, Chart, Entry, Layout, LegendPlace, Line,
-    Marker, Panel, Rgb, Series, Style, COLUMN_WIDTH_MM, FULL_WIDTH_MM,
+    layout, power_of_ten, Align, Arrow, Axis, Band, Chart, Entry, Layout, Line, Marker, Panel, Rgb,
+    Series, Style, COLUMN_WIDTH_MM, FULL_WIDTH_MM,
 };
 use crate::report::runs::{
     FigureRuns, BE_SOFT, BE_STIFF, FMS_SOFT_COARSE, SHEET_FIGURE_STIFFNESS, STIFF_MIDDLE,
@@ -111,6 +111,17 @@ pub fn solver_line(solver: SolverId) -> Line {
         _ => {}
     }
     [Line::Solid, Line::Dashed, Line::Dotted][registry_index(solver) / OTHER_SOLVERS.len() % 3]
+}
+
+/// A solver's marker in the families of the work-precision figures and Figure B1: with
+/// [`solver_line`] a (dash, marker) pair of its own in each family, colour aside.
+pub fn family_marker(solver: SolverId) -> Marker {
+    [
+        Marker::Circle,
+        Marker::Square,
+        Marker::Triangle,
+        Marker::Cross,
+    ][registry_index(solver) % 4]
 }
 
 /// The colours of the solvers outside the thesis's tables (Okabe-Ito, black and the thesis
@@ -354,7 +365,6 @@ fn error_against_dt(
             Axis::log("rest-state error (m)").range(y_range.0, y_range.1),
         );
         panel.heading = solver.display_name().to_string();
-        panel.legend = LegendPlace::Below;
         let pub_groups = coinciding_groups(published);
         let our_groups = if ours.iter().all(|o| o.is_empty()) {
             pub_groups.clone()
@@ -451,12 +461,10 @@ fn opt_sig(x: Option<f64>) -> String {
     x.map_or_else(|| "–".into(), sig4)
 }
 
-/// Figures 6 and 8: the rest state of Backward Euler against XPBD at Δt = 0.1 s, every
-/// iteration count.
-fn rest_state_xpbd(data: &ReportData, number: u8, stiffness: f64) -> Result<Figure> {
-    let k = stiffness_label(stiffness);
+/// The panel of Figure 6 or 8 and the shapes it draws: the rest state of Backward Euler
+/// against XPBD at Δt = 0.1 s, every iteration count.
+fn rest_state_panel(data: &ReportData, stiffness: f64) -> (Panel, Vec<(String, Vec<Vec3>)>) {
     let mut panel = Panel::new(Axis::linear("x (m)"), Axis::linear("y (m)"));
-    panel.legend = LegendPlace::Below;
     let mut shapes = Vec::new();
     let mut reference_series = None;
     if let Some(r) = reference(data, stiffness) {
@@ -511,19 +519,61 @@ fn rest_state_xpbd(data: &ReportData, number: u8, stiffness: f64) -> Result<Figu
     }
     // The reference on top.
     panel.series.extend(reference_series);
-    Figure::new(
-        number,
-        format!("fig{number:02}-rest-state-xpbd-k{k}"),
-        format!(
-            "Figure {number}. Rest state of Backward Euler (hollow squares) against XPBD, k = {} N/m. The thesis \
-             does not say which XPBD run it shows; we show the coarsest time step, Δt = 0.1 s, with each of its \
-             iteration counts (1, 20, 50), where the difference is visible and shrinks with the iterations. Node \
-             positions at the end of each run (the first kinetic-energy peak below 0.001 J).",
-            stiffness_text(stiffness)
-        ),
-        &Chart::new(COLUMN_WIDTH_MM, 82.0, vec![panel]),
-        shapes_csv(&shapes),
-    )
+    (panel, shapes)
+}
+
+/// The data extent of a panel's series on one axis (finite values only).
+fn series_extent(panel: &Panel, pick: fn(&(f64, f64)) -> f64) -> (f64, f64) {
+    panel
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().map(pick))
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        })
+}
+
+/// Figures 6 (k = 10³) and 8 (k = 10⁶), twins drawn to scale and at one scale: both panels
+/// take the union of their data ranges, so that the same metre is as long in both.
+fn rest_states_xpbd(data: &ReportData) -> Result<[Figure; 2]> {
+    let twins = [(6, 1e3, 8), (8, 1e6, 6)].map(|(number, stiffness, twin)| {
+        let (panel, shapes) = rest_state_panel(data, stiffness);
+        (number, stiffness, twin, panel, shapes)
+    });
+    let union = |pick: fn(&(f64, f64)) -> f64| {
+        twins
+            .iter()
+            .map(|t| series_extent(&t.3, pick))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, b| {
+                (a.0.min(b.0), a.1.max(b.1))
+            })
+    };
+    let (x, y) = (union(|p| p.0), union(|p| p.1));
+    let [six, eight] = twins.map(|(number, stiffness, twin, mut panel, shapes)| {
+            panel.equal_aspect = true;
+            if x.0 < x.1 && y.0 < y.1 {
+                let pad = 0.04 * (x.1 - x.0);
+                panel.x = panel.x.clone().range(x.0 - pad, x.1 + pad);
+                panel.y = panel.y.clone().range(y.0 - pad, y.1 + pad);
+            }
+            Figure::new(
+                number,
+                format!("fig{number:02}-rest-state-xpbd-k{}", stiffness_label(stiffness)),
+                format!(
+                    "Figure {number}. Rest state of Backward Euler (hollow squares) against XPBD, k = {} N/m, \
+                     drawn to scale (the same metre on both axes) and at the scale of its twin, Figure {twin}. \
+                     The thesis does not say which XPBD run it shows; we show the coarsest time step, Δt = 0.1 s, \
+                     with each of its iteration counts (1, 20, 50), where the difference is visible and shrinks \
+                     with the iterations. Node positions at the end of each run (the first kinetic-energy peak \
+                     below 0.001 J).",
+                    stiffness_text(stiffness)
+                ),
+                &Chart::new(COLUMN_WIDTH_MM, 82.0, vec![panel]),
+                shapes_csv(&shapes),
+            )
+    });
+    Ok([six?, eight?])
 }
 
 /// The oblique view of Figure 1: an orthographic projection seen from azimuth 35° and
@@ -766,7 +816,6 @@ fn figure3() -> Result<Figure> {
     );
     panel.frame = false;
     panel.equal_aspect = true;
-    panel.legend = LegendPlace::Below;
     let mut csv = CsvFile::new(&["element", "index", "x_a_m", "y_a_m", "x_b_m", "y_b_m"]);
     for (i, w) in nodes.windows(2).enumerate() {
         let label = if i == 0 {
@@ -861,7 +910,6 @@ fn figure4() -> Result<Figure> {
         Axis::linear("y (m)").range(-1.0, 1.9),
     );
     left.equal_aspect = true;
-    left.legend = LegendPlace::Below;
     left.series.push(
         Series::line("current length |x₁ − x₂|", vec![x1, x2], BLACK)
             .with_marker(Marker::Circle, true),
@@ -885,7 +933,8 @@ fn figure4() -> Result<Figure> {
             vec![rest[1], (x1.0 + side.0, x1.1 + side.1)],
             RED,
         )
-        .with_weight(2.0),
+        .with_weight(2.0)
+        .with_line(Line::Dashed),
     );
     // The gradients are unit vectors: arrows 1 m long on this to-scale drawing.
     let g1 = (x1.0 + n.0, x1.1 + n.1);
@@ -906,7 +955,6 @@ fn figure4() -> Result<Figure> {
         Axis::linear("length |x₁ − x₂| (m)").range(0.0, 2.0),
         Axis::linear("C (m)").range(-1.1, 1.1),
     );
-    right.legend = LegendPlace::Below;
     right.series.push(Series::line(
         "C = |x₁ − x₂| − l₀ (slope |∇C| = 1)",
         vec![(0.0, -l0), (2.0, 2.0 - l0)],
@@ -996,7 +1044,6 @@ pub fn five_instants(kinetic_energy: &[f64]) -> Vec<usize> {
 /// Figure 11: two periods of the reference's kinetic energy, k = 10⁶.
 fn figure11(runs: &FigureRuns) -> Result<Figure> {
     let mut panel = Panel::new(Axis::linear("time (s)"), Axis::linear("kinetic energy (J)"));
-    panel.legend = LegendPlace::Below;
     let mut csv_series = Vec::new();
     let mut caption_extra = String::new();
     if let Some((_, run)) = runs.get(BE_STIFF) {
@@ -1045,8 +1092,7 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
         Axis::linear("x (m)"),
         Axis::linear("y (m)").range(-3.6, 0.3),
     );
-    energy.legend = LegendPlace::Below;
-    rope.legend = LegendPlace::Below;
+    rope.equal_aspect = true;
     let mut csv = CsvFile::new(&[
         "instant",
         "time_s",
@@ -1121,7 +1167,7 @@ fn figure12(runs: &FigureRuns) -> Result<Figure> {
     Figure::new(
         12,
         "fig12-energy-and-motion",
-        "Figure 12. The kinetic energy over one period (a) and the rope's motion (b), Backward Euler reference, \
+        "Figure 12. The kinetic energy over one period (a) and the rope's motion (b, drawn to scale: the same metre on both axes), Backward Euler reference, \
          k = 10³ N/m (the softer rope, whose motion is visible at scale). The thesis's five instants are not given; \
          we mark 1 the release (straight rope at rest), 2 the first kinetic-energy peak (the rope passes its \
          equilibrium going down), 3 the next minimum (lowest turning point), 4 the second peak (equilibrium going \
@@ -1244,7 +1290,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
     };
     let mut csv_series = Vec::new();
     let mut drawn = Vec::new();
-    let mut add = |label: String, key: &str, run: &Run, color: Rgb, line: Line| {
+    let mut add = |label: String, key: &str, run: &Run, color: Rgb, line: Line, marker: Marker| {
         let until = cut.unwrap_or(run.end_time());
         let points = if envelope {
             run.peaks.iter().map(|p| (p.time_exact, p.energy)).collect()
@@ -1253,15 +1299,28 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
         };
         // The reference thin, the solvers thicker, so the short runs stand out.
         let weight = if run.dt < 0.01 { 0.8 } else { 1.4 };
+        // A marker for each solver besides its dash (the reference is solid like XPBD, the
+        // threshold dotted like ADMM): a dozen on a dense curve, one per peak on the envelope.
+        let every = if envelope {
+            1
+        } else {
+            (points.len() / 12).max(1)
+        };
         drawn.push(
             Series::line(label, points.clone(), color)
                 .with_weight(weight)
-                .with_line(line),
+                .with_line(line)
+                .with_marker(marker, true)
+                .with_marker_every(every),
         );
         csv_series.push((key.to_string(), points));
     };
     let mut present = Vec::new();
-    for (solver, key) in STIFF_MIDDLE {
+    for ((solver, key), marker) in
+        STIFF_MIDDLE
+            .into_iter()
+            .zip([Marker::Circle, Marker::Triangle, Marker::Square])
+    {
         if let Some((spec, run)) = runs.get(key) {
             add(
                 format!("{} {} it.", solver.display_name(), spec.iterations),
@@ -1269,6 +1328,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
                 run,
                 colour(solver, 1),
                 solver_line(solver),
+                marker,
             );
             present.push(format!(
                 "{} {} iterations (ends at {} s)",
@@ -1285,6 +1345,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
             run,
             BLACK,
             Line::Solid,
+            Marker::None,
         );
         // The reference first in the data, last (on top) in the drawing.
         csv_series.rotate_right(1);
@@ -1343,7 +1404,7 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
         format!("fig{number}-kinetic-energy-k1e6-dt0.01{}", if envelope { "" } else { "-cut" }),
         format!(
             "Figure {number}. Kinetic energy against time, k = 10⁶ N/m, Δt = 0.01 s, the middle iteration count of \
-             each solver ({}; XPBD solid, Fast m-s dashed, ADMM dotted), with the Backward Euler reference \
+             each solver ({}; XPBD solid with circles, Fast m-s dashed with triangles, ADMM dotted with squares), with the Backward Euler reference \
              (Δt = 0.001 s, thin black): {what}. First peaks: {}. The \
              thesis: the reference peaks at about 6 J and XPBD's first peak exceeds 8 J.",
             if present.is_empty() { "not run".to_string() } else { present.join("; ") },
@@ -1590,15 +1651,16 @@ pub const PARITY_FIGURE: &str = "P1";
 pub fn all(data: &ReportData) -> Result<Vec<Figure>> {
     let pd = [SolverId::FastMassSpring, SolverId::AdmmPd];
     let all3 = [SolverId::Xpbd, SolverId::FastMassSpring, SolverId::AdmmPd];
+    let [six, eight] = rest_states_xpbd(data)?;
     Ok(vec![
         figure1(data)?,
         figure2(data)?,
         figure3()?,
         figure4()?,
         error_against_dt(data, 5, 1e3, &all3)?,
-        rest_state_xpbd(data, 6, 1e3)?,
+        six,
         error_against_dt(data, 7, 1e6, &all3)?,
-        rest_state_xpbd(data, 8, 1e6)?,
+        eight,
         error_against_dt(data, 9, 1e3, &pd)?,
         error_against_dt(data, 10, 1e6, &pd)?,
         figure11(&data.runs)?,

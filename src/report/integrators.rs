@@ -15,9 +15,7 @@ use crate::registry::SolverId;
 use crate::report::data::write_csv;
 use crate::report::format::{full, short, sig, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{
-    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM,
-};
+use crate::report::plot::{Axis, Chart, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM};
 use crate::report::ChapterFigure;
 
 /// The columns of `data/integrators.csv`.
@@ -218,7 +216,6 @@ impl IntegratorsChapter {
             Axis::log("time step h (s)"),
             Axis::log("largest node error at t = 1 s (m)"),
         );
-        panel.legend = LegendPlace::Below;
         let mut records = Vec::new();
         for o in &self.orders {
             let i = o.integrator;

@@ -249,9 +249,8 @@ pub enum Corner {
 /// Where a panel's legend goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LegendPlace {
-    /// Outside the axes, to their right.
-    Right,
-    /// Outside the axes, under the x-axis title.
+    /// Outside the axes, under the x-axis title (the default: a legend to the right would take
+    /// the width from the data).
     Below,
     /// Inside the axes at a corner: only where no data is.
     Inside(Corner),
@@ -324,7 +323,7 @@ impl Panel {
             labels: Vec::new(),
             arrows: Vec::new(),
             bands: Vec::new(),
-            legend: LegendPlace::Right,
+            legend: LegendPlace::Below,
             frame: true,
             equal_aspect: false,
             heading: String::new(),
@@ -463,6 +462,9 @@ pub struct Layout {
     pub height_mm: f64,
     /// Axes rectangle of each panel.
     pub axes: Vec<Rect>,
+    /// The data ranges of each panel's axes, (x, y), each (low, high): with [`Layout::axes`]
+    /// they give the scale of each axis, and so a shape's vertical exaggeration.
+    pub ranges: Vec<((f64, f64), (f64, f64))>,
     pub texts: Vec<TextBox>,
     /// (panel index, mark).
     pub marks: Vec<(usize, Mark)>,
@@ -994,6 +996,7 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
         })
         .fold(0.0, f64::max);
     let mut axes = Vec::new();
+    let mut ranges_drawn = Vec::new();
     for (index, panel) in chart.panels.iter().enumerate() {
         let cx = outer + (index % chart.columns) as f64 * cell_w;
         let cy = outer + (index / chart.columns) as f64 * cell_h;
@@ -1004,9 +1007,7 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
         } else {
             TEXT_PT * 0.6
         };
-        let right_legend = matches!(panel.legend, LegendPlace::Right) && !own.is_empty();
-        let (_, legend_w, _) = legend_rows(&own_refs, f64::INFINITY, true);
-        let right = if right_legend { legend_w + 8.0 } else { 0.0 } + TEXT_PT * 1.2;
+        let right = TEXT_PT * 1.2;
         let bottom_axis = if panel.frame {
             TICK_PT + 2.0 + TEXT_PT * 1.1 + 3.0 + TITLE_PT * 1.1
         } else {
@@ -1065,6 +1066,7 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
             b: frame.y0,
         };
         draw_panel(&mut b, index, panel, &frame, &sx, &sy)?;
+        ranges_drawn.push((xr, yr));
         if tags || !panel.heading.is_empty() {
             let tag = if tags {
                 format!("({}) {}", (b'a' + index as u8) as char, panel.heading)
@@ -1082,9 +1084,6 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
             ));
         }
         match panel.legend {
-            LegendPlace::Right => {
-                b.legend(&own_refs, (frame.x1 + 8.0, frame.y0), f64::INFINITY, true)
-            }
             LegendPlace::Below => b.legend(
                 &own_refs,
                 (cx + 4.0, frame.y1 + bottom_axis + 1.0),
@@ -1120,6 +1119,7 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
         width_mm: chart.width_mm,
         height_mm: chart.height_mm,
         axes,
+        ranges: ranges_drawn,
         texts: b.texts,
         marks: b.marks,
         legends: b.legends,
@@ -1439,6 +1439,44 @@ fn dash_runs(points: &[(f64, f64)], pattern: &[f64]) -> Vec<Vec<(f64, f64)>> {
 
 type DrawResult = std::result::Result<(), DrawingErrorKind<std::io::Error>>;
 
+/// Adds to panel `panel` of `chart` each label of `candidates` (a list of alternative
+/// placements, tried in order) at the first placement whose text lies inside the panel's axes
+/// and clear of every data mark, other text and legend of the figure; a label with no clear
+/// placement is left out. Direct labels on a crowded panel, with the room checked on the
+/// laid-out figure rather than guessed. Labels are placed panel by panel, so the panel's own
+/// label is the last one laid out.
+pub fn place_clear_labels(
+    chart: &mut Chart,
+    panel: usize,
+    candidates: Vec<Vec<Label>>,
+) -> Result<()> {
+    for alternatives in candidates {
+        for label in alternatives {
+            chart.panels[panel].labels.push(label);
+            let l = layout(chart)?;
+            let placed = l.texts.iter().rposition(|t| t.role == TextRole::Label);
+            let clear = placed.is_some_and(|i| {
+                let r = l.texts[i].rect;
+                l.axes[panel].contains(&r, 0.0)
+                    && l.marks.iter().all(|(_, m)| match m {
+                        Mark::Point(p) => !r.intersects(p),
+                        Mark::Segment(a, b) => !r.meets_segment(*a, *b),
+                    })
+                    && l.legends.iter().all(|g| !r.intersects(g))
+                    && l.texts
+                        .iter()
+                        .enumerate()
+                        .all(|(j, t)| j == i || !r.intersects(&t.rect))
+            });
+            if clear {
+                break;
+            }
+            chart.panels[panel].labels.pop();
+        }
+    }
+    Ok(())
+}
+
 impl Layout {
     /// The SVG document, written by plotters' SVG backend on a canvas of
     /// [`SVG_UNITS_PER_PT`] units per pt: `width`/`height` state the printed size in mm, the
@@ -1686,7 +1724,6 @@ mod tests {
     #[test]
     fn markers_keep_hollow_and_filled_apart() {
         let mut p = Panel::new(Axis::linear("x"), Axis::linear("y"));
-        p.legend = LegendPlace::Below;
         p.series.push(
             Series::points("ours", vec![(0.0, 0.0)], Rgb(10, 20, 30))
                 .with_marker(Marker::Circle, true),

@@ -13,9 +13,7 @@ use crate::report::data::CsvFile;
 use crate::report::figures::colour;
 use crate::report::format::{full, sig4, MarkdownTable};
 use crate::report::output::OutputFile;
-use crate::report::plot::{
-    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
-};
+use crate::report::plot::{Axis, Chart, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM};
 use crate::report::tables::stiffness_label;
 use crate::report::ChapterFigure;
 use crate::scene::{SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
@@ -49,7 +47,6 @@ impl SheetChapter {
         let rows = [("edge", 0), ("centre line", (n - 1) / 2)];
         let mut panel = Panel::new(Axis::linear("x (m)"), Axis::linear("y (m)"));
         panel.equal_aspect = true;
-        panel.legend = LegendPlace::Below;
         for (k, (stiffness, _, e)) in self
             .equilibria
             .iter()

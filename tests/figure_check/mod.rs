@@ -8,8 +8,11 @@
 //! - no two text boxes intersect, no legend box covers a text other than its own, and no two
 //!   legends overlap;
 //! - every mark lies inside its panel's axes, and every text inside the figure;
-//! - no two labelled series of one axes, and no two entries of one legend, share colour,
-//!   marker and dash (issue 25: line style or marker redundant with colour);
+//! - no two labelled series of one axes share marker and dash, whatever their colours
+//!   (issue 25: line style or marker redundant with colour, so that a reader without colour,
+//!   in grey print or with deuteranopia, tells them apart), and no two entries of one legend
+//!   share colour, marker and dash (a colour key, such as the parity figure's evidence
+//!   classes, names colours);
 //! - every legend entry has a visible swatch, and every labelled series a mark of its own
 //!   that no later series draws over (a series hidden under another is named with it, not
 //!   drawn twice).
@@ -22,14 +25,14 @@ use mass_spring_solvers::report::plot::{
 /// Points closer than this are drawn on top of each other, pt.
 const COINCIDENT_PT: f64 = 0.5;
 
-/// What tells a series apart in print: colour, dash, marker (and its fill, where it has one).
-fn encoding(s: &Style) -> (Rgb, Line, Marker, bool) {
-    (
-        s.color,
-        s.line,
-        s.marker,
-        s.marker != Marker::None && s.filled,
-    )
+/// What tells a series apart without colour: dash, marker (and its fill, where it has one).
+fn encoding(s: &Style) -> (Line, Marker, bool) {
+    (s.line, s.marker, s.marker != Marker::None && s.filled)
+}
+
+/// What tells a legend entry apart: its colour besides [`encoding`].
+fn key_encoding(s: &Style) -> (Rgb, (Line, Marker, bool)) {
+    (s.color, encoding(s))
 }
 
 /// Whether `over` hides every point of `under`: it passes through each of them and draws
@@ -61,7 +64,7 @@ fn series_problems(name: &str, layout: &Layout) -> Vec<String> {
         for b in labelled[i + 1..].iter().filter(|b| b.panel == a.panel) {
             if encoding(&a.style) == encoding(&b.style) {
                 out.push(format!(
-                    "{name}: series {:?} and {:?} of panel {} share colour, marker and dash",
+                    "{name}: series {:?} and {:?} of panel {} share marker and dash",
                     a.label,
                     b.label,
                     a.panel + 1
@@ -79,7 +82,10 @@ fn series_problems(name: &str, layout: &Layout) -> Vec<String> {
             ));
         }
         for (other, b) in &layout.legend_entries[i + 1..] {
-            if other == legend && a.label != b.label && encoding(&a.style) == encoding(&b.style) {
+            if other == legend
+                && a.label != b.label
+                && key_encoding(&a.style) == key_encoding(&b.style)
+            {
                 out.push(format!(
                     "{name}: legend entries {:?} and {:?} share colour, marker and dash",
                     a.label, b.label

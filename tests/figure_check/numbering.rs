@@ -1,8 +1,9 @@
 //! The report's figure numbering and citations, recomputed from the Markdown:
 //! - every image is followed by a caption `*Figure N. ...*` with N a plain number;
 //! - the thesis's figures (`figures/figNN-...`) carry the thesis's number NN, 1 to 15, and
-//!   every other figure the next number from 16 in order of appearance, so that the numbers
-//!   rise through the document;
+//!   every other figure the next number from the document's first (16 in REPORT.md, after the
+//!   thesis's; 1 in TIMING.md, which has none of them) in order of appearance, so that the
+//!   numbers rise through the document;
 //! - no "Figure" reference carries a letter (`Figure B1`);
 //! - every figure is cited, as a link to its anchor, outside its own caption and outside the
 //!   list of data files (where the text discusses it).
@@ -40,9 +41,9 @@ fn thesis_number(target: &str) -> Option<u32> {
 }
 
 /// Everything wrong with a document's figure numbering; empty when it passes.
-pub fn numbering_problems(md: &str) -> Vec<String> {
+pub fn numbering_problems(md: &str, first: u32) -> Vec<String> {
     let mut out = Vec::new();
-    let mut next = 16;
+    let mut next = first;
     let mut last = 0;
     for (line, target, number) in figures(md) {
         let Some(number) = number else {

@@ -101,6 +101,8 @@ fn files() -> &'static [OutputFile] {
 mod figure_check;
 #[path = "../figure_check/numbering.rs"]
 mod numbering;
+#[path = "../figure_check/scale.rs"]
+mod scale;
 
 fn snapshot(name: &str, text: &str) {
     insta::with_settings!({snapshot_path => "../../snapshots", prepend_module_to_snapshot => false}, {
@@ -438,12 +440,59 @@ fn every_figure_rasterises_at_its_stated_size() {
 /// anchor that exists, every section in the contents, no table wider than ten columns.
 /// Negative cases in `report::navigation`'s unit test (a reference without an anchor stays
 /// plain).
+/// Every rope or sheet shape drawn to scale, as its caption says, and the twins Figures 6
+/// and 8 at one scale: the exaggeration recomputed from each panel's axes and ranges
+/// (`tests/figure_check/scale.rs`; a stretched rope fails it in `tests/figures.rs`).
+#[test]
+fn every_shape_is_drawn_to_scale_and_the_twins_at_one_scale() {
+    let figures = every_figure();
+    let layout_of = |stem: &str| {
+        &figures
+            .iter()
+            .find(|(s, _, _)| s.as_str() == stem)
+            .unwrap_or_else(|| panic!("no figure {stem}"))
+            .1
+    };
+    let report = file("REPORT.md");
+    let shapes: [(&str, &[usize]); 8] = [
+        ("fig02-catenary", &[0, 1]),
+        ("fig03-rope-structure", &[0]),
+        ("fig04-distance-constraint", &[0]),
+        ("fig06-rest-state-xpbd-k1e3", &[0]),
+        ("fig08-rest-state-xpbd-k1e6", &[0]),
+        ("fig12-energy-and-motion", &[1]),
+        ("sheet_rest_states", &[0]),
+        ("tutorial_pendulum_frames", &[0, 1, 2, 3, 4, 5]),
+    ];
+    for (stem, panels) in shapes {
+        let layout = layout_of(stem);
+        for &panel in panels {
+            let e = scale::vertical_exaggeration(layout, panel);
+            assert!((e - 1.0).abs() < 1e-6, "{stem} panel {panel}: ×{e}");
+        }
+        let caption = report
+            .split(&format!("(figures/{stem}.svg)"))
+            .nth(1)
+            .and_then(|rest| rest.lines().find(|l| l.starts_with("*Figure ")))
+            .unwrap_or_else(|| panic!("{stem}: no caption"));
+        assert!(caption.contains("to scale"), "{stem}: {caption}");
+    }
+    let (six, eight) = (
+        scale::scales(layout_of("fig06-rest-state-xpbd-k1e3"), 0),
+        scale::scales(layout_of("fig08-rest-state-xpbd-k1e6"), 0),
+    );
+    assert!(
+        (six.0 / eight.0 - 1.0).abs() < 1e-9,
+        "{six:?} against {eight:?}"
+    );
+}
+
 /// One numbering sequence for every figure, each cited where the text discusses it
 /// (`tests/figure_check/numbering.rs`; its failing cases are in `tests/figures.rs`).
 #[test]
 fn the_figures_are_numbered_in_one_sequence_and_each_is_cited() {
     let report = file("REPORT.md");
-    let problems = numbering::numbering_problems(report);
+    let problems = numbering::numbering_problems(report, 16);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert_eq!(numbering::uncited(report), Vec::<u32>::new());
 }

@@ -13,8 +13,8 @@ use crate::registry::SolverId;
 use crate::report::data::CsvFile;
 use crate::report::format::{full, short, sig4};
 use crate::report::plot::{
-    power_of_ten, Align, Axis, Chart, Entry, LegendPlace, Line, Marker, Panel, Rgb, Series,
-    COLUMN_WIDTH_MM, FULL_WIDTH_MM,
+    power_of_ten, Align, Axis, Chart, Entry, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM,
+    FULL_WIDTH_MM,
 };
 use crate::report::ChapterFigure;
 use crate::system::Vec3;
@@ -26,16 +26,16 @@ const BLUE: Rgb = Rgb(33, 113, 181);
 const GREEN: Rgb = Rgb(35, 139, 69);
 const PURPLE: Rgb = Rgb(117, 60, 160);
 
-/// Colour and marker of each method, the same in every figure.
-fn method_style(method: Method) -> (Rgb, Marker) {
+/// Colour, marker and line of each method: a (marker, line) pair of its own, colour aside.
+fn method_style(method: Method) -> (Rgb, Marker, Line) {
     match method {
-        Method(SolverId::ExplicitEuler) => (RED, Marker::Triangle),
-        Method(SolverId::SymplecticEuler) => (BLUE, Marker::Circle),
-        Method(SolverId::Rk4) => (GREEN, Marker::Square),
-        Method(SolverId::BackwardEuler) => (BLACK, Marker::Cross),
-        Method(SolverId::Rk45) => (PURPLE, Marker::Circle),
+        Method(SolverId::ExplicitEuler) => (RED, Marker::Triangle, Line::Solid),
+        Method(SolverId::SymplecticEuler) => (BLUE, Marker::Circle, Line::Solid),
+        Method(SolverId::Rk4) => (GREEN, Marker::Square, Line::Solid),
+        Method(SolverId::BackwardEuler) => (BLACK, Marker::Cross, Line::Solid),
+        Method(SolverId::Rk45) => (PURPLE, Marker::Circle, Line::Dashed),
         // The study runs only the five above.
-        Method(_) => (GREY, Marker::None),
+        Method(_) => (GREY, Marker::None, Line::Dotted),
     }
 }
 
@@ -54,7 +54,7 @@ pub fn convergence(series: &[ConvergenceSeries]) -> Result<ChapterFigure> {
     let mut panel = Panel::new(Axis::log("h (s)"), Axis::log("phase-plane error (m)"));
     let mut csv = CsvFile::new(&["method", "zeta", "h_s", "error_m"]);
     for s in series {
-        let (color, marker) = method_style(s.method);
+        let (color, marker, line) = method_style(s.method);
         panel.series.push(
             Series::line(
                 format!(
@@ -66,7 +66,8 @@ pub fn convergence(series: &[ConvergenceSeries]) -> Result<ChapterFigure> {
                 s.points.clone(),
                 color,
             )
-            .with_marker(marker, true),
+            .with_marker(marker, true)
+            .with_line(line),
         );
         for (h, e) in &s.points {
             csv.record(vec![
@@ -111,7 +112,6 @@ pub fn stability_energy(runs: &[EnergyRun]) -> Result<ChapterFigure> {
             Axis::linear("t ω / 2π (periods)"),
             Axis::log("E / E₀").range(lo, hi),
         );
-        panel.legend = LegendPlace::Below;
         panel.heading = integrator.to_string();
         for (k, run) in runs
             .iter()
@@ -156,7 +156,6 @@ const PAIR_MARKER_EVERY: usize = 100;
 /// Figure T3: (a) the drag fall and (b) the damped spring pair against their closed forms.
 pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<ChapterFigure> {
     let mut left = Panel::new(Axis::linear("t (s)"), Axis::linear("downward speed (m/s)"));
-    left.legend = LegendPlace::Below;
     let closed: Vec<(f64, f64)> = drag.samples.iter().map(|s| (s.0, s.2)).collect();
     let ours: Vec<(f64, f64)> = drag.samples.iter().map(|s| (s.0, s.1)).collect();
     let t_end = drag.samples.last().map_or(0.0, |s| s.0);
@@ -177,7 +176,6 @@ pub fn forces(drag: &DragFall, pair: &SpringPairRun) -> Result<ChapterFigure> {
         Axis::linear("t (s)"),
         Axis::linear("stretch u = |Δx| − r (m)"),
     );
-    right.legend = LegendPlace::Below;
     let p = pair.pair;
     let closed: Vec<(f64, f64)> = pair.samples.iter().map(|s| (s.0, s.2)).collect();
     let ours: Vec<(f64, f64)> = pair.samples.iter().map(|s| (s.0, s.1)).collect();
@@ -336,7 +334,6 @@ pub fn sig_short(x: f64) -> String {
 /// acted.
 pub fn pendulum_energy(run: &PendulumRun) -> Result<ChapterFigure> {
     let mut panel = Panel::new(Axis::linear("t (s)"), Axis::linear("mechanical energy (J)"));
-    panel.legend = LegendPlace::Below;
     panel.series.push(Series::line(
         format!("RK4, h = {} s", short(run.dt)),
         run.energy.clone(),
@@ -393,7 +390,6 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
         Axis::linear("t (s)"),
         Axis::linear("height of the centre of mass (m)"),
     );
-    fall.legend = LegendPlace::Below;
     fall.series
         .push(Series::line("RK4, Δt = 1e-3 s", run.centre.clone(), BLUE).with_weight(1.6));
     fall.series.push(
@@ -421,11 +417,12 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
         Axis::linear(format!("height y (m) × {}", short(CONTACT_EXAGGERATION))),
     );
     contact.equal_aspect = true;
-    contact.legend = LegendPlace::Below;
     contact.heading = format!("t = {} s", sig4(*t));
     let width_m = (run.params.cloth.nx - 1) as f64 * run.params.cloth.spacing;
     contact.series.push(
-        Series::line("floor", vec![(-0.1, 0.0), (width_m + 0.1, 0.0)], GREY).with_weight(2.0),
+        Series::line("floor", vec![(-0.1, 0.0), (width_m + 0.1, 0.0)], GREY)
+            .with_weight(2.0)
+            .with_line(Line::Dashed),
     );
     // Every spring in one series, a NaN point between springs.
     let springs = run
@@ -469,7 +466,6 @@ fn against_tolerance(runs: &[AdaptiveRun], f: impl Fn(&AdaptiveRun) -> f64) -> V
 /// Figure T7: (a) the adaptive integrator's error and (b) its work against the tolerance.
 pub fn adaptive(study: &AdaptiveStudy) -> Result<ChapterFigure> {
     let mut error = Panel::new(Axis::log("tolerance T"), Axis::log("error (m)"));
-    error.legend = LegendPlace::Below;
     error.series.push(
         Series::line(
             "error = T",
@@ -505,7 +501,6 @@ pub fn adaptive(study: &AdaptiveStudy) -> Result<ChapterFigure> {
         Axis::log("tolerance T"),
         Axis::log("force evaluations, steps"),
     );
-    work.legend = LegendPlace::Below;
     work.series.push(
         Series::line(
             "pendulum: force evaluations",
