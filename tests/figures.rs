@@ -239,3 +239,13 @@ fn a_rope_not_drawn_to_scale_has_an_exaggeration_above_one() {
     assert!((e - 1.0).abs() < 1e-9, "to scale: ×{e}");
 }
 
+/// TIMING.md (written by `make timing`, committed): its figures in one sequence from 1, each
+/// cited; the failing cases are those of the test above.
+#[test]
+fn the_timing_figures_are_numbered_in_one_sequence_and_each_is_cited() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/report/timing/TIMING.md");
+    let md = std::fs::read_to_string(path).unwrap();
+    let problems = numbering::numbering_problems(&md, 1);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert_eq!(numbering::uncited(&md), Vec::<u32>::new());
+}

@@ -185,11 +185,21 @@ impl Timed {
         );
         md += &costs_compared(timing);
         md += "\n### Work-precision diagrams in wall time\n\n";
-        for &case in cases {
+        let cited: Vec<String> = cases
+            .iter()
+            .zip(1..)
+            .map(|(case, n)| format!("Figure {n} the {}", case.label()))
+            .collect();
+        let _ = writeln!(
+            md,
+            "The report's work-precision diagrams with the wall time for the flops ({}).\n",
+            cited.join("; ")
+        );
+        for (&case, n) in cases.iter().zip(1..) {
             let s = stem(case);
             let _ = writeln!(
                 md,
-                "![{s}]({s}.svg)\n\n*{}: the relative physical error against the wall time of a \
+                "![Figure {n}]({s}.svg)\n\n*Figure {n}. {}: the relative physical error against the wall time of a \
                  run over the window on one core, each solver's front (its configurations no \
                  faster one of its own beats), by family as in the report's section 12; grey: \
                  the explicit baselines (RK4 dashed, symplectic Euler dotted) and doing nothing \

@@ -28,6 +28,7 @@ use mass_spring_solvers::error::{Error, Failure, Result};
 use mass_spring_solvers::output_file::{Links, OutputFile};
 use mass_spring_solvers::report::benchmark::rows_csv;
 use mass_spring_solvers::report::benchmark_wall::{WallTiming, MACHINE_CSV, WALL_CSV};
+use mass_spring_solvers::report::navigation;
 use measure::{checkout, load_average, machine, machine_md, BATCH_SECONDS};
 use scaling::{measure as measure_point, point_line, scaling_study, solvers, SIDES};
 use scaling_md::scaling_md;
@@ -176,10 +177,11 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
         files.push((format!("{}.svg", f.stem), f.svg));
     }
     if let Some(study) = &scaling {
-        md += &scaling_md(study);
+        md += &scaling_md(study, cases.len() + 1);
         files.extend(study.files()?);
     }
-    files.push(("TIMING.md".into(), md));
+    // The figures' anchors and every "Figure N" linked, as in REPORT.md.
+    files.push(("TIMING.md".into(), navigation::linkify(&md)));
     files.push((WALL_CSV.into(), rows_csv(&timing.rows)));
     files.push((MACHINE_CSV.into(), rows_csv(&[timing.machine])));
     let mut written = Vec::new();

@@ -99,7 +99,7 @@ fn reference_line(points: Vec<(f64, f64)>) -> Series {
 
 /// TIMING.md's sections of the scaling study: the points, the slopes, the figure, the bound of
 /// an iteration and the targets.
-pub fn scaling_md(study: &Scaling) -> String {
+pub fn scaling_md(study: &Scaling, figure: usize) -> String {
     let points = &study.points;
     let mut md = String::new();
     let w = &mut md;
@@ -112,7 +112,8 @@ pub fn scaling_md(study: &Scaling) -> String {
          process. Times are per call, the least of repeated batch means (each batch at least \
          {:.0} ms), in the thread's CPU time (the machine is shared: wall times, in \
          [`scaling.csv`](scaling.csv), are inflated by the load); the spread is the largest \
-         wall-time batch mean over the least. One core: no solver runs in parallel.\n",
+         wall-time batch mean over the least. One core: no solver runs in parallel. Figure \
+         {figure} draws the times against the nodes.\n",
         SIDES.map(|n| n.to_string()).join(", "),
         BATCH_SECONDS * 1e3
     );
@@ -155,9 +156,9 @@ pub fn scaling_md(study: &Scaling) -> String {
     let _ = writeln!(w, "### Slopes\n");
     let _ = writeln!(
         w,
-        "![scaling](scaling.svg)\n\n*CPU time per iteration and of the set-up against the \
-         nodes of the sheet, every solver; dashed grey: slope 1, time in proportion to the \
-         nodes.* Least-squares slopes of log CPU time against log nodes, n ≥ {FIT_FROM_SIDE}:\n"
+        "![Figure {figure}](scaling.svg)\n\n*Figure {figure}. CPU time per iteration and of the \
+         set-up against the nodes of the sheet, every solver; dashed grey: slope 1, time in \
+         proportion to the nodes.* Least-squares slopes of log CPU time against log nodes, n ≥ {FIT_FROM_SIDE}:\n"
     );
     let _ = writeln!(w, "| solver | per iteration | set-up | step |");
     let _ = writeln!(w, "|---|---:|---:|---:|");
