@@ -353,6 +353,20 @@ impl<'o> Watch<'o> {
         Ok(())
     }
 
+    /// Steps `solver` from `state` until the run stops, and returns it.
+    pub fn run_to_end(
+        mut self,
+        solver: &mut dyn TimeStepper,
+        mut state: State,
+        recorder: &mut dyn Recorder,
+    ) -> Result<Run> {
+        while self.running() {
+            solver.step(&mut state).map_err(|e| self.step_failed(e))?;
+            self.after_step(solver.system(), &mut state, recorder)?;
+        }
+        self.finish(state, recorder)
+    }
+
     /// The run, ended at `state`.
     pub fn finish(self, state: State, recorder: &mut dyn Recorder) -> Result<Run> {
         if self.positions_at.is_some_and(|at| at < self.steps) {

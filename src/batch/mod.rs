@@ -19,7 +19,7 @@ pub const WIDTH: usize = 4;
 /// Several runs of one solver in the lanes of a [`crate::lanes::Lanes4`] vector.
 pub trait LaneSolver {
     /// The single run a lane holds.
-    type Run: TimeStepper;
+    type Run: TimeStepper + Clone;
     /// Puts `run`, at `state`, in lane `lane`; the lane's previous run is dropped.
     fn load(&mut self, lane: usize, run: &Self::Run, state: &State);
     /// Leaves lane `lane` without a run: its arithmetic goes on, unread, until it is loaded.
@@ -44,49 +44,36 @@ struct InLane<'a, R> {
 
 /// Runs every `(solver, start, options)` of `runs`, [`WIDTH`] at a time in the lanes of
 /// `lanes`, and returns each one's outcome as [`crate::solver::simulate`] would give it, in the
-/// order of `runs`. A lane whose run stops takes the next run waiting.
+/// order of `runs`. A lane whose run stops takes the next run waiting; the last run left goes
+/// on alone.
 pub fn simulate_batch<'a, L: LaneSolver>(
     lanes: &mut L,
     runs: &'a [(L::Run, State, RunOptions)],
 ) -> Vec<Result<Run>> {
     let mut outcomes: Vec<Option<Result<Run>>> = (0..runs.len()).map(|_| None).collect();
     let mut waiting = runs.iter().enumerate();
-    let mut in_lane: Vec<Option<InLane<'a, L::Run>>> = (0..WIDTH).map(|_| None).collect();
-    // The next run that starts without error goes into `lane`.
-    let mut fill = |lanes: &mut L,
-                    lane: usize,
-                    outcomes: &mut Vec<Option<Result<Run>>>|
-     -> Option<InLane<'a, L::Run>> {
-        for (index, (solver, state, options)) in waiting.by_ref() {
-            let mut memory = InMemory::new(solver.dt());
-            match Watch::start(solver, state, options, &mut memory) {
-                Ok(watch) if watch.running() => {
-                    lanes.load(lane, solver, state);
-                    return Some(InLane {
-                        index,
-                        solver,
-                        watch,
-                        memory,
-                        state: state.clone(),
-                    });
-                }
-                Ok(watch) => {
-                    let run = watch.finish(state.clone(), &mut memory);
-                    outcomes[index] = Some(run.map(|run| memory.into_run(run)));
-                }
-                Err(e) => outcomes[index] = Some(Err(e)),
+    let mut in_lane: Vec<Option<InLane<'a, L::Run>>> = (0..WIDTH)
+        .map(|lane| fill(lanes, lane, &mut waiting, &mut outcomes))
+        .collect();
+    loop {
+        let busy: Vec<usize> = (0..WIDTH).filter(|&l| in_lane[l].is_some()).collect();
+        match busy[..] {
+            [] => break,
+            // The batch shrinks to its last run, which goes on alone (its step is the lanes'
+            // at `f64`) instead of at the cost of a full batch.
+            [last] if waiting.len() == 0 => {
+                let mut run = in_lane[last].take().expect("a busy lane");
+                let outcome =
+                    run.watch
+                        .run_to_end(&mut run.solver.clone(), run.state, &mut run.memory);
+                outcomes[run.index] = Some(outcome.map(|r| run.memory.into_run(r)));
+                break;
             }
+            _ => {}
         }
-        lanes.clear(lane);
-        None
-    };
-    for (lane, slot) in in_lane.iter_mut().enumerate() {
-        *slot = fill(lanes, lane, &mut outcomes);
-    }
-    while in_lane.iter().any(Option::is_some) {
         lanes.step();
-        for (lane, slot) in in_lane.iter_mut().enumerate() {
-            let Some(run) = slot else { continue };
+        for lane in busy {
+            let run = in_lane[lane].as_mut().expect("a busy lane");
             lanes.read(lane, &mut run.state);
             let outcome =
                 run.watch
@@ -97,16 +84,49 @@ pub fn simulate_batch<'a, L: LaneSolver>(
                 }
                 continue;
             }
-            let mut run = slot.take().expect("the lane holds a run");
+            let mut run = in_lane[lane].take().expect("a busy lane");
             let finished = outcome.and_then(|()| run.watch.finish(run.state, &mut run.memory));
             outcomes[run.index] = Some(finished.map(|r| run.memory.into_run(r)));
-            *slot = fill(lanes, lane, &mut outcomes);
+            in_lane[lane] = fill(lanes, lane, &mut waiting, &mut outcomes);
         }
     }
     outcomes
         .into_iter()
         .map(|o| o.expect("every run ran"))
         .collect()
+}
+
+/// The next run of `waiting` that starts without error, put in lane `lane` (the runs that
+/// stop before their first step get their outcome); None, and the lane cleared, when none is
+/// left.
+fn fill<'a, L: LaneSolver>(
+    lanes: &mut L,
+    lane: usize,
+    waiting: &mut impl Iterator<Item = (usize, &'a (L::Run, State, RunOptions))>,
+    outcomes: &mut [Option<Result<Run>>],
+) -> Option<InLane<'a, L::Run>> {
+    for (index, (solver, state, options)) in waiting {
+        let mut memory = InMemory::new(solver.dt());
+        match Watch::start(solver, state, options, &mut memory) {
+            Ok(watch) if watch.running() => {
+                lanes.load(lane, solver, state);
+                return Some(InLane {
+                    index,
+                    solver,
+                    watch,
+                    memory,
+                    state: state.clone(),
+                });
+            }
+            Ok(watch) => {
+                let run = watch.finish(state.clone(), &mut memory);
+                outcomes[index] = Some(run.map(|run| memory.into_run(run)));
+            }
+            Err(e) => outcomes[index] = Some(Err(e)),
+        }
+    }
+    lanes.clear(lane);
+    None
 }
 
 #[cfg(test)]

@@ -2,12 +2,12 @@
 //! same rope topology (any dt, compliance, masses and iteration counts).
 
 use super::{LaneSolver, WIDTH};
-use crate::lanes::{load_points, load_values, read_points, Lanes4};
+use crate::lanes::{load_points, load_values, read_points, select, Lanes4};
 use crate::solver::TimeStepper;
 use crate::system::{Spring, State};
 use crate::xpbd::{Coefficients, Scratch, Xpbd};
 use nalgebra::Vector3;
-use simba::simd::SimdValue;
+use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
 
 /// Four XPBD runs of one topology, one per lane.
 #[derive(Debug, Clone)]
@@ -93,17 +93,16 @@ impl LaneSolver for XpbdLanes {
         let c = &self.coefficients;
         c.predict(&mut self.x, &self.v, &mut self.scratch);
         let most = self.iterations.iter().copied().max().unwrap_or(0);
+        let counts = Lanes4::from(self.iterations.map(|count| count as f64));
         for iteration in 0..most {
-            let finished = self.iterations.map(|count| count <= iteration);
-            if finished.contains(&true) {
+            let finished = counts.simd_le(Lanes4::splat(iteration as f64));
+            if finished.any() {
                 self.done.copy_from_slice(&self.x);
             }
             c.sweep(&self.springs, &mut self.x, &mut self.scratch.lambda);
-            for lane in (0..WIDTH).filter(|&lane| finished[lane]) {
+            if finished.any() {
                 for (x, done) in self.x.iter_mut().zip(&self.done) {
-                    for (x, done) in x.iter_mut().zip(done.iter()) {
-                        x.replace(lane, done.extract(lane));
-                    }
+                    *x = select(finished, *done, *x);
                 }
             }
         }
