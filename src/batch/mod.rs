@@ -7,6 +7,7 @@
 //! ([`crate::solver::Watch`]) and hands a lane whose run has stopped the next run waiting, so
 //! that runs of different lengths do not stall the batch.
 
+pub mod liu;
 pub mod xpbd;
 
 use crate::error::Result;
@@ -131,6 +132,7 @@ fn fill<'a, L: LaneSolver>(
 
 #[cfg(test)]
 mod tests {
+    use super::liu::LiuLanes;
     use super::xpbd::XpbdLanes;
     use super::*;
     use crate::metrics::StoppingRule;
@@ -149,6 +151,34 @@ mod tests {
             bits.extend(point.iter().map(|c| c.to_bits()));
         }
         bits
+    }
+
+    /// The options of a run stopped at `max_time` s or below a peak of `threshold` J, with
+    /// velocity damping `damping` 1/s.
+    fn options(damping: f64, max_time: f64, threshold: f64) -> RunOptions {
+        RunOptions {
+            stop: StoppingRule {
+                threshold,
+                max_time,
+                ..StoppingRule::default()
+            },
+            velocity_damping: damping,
+            ..RunOptions::default()
+        }
+    }
+
+    /// Asserts that every run of `runs` gives the same bits in the batch `lanes` as alone.
+    fn assert_lanes_are_runs_alone<L: LaneSolver>(
+        lanes: &mut L,
+        runs: &[(L::Run, State, RunOptions)],
+    ) {
+        let batched = simulate_batch(lanes, runs);
+        for ((solver, state, options), batched) in runs.iter().zip(batched) {
+            let alone = simulate(&mut solver.clone(), state.clone(), options).unwrap();
+            let batched = batched.unwrap();
+            assert_eq!(bits(&batched), bits(&alone), "{}", alone.solver);
+            assert_eq!(batched.solver, alone.solver);
+        }
     }
 
     /// Each lane of a batch gives its run's bits alone, with a different stiffness, dt,
@@ -171,26 +201,44 @@ mod tests {
         .into_iter()
         .map(|(k, dt, iterations, damping, max_time, threshold)| {
             let system = thesis_rope(k).unwrap();
-            let options = RunOptions {
-                stop: StoppingRule {
-                    threshold,
-                    max_time,
-                    ..StoppingRule::default()
-                },
-                velocity_damping: damping,
-                ..RunOptions::default()
-            };
             let solver = Xpbd::new(&system, dt, iterations).unwrap();
+            let options = options(damping, max_time, threshold);
             (solver, system.initial_state(), options)
         })
         .collect();
-        let mut lanes = XpbdLanes::new(&runs[0].0);
-        let batched = simulate_batch(&mut lanes, &runs);
-        for ((solver, state, options), batched) in runs.iter().zip(batched) {
-            let alone = simulate(&mut solver.clone(), state.clone(), options).unwrap();
-            let batched = batched.unwrap();
-            assert_eq!(bits(&batched), bits(&alone), "{}", alone.solver);
-            assert_eq!(batched.solver, alone.solver);
-        }
+        assert_lanes_are_runs_alone(&mut XpbdLanes::new(&runs[0].0), &runs);
+    }
+
+    /// The same for Liu 2013 (Algorithm 3): every lane's run alone, with a different stiffness,
+    /// dt, iteration count, first iterate ((a) and (b)), damping and stopping time per lane.
+    /// Fails if the lanes' arithmetic differs from the run's: with the tridiagonal substitution's
+    /// $`x_i = y_i/d_i - L_{i+1,i}x_{i+1}`$ as a fused multiply-add at `f64`
+    /// (`(-l).simd_mul_add(x, *b * inv)`, fused at `f64` only), the final states differ in
+    /// their last bits.
+    #[test]
+    fn every_liu_lane_is_its_run_alone_bit_for_bit() {
+        use crate::fast_mass_spring::{FastMassSpring, FirstIterate};
+        use FirstIterate::{Inertial, Previous};
+        let runs: Vec<(FastMassSpring, State, RunOptions)> = [
+            // (k N/m, dt s, iterations, first iterate, damping 1/s, max time s, threshold J)
+            (1e3, 1e-2, 30, Previous, 0.0, 3.0, 1e-4),
+            (1e4, 5e-3, 70, Inertial, 0.0, 2.0, 1e-4),
+            (1e3, 1e-3, 7, Previous, 0.5, 1.0, 1e-4),
+            (1e4, 1e-2, 30, Inertial, 0.0, 4.0, 1e9),
+            (1e3, 2e-3, 1, Inertial, 0.0, 1.5, 1e-4),
+            (1e4, 1e-2, 30, Previous, 2.0, 2.5, 1e-4),
+        ]
+        .into_iter()
+        .map(|(k, dt, iterations, first, damping, max_time, threshold)| {
+            let system = thesis_rope(k).unwrap();
+            let solver = FastMassSpring::new(&system, dt, iterations)
+                .unwrap()
+                .with_first_iterate(first);
+            let options = options(damping, max_time, threshold);
+            (solver, system.initial_state(), options)
+        })
+        .collect();
+        let mut lanes = LiuLanes::new(&runs[0].0).expect("the rope's solve is tridiagonal");
+        assert_lanes_are_runs_alone(&mut lanes, &runs);
     }
 }
