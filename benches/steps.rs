@@ -14,6 +14,7 @@
 
 use mass_spring_solvers::admm::AdmmPd;
 use mass_spring_solvers::backward_euler::BackwardEuler;
+use mass_spring_solvers::batch::liu::LiuLanes;
 use mass_spring_solvers::batch::xpbd::XpbdLanes;
 use mass_spring_solvers::batch::{LaneSolver, WIDTH};
 use mass_spring_solvers::boundary::{fixed_unknowns, ConstrainedSystem};
@@ -98,6 +99,21 @@ fn rope_step_xpbd_lanes(bencher: divan::Bencher, iterations: usize) {
     let (system, start) = rope();
     let solver = Xpbd::new(&system, DT, iterations).unwrap();
     let mut lanes = XpbdLanes::new(&solver);
+    for lane in 0..WIDTH {
+        lanes.load(lane, &solver, &start);
+    }
+    bencher
+        .with_inputs(|| lanes.clone())
+        .bench_local_refs(|lanes| lanes.step());
+}
+
+/// One step of four Liu 2013 runs of the rope in the lanes of a batch (`batch::liu`), each
+/// from the same moving state: per run, a quarter of it. Per iteration: as `rope_step`'s.
+#[divan::bench(args = [1, 30, 70])]
+fn rope_step_liu_lanes(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = FastMassSpring::new(&system, DT, iterations).unwrap();
+    let mut lanes = LiuLanes::new(&solver).unwrap();
     for lane in 0..WIDTH {
         lanes.load(lane, &solver, &start);
     }
