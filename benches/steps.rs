@@ -14,6 +14,9 @@
 
 use mass_spring_solvers::admm::AdmmPd;
 use mass_spring_solvers::backward_euler::BackwardEuler;
+use mass_spring_solvers::batch::liu::LiuLanes;
+use mass_spring_solvers::batch::xpbd::XpbdLanes;
+use mass_spring_solvers::batch::{LaneSolver, WIDTH};
 use mass_spring_solvers::boundary::{fixed_unknowns, ConstrainedSystem};
 use mass_spring_solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::particles::scenes::ClothParams;
@@ -21,6 +24,7 @@ use mass_spring_solvers::projective::{system_matrix, to_columns, GlobalSolve};
 use mass_spring_solvers::registry::{Builder, SolverId, SolverSpec};
 use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::solver::TimeStepper;
+use mass_spring_solvers::xpbd::Xpbd;
 use mass_spring_solvers::{MassSpringSystem, State, Vec3};
 use std::hint::black_box;
 
@@ -86,6 +90,36 @@ fn rope_step(bencher: divan::Bencher, case: RopeCase) {
     let (system, start) = rope();
     let solver = case.0.build_send(&system, DT).unwrap();
     bench_step(bencher, solver, &start);
+}
+
+/// One step of four XPBD runs of the rope in the lanes of a batch (`batch::xpbd`), each from
+/// the same moving state: per run, a quarter of it. Per iteration: as `rope_step`'s.
+#[divan::bench(args = [1, 20, 50])]
+fn rope_step_xpbd_lanes(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = Xpbd::new(&system, DT, iterations).unwrap();
+    let mut lanes = XpbdLanes::new(&solver);
+    for lane in 0..WIDTH {
+        lanes.load(lane, &solver, &start);
+    }
+    bencher
+        .with_inputs(|| lanes.clone())
+        .bench_local_refs(|lanes| lanes.step());
+}
+
+/// One step of four Liu 2013 runs of the rope in the lanes of a batch (`batch::liu`), each
+/// from the same moving state: per run, a quarter of it. Per iteration: as `rope_step`'s.
+#[divan::bench(args = [1, 30, 70])]
+fn rope_step_liu_lanes(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = FastMassSpring::new(&system, DT, iterations).unwrap();
+    let mut lanes = LiuLanes::new(&solver).unwrap();
+    for lane in 0..WIDTH {
+        lanes.load(lane, &solver, &start);
+    }
+    bencher
+        .with_inputs(|| lanes.clone())
+        .bench_local_refs(|lanes| lanes.step());
 }
 
 /// A 100×100 cloth hanging from its two top corners (10 000 nodes, 29 601 springs), moving:

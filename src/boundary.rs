@@ -8,6 +8,7 @@
 //! Liu 2013 and ADMM-PD (once per scene and time step) all solve through [`ConstrainedSystem`].
 
 use crate::error::Result;
+use crate::lanes::Lane;
 use crate::linear::{Factorization, SymmetricMatrix};
 use crate::system::MassSpringSystem;
 
@@ -105,14 +106,42 @@ impl ConstrainedSystem {
     /// the free rows, and $`b_j = \bar x_j`$ on the fixed rows (step 4 of §3.2).
     #[inline]
     pub fn impose_on_rhs(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
-        let n = b.len() / ncols;
-        for (b, x_bar) in b.chunks_exact_mut(n).zip(x_bar.chunks_exact(n)) {
-            for &(i, j, a_ij) in &self.coupling {
-                b[i] -= a_ij * x_bar[j];
-            }
-            for &j in &self.fixed {
-                b[j] = x_bar[j];
-            }
+        impose_on_rhs(&self.coupling, &self.fixed, b, x_bar, ncols);
+    }
+
+    /// The fixed unknowns.
+    pub fn fixed(&self) -> &[usize] {
+        &self.fixed
+    }
+
+    /// The block $`A_2`$ of Eq (43) as $`(i, j, A_{ij})`$, free rows $`i`$, fixed columns $`j`$.
+    pub fn coupling(&self) -> &[(usize, usize, f64)] {
+        &self.coupling
+    }
+
+    /// The factorisation of the imposed matrix of Eq (44).
+    pub fn factorization(&self) -> &Factorization {
+        &self.factorization
+    }
+}
+
+/// Eqs. (45)-(47) for any lane type ([`crate::lanes`]): [`ConstrainedSystem::impose_on_rhs`]
+/// with its block $`A_2`$ (`coupling`) and `fixed` unknowns.
+#[inline]
+pub fn impose_on_rhs<T: Lane>(
+    coupling: &[(usize, usize, T)],
+    fixed: &[usize],
+    b: &mut [T],
+    x_bar: &[T],
+    ncols: usize,
+) {
+    let n = b.len() / ncols;
+    for (b, x_bar) in b.chunks_exact_mut(n).zip(x_bar.chunks_exact(n)) {
+        for &(i, j, a_ij) in coupling {
+            b[i] -= a_ij * x_bar[j];
+        }
+        for &j in fixed {
+            b[j] = x_bar[j];
         }
     }
 }

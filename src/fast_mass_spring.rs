@@ -30,6 +30,7 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::first_iterate::StepStart;
+use crate::lanes::Lane;
 use crate::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
 use crate::projective::{
     finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve,
@@ -38,6 +39,7 @@ use crate::projective::{
 use crate::solver::TimeStepper;
 use crate::stopping::Convergence;
 use crate::system::{MassSpringSystem, State, Vec3};
+use nalgebra::Vector3;
 
 /// Where each step's local/global iteration starts, a point Algorithm 3 leaves open: the
 /// crate's one notion of a first iterate.
@@ -53,6 +55,8 @@ pub struct FastMassSpring {
     /// $`J`$ of Eqs (26), (53), stored per spring.
     j: SpringIncidence,
     rest_lengths: Vec<f64>,
+    /// The nodes' masses, kg.
+    masses: Vec<f64>,
     /// $`A`$ and $`dt^2 f_{ext}`$ of each stage step, the current one's $`dt`$ in `tau`.
     stage_steps: PerStageStep<LiuStageStep>,
     /// The current stage's $`dt`$ ($`\tau`$), s.
@@ -71,11 +75,11 @@ pub struct FastMassSpring {
 
 /// What Liu's iteration prefactors for one step $`dt`$.
 #[derive(Debug, Clone)]
-struct LiuStageStep {
+pub struct LiuStageStep {
     /// $`A = M + dt^2 L`$, factored once (Algorithm 3 line 1.4).
-    a: GlobalSolve,
+    pub a: GlobalSolve,
     /// $`dt^2 f_{ext}`$, column-major.
-    dt2_f_ext: Vec<f64>,
+    pub dt2_f_ext: Vec<f64>,
 }
 
 impl LiuStageStep {
@@ -110,6 +114,7 @@ impl FastMassSpring {
             start: StepStart::new(FirstIterate::default()),
             j: incidence_matrix(system),
             rest_lengths: system.springs().iter().map(|s| s.rest_length).collect(),
+            masses: system.nodes().iter().map(|node| node.mass).collect(),
             stage_steps: PerStageStep::new(dt, LiuStageStep::new(system, dt)?),
             tau: dt,
             x_n: vec![0.0; 3 * n],
@@ -135,6 +140,32 @@ impl FastMassSpring {
     /// Local/global iterations per step.
     pub fn iterations(&self) -> usize {
         self.iterations
+    }
+
+    /// Whether each step runs its full count of iterations ([`crate::stopping::Stopping::Count`]),
+    /// as a batch of runs does ([`crate::batch`]).
+    pub fn counts_iterations(&self) -> bool {
+        self.convergence.stopping() == crate::stopping::Stopping::Count
+    }
+
+    /// $`J`$ of Eqs (26), (53).
+    pub fn incidence(&self) -> &SpringIncidence {
+        &self.j
+    }
+
+    /// The springs' rest lengths, m.
+    pub fn rest_lengths(&self) -> &[f64] {
+        &self.rest_lengths
+    }
+
+    /// The nodes' masses, kg.
+    pub fn masses(&self) -> &[f64] {
+        &self.masses
+    }
+
+    /// What the solver prefactored for its own step $`dt`$.
+    pub fn own_step(&self) -> &LiuStageStep {
+        self.stage_steps.own()
     }
 
     /// Algorithm 3 line 2.1 and the first iterate: $`b`$ of Eq (27) for `state`, and the
@@ -185,41 +216,80 @@ impl FastMassSpring {
     /// Eq. (27): consistent form $`b = M y + dt^2 f_{ext}`$ with $`y = x_n + dt\,v_n`$
     /// (printed: $`b = M x + f_{ext}\,dt^2`$, subtracted in Eq 29).
     fn inertial_rhs(&mut self, state: &State) {
-        let n = state.x.len();
-        let (dt, dt2_f_ext) = (self.tau, &self.stage_steps.current().dt2_f_ext);
-        for (i, ((x, v), node)) in state
-            .x
-            .iter()
-            .zip(&state.v)
-            .zip(self.system.nodes())
-            .enumerate()
-        {
-            let y = x + dt * v;
-            for c in 0..3 {
-                self.b[c * n + i] = node.mass * y[c] + dt2_f_ext[c * n + i];
-            }
-        }
+        let dt2_f_ext = &self.stage_steps.current().dt2_f_ext;
+        inertial_rhs(
+            &state.x,
+            &state.v,
+            &self.masses,
+            self.tau,
+            dt2_f_ext,
+            &mut self.b,
+        );
     }
 
     /// Eq. (28): $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for every spring, at the current
     /// iterate (the local step, lines 2.3-2.5). Public for the timing study, which times the
     /// two halves of an iteration apart after a step.
     pub fn local_step(&mut self) {
-        for (i, d) in self.d.iter_mut().enumerate() {
-            *d = self.j.difference(i, &self.x);
-        }
-        project_on_spheres(&mut self.d, &self.rest_lengths, &mut self.scale);
+        spring_directions(
+            &self.j,
+            &self.x,
+            &self.rest_lengths,
+            &mut self.d,
+            &mut self.scale,
+        );
     }
 
     /// Eq. (29): consistent form $`(M + dt^2 L)\,x = b + dt^2 J d`$, solved with the
     /// prefactored $`A`$ for the three coordinates at once; fixed nodes stay at $`x_n`$.
     pub fn global_step(&mut self) {
-        let dt2 = self.tau * self.tau;
-        self.x.copy_from_slice(&self.b);
-        for (i, &d) in self.d.iter().enumerate() {
-            self.j.add_row_transposed(i, dt2 * d, &mut self.x);
-        }
+        global_rhs(&self.j, &self.b, &self.d, self.tau * self.tau, &mut self.x);
         self.stage_steps.current().a.solve(&mut self.x, &self.x_n);
+    }
+}
+
+// The arithmetic of a step, generic over the lane type ([`crate::lanes`]): at `f64` it is
+// [`FastMassSpring`]'s, in lanes a batch's ([`crate::batch::liu`]).
+
+/// Eq. (27): consistent form $`b = M y + dt^2 f_{ext}`$ with $`y = x_n + dt\,v_n`$, from the
+/// positions `x`, velocities `v` and `masses` of the nodes, column-major.
+pub fn inertial_rhs<T: Lane>(
+    x: &[Vector3<T>],
+    v: &[Vector3<T>],
+    masses: &[T],
+    dt: T,
+    dt2_f_ext: &[T],
+    b: &mut [T],
+) {
+    let n = x.len();
+    for (i, ((x, v), &mass)) in x.iter().zip(v).zip(masses).enumerate() {
+        let y = x + v * dt;
+        for c in 0..3 {
+            b[c * n + i] = mass * y[c] + dt2_f_ext[c * n + i];
+        }
+    }
+}
+
+/// Eq. (28): $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for every spring of `j` at the
+/// column-major iterate `x` (`scale`: scratch, one entry per spring).
+pub fn spring_directions<T: Lane>(
+    j: &SpringIncidence<T>,
+    x: &[T],
+    rest_lengths: &[T],
+    d: &mut [Vector3<T>],
+    scale: &mut [T],
+) {
+    for (i, d) in d.iter_mut().enumerate() {
+        *d = j.difference(i, x);
+    }
+    project_on_spheres(d, rest_lengths, scale);
+}
+
+/// Eq. (29), the right-hand side of the consistent form: $`x \leftarrow b + dt^2 J d`$.
+pub fn global_rhs<T: Lane>(j: &SpringIncidence<T>, b: &[T], d: &[Vector3<T>], dt2: T, x: &mut [T]) {
+    x.copy_from_slice(b);
+    for (i, &d) in d.iter().enumerate() {
+        j.add_row_transposed(i, d * dt2, x);
     }
 }
 

@@ -32,8 +32,10 @@
 //! $`(x_a, u_0, \tau) = (x_n, v_n, h)`$ and every rule is as above.
 
 use crate::error::{Error, Result};
+use crate::lanes::Lane;
 use crate::optimization_integrator::StageProblem;
 use crate::system::{MassSpringSystem, State, Vec3};
+use nalgebra::Vector3;
 
 /// The first iterate of a step (module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -101,6 +103,12 @@ impl std::str::FromStr for FirstIterate {
                 )
             })
     }
+}
+
+/// (b) "inertia", $`x_n + h v_n`$ of one node, for any lane type ([`crate::lanes`]).
+#[inline]
+pub fn inertia<T: Lane>(x: Vector3<T>, v: Vector3<T>, h: T) -> Vector3<T> {
+    x + v * h
 }
 
 /// The inertial prediction of node `i`, $`x_n + h v_n + h^2 M^{-1} f_{ext}`$ (a fixed node
@@ -174,7 +182,7 @@ impl StepStart {
             *x = match self.rule {
                 _ if node.fixed => stage.x[i],
                 FirstIterate::Previous => stage.x[i],
-                FirstIterate::Inertial => stage.x[i] + dt * stage.v[i],
+                FirstIterate::Inertial => inertia(stage.x[i], stage.v[i], dt),
                 FirstIterate::InertialPrediction => inertial_prediction(system, stage, dt, i),
                 FirstIterate::Adaptive => match &self.previous_velocity[slot] {
                     Some(previous) => {

@@ -13,6 +13,7 @@
 pub mod admm;
 pub mod anderson;
 pub mod backward_euler;
+pub mod batch;
 pub mod benchmark;
 pub mod beyond;
 pub mod boundary;
@@ -29,6 +30,7 @@ pub mod fast_mass_spring;
 pub mod first_iterate;
 pub mod forensics;
 pub mod integrator_study;
+pub mod lanes;
 pub mod linear;
 pub mod local_global;
 pub mod metrics;

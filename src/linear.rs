@@ -12,6 +12,7 @@
 //! their loops are written for it (see each type); they allocate nothing.
 
 use crate::error::{Error, Result};
+use crate::lanes::{load_values, Lane};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
@@ -209,7 +210,7 @@ impl Factorization {
 
 /// Splits `b` into `C` right-hand sides of length `n`, stored one after another.
 #[inline]
-fn columns<const C: usize>(b: &mut [f64], n: usize) -> [&mut [f64]; C] {
+fn columns<T, const C: usize>(b: &mut [T], n: usize) -> [&mut [T]; C] {
     let mut columns = b.chunks_exact_mut(n);
     std::array::from_fn(|_| columns.next().expect("C columns of length n"))
 }
@@ -232,8 +233,11 @@ fn inverse_pivot(row: usize, d: f64) -> Result<f64> {
 /// ends halves the chain, the two halves running side by side. This is the solve Liu 2013
 /// and ADMM-PD make every iteration on a rope (n = 10), for three right-hand sides swept
 /// together so that their chains overlap too.
+///
+/// The factor's values are per lane in a batch of runs ([`crate::lanes`]); the solve is the
+/// same code at `f64` and in lanes.
 #[derive(Debug, Clone)]
-pub struct TwistedTridiagonal {
+pub struct TwistedTridiagonal<T = f64> {
     n: usize,
     /// The middle row.
     k: usize,
@@ -241,11 +245,11 @@ pub struct TwistedTridiagonal {
     diagonal_slots: Vec<usize>,
     off_diagonal_slots: Vec<Option<usize>>,
     /// $`L_{i,i-1}`$ for $`1 \le i \le k`$, zero elsewhere.
-    lower: Vec<f64>,
+    lower: Vec<T>,
     /// $`U_{i,i+1}`$ for $`k \le i < n-1`$, zero elsewhere.
-    upper: Vec<f64>,
+    upper: Vec<T>,
     /// $`1/d_i`$ above k, $`1/\gamma_k`$ at k, $`1/e_i`$ below k.
-    inverse_pivot: Vec<f64>,
+    inverse_pivot: Vec<T>,
 }
 
 impl TwistedTridiagonal {
@@ -323,15 +327,40 @@ impl TwistedTridiagonal {
         self.inverse_pivot[k] = inverse_pivot(k, diagonal(k) - t_lower * l - t_upper * u)?;
         Ok(())
     }
+}
+
+impl<T: Lane> TwistedTridiagonal<T> {
+    /// The factorisation of `like`'s pattern with every value zero, in lanes to be loaded
+    /// ([`Self::load_lane`]).
+    pub fn lanes(like: &TwistedTridiagonal) -> Self {
+        let zero = vec![T::splat(0.0); like.n];
+        Self {
+            n: like.n,
+            k: like.k,
+            diagonal_slots: like.diagonal_slots.clone(),
+            off_diagonal_slots: like.off_diagonal_slots.clone(),
+            lower: zero.clone(),
+            upper: zero.clone(),
+            inverse_pivot: zero,
+        }
+    }
+
+    /// Sets lane `lane` of the factor to `from`'s, which must have the same size.
+    pub fn load_lane(&mut self, lane: usize, from: &TwistedTridiagonal) {
+        assert_eq!((from.n, from.k), (self.n, self.k), "one size in a batch");
+        load_values(&mut self.lower, lane, &from.lower);
+        load_values(&mut self.upper, lane, &from.upper);
+        load_values(&mut self.inverse_pivot, lane, &from.inverse_pivot);
+    }
 
     /// Solves for `ncols` right-hand sides, three of them together.
-    pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
+    pub fn solve_in_place(&self, b: &mut [T], ncols: usize) {
         let b = &mut b[..self.n * ncols];
         if self.n == 0 {
             return;
         }
         match ncols {
-            3 => self.solve_together(columns::<3>(b, self.n)),
+            3 => self.solve_together(columns::<_, 3>(b, self.n)),
             _ => {
                 for col in b.chunks_exact_mut(self.n) {
                     self.solve_together([col]);
@@ -344,19 +373,19 @@ impl TwistedTridiagonal {
     /// $`x_k = (b_k - L_{k,k-1}y_{k-1} - U_{k,k+1}y_{k+1})/\gamma_k`$, then outward
     /// $`x_i = y_i/d_i - L_{i+1,i}x_{i+1}`$ and $`x_i = y_i/e_i - U_{i-1,i}x_{i-1}`$.
     #[inline]
-    fn solve_together<const C: usize>(&self, mut cols: [&mut [f64]; C]) {
+    fn solve_together<const C: usize>(&self, mut cols: [&mut [T]; C]) {
         let (n, k) = (self.n, self.k);
         let lower = &self.lower[..n];
         let upper = &self.upper[..n];
         let inv = &self.inverse_pivot[..n];
         for col in cols.iter_mut() {
             let (above, rest) = col.split_at_mut(k);
-            let mut y = 0.0;
+            let mut y = T::splat(0.0);
             for (b, &l) in above.iter_mut().zip(lower) {
                 y = *b - l * y;
                 *b = y;
             }
-            let mut y = 0.0;
+            let mut y = T::splat(0.0);
             for (b, &u) in rest[1..].iter_mut().zip(&upper[k + 1..]).rev() {
                 y = *b - u * y;
                 *b = y;
@@ -365,8 +394,8 @@ impl TwistedTridiagonal {
         for col in cols.iter_mut() {
             let (above, rest) = col.split_at_mut(k);
             let (middle, below) = rest.split_at_mut(1);
-            let y_above = above.last().map_or(0.0, |y| lower[k] * y);
-            let y_below = below.first().map_or(0.0, |y| upper[k] * y);
+            let y_above = above.last().map_or(T::splat(0.0), |&y| lower[k] * y);
+            let y_below = below.first().map_or(T::splat(0.0), |&y| upper[k] * y);
             let x_k = (middle[0] - y_above - y_below) * inv[k];
             middle[0] = x_k;
             let mut x = x_k;
@@ -486,7 +515,7 @@ impl BandedLdlt {
     pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
         let b = &mut b[..self.n * ncols];
         match ncols {
-            3 => self.solve_together(columns::<3>(b, self.n)),
+            3 => self.solve_together(columns::<_, 3>(b, self.n)),
             _ => {
                 for col in b.chunks_exact_mut(self.n) {
                     self.solve_together([col]);

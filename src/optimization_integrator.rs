@@ -269,6 +269,11 @@ impl<T> PerStageStep<T> {
         Ok(&mut self.entries[self.current].1)
     }
 
+    /// The entry of the solver's own step (the one [`Self::new`] took).
+    pub fn own(&self) -> &T {
+        &self.entries[0].1
+    }
+
     /// The current entry.
     pub fn current(&self) -> &T {
         &self.entries[self.current].1

@@ -19,22 +19,26 @@
 //! ([`to_columns`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
 //! [`ConstrainedSystem`] in the precomputation; each solve then carries their positions.
 
+use crate::boundary::impose_on_rhs;
 use crate::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::error::{require_non_negative, require_positive, Error, Result};
-use crate::linear::SymmetricMatrix;
+use crate::lanes::Lane;
+use crate::linear::{Factorization, SymmetricMatrix, TwistedTridiagonal};
 use crate::system::{MassSpringSystem, State, Vec3};
+use nalgebra::Vector3;
 
 /// Spring-node incidence of a spring graph, stored per spring (never as a dense matrix).
 ///
 /// As an s×n matrix (s springs, n nodes) its row $`i`$ is $`w_i\,(e_{a_i} - e_{b_i})^\top`$, so
 /// that row $`i`$ applied to the positions is $`w_i\,(x_{a_i} - x_{b_i})`$. With unit weights it
 /// is the reduction matrix $`D`$ of Eq (54); with $`w_i = k_i`$ it is the transpose of the
-/// incidence matrix $`J`$ of Eqs (26), (53).
+/// incidence matrix $`J`$ of Eqs (26), (53). The weights are per lane in a batch of runs
+/// ([`crate::lanes`]); the ends are shared.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SpringIncidence {
+pub struct SpringIncidence<T = f64> {
     nodes: usize,
     ends: Vec<(usize, usize)>,
-    weights: Vec<f64>,
+    weights: Vec<T>,
 }
 
 impl SpringIncidence {
@@ -44,21 +48,6 @@ impl SpringIncidence {
             ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
             weights,
         }
-    }
-
-    /// Number of springs s (rows).
-    pub fn springs(&self) -> usize {
-        self.ends.len()
-    }
-
-    /// Number of nodes n (columns).
-    pub fn nodes(&self) -> usize {
-        self.nodes
-    }
-
-    /// The nodes $`(a_i, b_i)`$ of spring `i`.
-    pub fn ends(&self, i: usize) -> (usize, usize) {
-        self.ends[i]
     }
 
     /// The weight $`w_i`$ of spring `i`.
@@ -77,31 +66,67 @@ impl SpringIncidence {
             0.0
         }
     }
+}
+
+impl<T: Lane> SpringIncidence<T> {
+    /// The same spring graph with every weight zero, in lanes to be loaded
+    /// ([`Self::load_lane`]).
+    pub fn lanes(like: &SpringIncidence) -> Self {
+        Self {
+            nodes: like.nodes,
+            ends: like.ends.clone(),
+            weights: vec![T::splat(0.0); like.ends.len()],
+        }
+    }
+
+    /// Sets lane `lane` of every weight to `from`'s, which must have the same ends.
+    pub fn load_lane(&mut self, lane: usize, from: &SpringIncidence) {
+        assert!(
+            from.ends == self.ends && from.nodes == self.nodes,
+            "the lanes of a batch share one spring graph"
+        );
+        crate::lanes::load_values(&mut self.weights, lane, &from.weights);
+    }
+
+    /// Number of springs s (rows).
+    pub fn springs(&self) -> usize {
+        self.ends.len()
+    }
+
+    /// Number of nodes n (columns).
+    pub fn nodes(&self) -> usize {
+        self.nodes
+    }
+
+    /// The nodes $`(a_i, b_i)`$ of spring `i`.
+    pub fn ends(&self, i: usize) -> (usize, usize) {
+        self.ends[i]
+    }
 
     /// Row `i` applied to column-major positions `x` (length 3n): $`w_i\,(x_{a_i} - x_{b_i})`$
     /// ($`D_i x`$ for the reduction matrix).
     #[inline]
-    pub fn apply_row(&self, i: usize, x: &[f64]) -> Vec3 {
-        self.weights[i] * self.difference(i, x)
+    pub fn apply_row(&self, i: usize, x: &[T]) -> Vector3<T> {
+        self.difference(i, x) * self.weights[i]
     }
 
     /// The unweighted difference $`x_{a_i} - x_{b_i}`$ of spring `i`'s ends in column-major
     /// positions `x` ($`x_1 - x_2`$ of Eqs 21-28).
     #[inline]
-    pub fn difference(&self, i: usize, x: &[f64]) -> Vec3 {
+    pub fn difference(&self, i: usize, x: &[T]) -> Vector3<T> {
         let (a, b) = self.ends[i];
         let [x, y, z] = coordinates(x, self.nodes);
-        Vec3::new(x[a] - x[b], y[a] - y[b], z[a] - z[b])
+        Vector3::new(x[a] - x[b], y[a] - y[b], z[a] - z[b])
     }
 
     /// Adds row `i` transposed times `value` to the column-major `out` (length 3n):
     /// $`out_{a_i} \mathrel{+}= w_i\,value`$, $`out_{b_i} \mathrel{-}= w_i\,value`$ (column $`i`$
     /// of $`J`$ times $`d_i`$; $`D_i^\top`$ times a per-spring vector).
     #[inline]
-    pub fn add_row_transposed(&self, i: usize, value: Vec3, out: &mut [f64]) {
+    pub fn add_row_transposed(&self, i: usize, value: Vector3<T>, out: &mut [T]) {
         let (a, b) = self.ends[i];
-        let v = self.weights[i] * value;
-        for (out, v) in coordinates_mut(out, self.nodes).into_iter().zip(v.iter()) {
+        let v = value * self.weights[i];
+        for (out, &v) in coordinates_mut(out, self.nodes).into_iter().zip(v.iter()) {
             out[a] += v;
             out[b] -= v;
         }
@@ -110,13 +135,13 @@ impl SpringIncidence {
 
 /// The three coordinate columns (x, y, z) of column-major positions over `n` nodes.
 #[inline]
-fn coordinates(columns: &[f64], n: usize) -> [&[f64]; 3] {
+fn coordinates<T>(columns: &[T], n: usize) -> [&[T]; 3] {
     [&columns[..n], &columns[n..2 * n], &columns[2 * n..3 * n]]
 }
 
 /// [`coordinates`], mutable.
 #[inline]
-fn coordinates_mut(columns: &mut [f64], n: usize) -> [&mut [f64]; 3] {
+fn coordinates_mut<T>(columns: &mut [T], n: usize) -> [&mut [T]; 3] {
     let (x, rest) = columns.split_at_mut(n);
     let (y, rest) = rest.split_at_mut(n);
     [x, y, &mut rest[..n]]
@@ -234,7 +259,7 @@ pub fn project_on_sphere(q: Vec3, l0: f64) -> Vec3 {
 /// arithmetic of [`project_on_sphere`]. A square root and a division per spring are most of a
 /// local step's cost; gathered in one loop over `scale` (scratch, one entry per spring) they
 /// run several at a time in SIMD registers.
-pub fn project_on_spheres(q: &mut [Vec3], l0: &[f64], scale: &mut [f64]) {
+pub fn project_on_spheres<T: Lane>(q: &mut [Vector3<T>], l0: &[T], scale: &mut [T]) {
     for (r, q) in scale.iter_mut().zip(q.iter()) {
         *r = q.norm_squared();
     }
@@ -246,14 +271,12 @@ pub fn project_on_spheres(q: &mut [Vec3], l0: &[f64], scale: &mut [f64]) {
     }
 }
 
-/// $`l_0/|q|`$ from $`|q|^2`$, and 0 for $`q = 0`$: the factor that takes $`q`$ onto the sphere.
+/// $`l_0/|q|`$ from $`|q|^2`$, and 0 for $`q = 0`$: the factor that takes $`q`$ onto the sphere
+/// (per lane in a batch: both are computed and the lane's chosen).
 #[inline]
-fn sphere_scale(length_squared: f64, l0: f64) -> f64 {
-    if length_squared > 0.0 {
-        l0 / length_squared.sqrt()
-    } else {
-        0.0
-    }
+fn sphere_scale<T: Lane>(length_squared: T, l0: T) -> T {
+    let zero = T::splat(0.0);
+    (l0 / length_squared.simd_sqrt()).select(length_squared.simd_gt(zero), zero)
 }
 
 /// The global step's linear system, prefactored: $`A`$ of [`system_matrix`] with the fixed
@@ -302,8 +325,60 @@ impl GlobalSolve {
     }
 }
 
+/// [`GlobalSolve`] in lanes ([`crate::lanes`]): one prefactored $`A`$ per lane, of one chain's
+/// pattern (a tridiagonal $`A`$, the rope's) and one fixed set, solved by the same arithmetic
+/// as [`GlobalSolve::solve`] at `f64` (the imposition of Eqs 45-47 and the twisted
+/// substitution).
+#[derive(Debug, Clone)]
+pub struct GlobalSolveLanes<T> {
+    fixed: Vec<usize>,
+    /// $`(i, j, A_{ij})`$ of Eq (43)'s block $`A_2`$, per lane.
+    coupling: Vec<(usize, usize, T)>,
+    factor: TwistedTridiagonal<T>,
+}
+
+impl<T: Lane> GlobalSolveLanes<T> {
+    /// Lanes for solves of `like`'s pattern and fixed set, none loaded; None unless its
+    /// factorisation is tridiagonal.
+    pub fn new(like: &GlobalSolve) -> Option<Self> {
+        let Factorization::Tridiagonal(factor) = like.solve.factorization() else {
+            return None;
+        };
+        Some(Self {
+            fixed: like.solve.fixed().to_vec(),
+            coupling: like
+                .solve
+                .coupling()
+                .iter()
+                .map(|&(i, j, _)| (i, j, T::splat(0.0)))
+                .collect(),
+            factor: TwistedTridiagonal::lanes(factor),
+        })
+    }
+
+    /// Sets lane `lane` to `from`'s matrix, of the same pattern and fixed set.
+    pub fn load_lane(&mut self, lane: usize, from: &GlobalSolve) {
+        let Factorization::Tridiagonal(factor) = from.solve.factorization() else {
+            panic!("a batch of global solves holds tridiagonal ones");
+        };
+        assert_eq!(from.solve.fixed(), self.fixed, "one fixed set in a batch");
+        for (into, &(i, j, a_ij)) in self.coupling.iter_mut().zip(from.solve.coupling()) {
+            assert_eq!((into.0, into.1), (i, j), "one pattern in a batch");
+            into.2.replace(lane, a_ij);
+        }
+        self.factor.load_lane(lane, factor);
+    }
+
+    /// [`GlobalSolve::solve`] in every lane.
+    #[inline]
+    pub fn solve(&self, b: &mut [T], x_bar: &[T]) {
+        impose_on_rhs(&self.coupling, &self.fixed, b, x_bar, 3);
+        self.factor.solve_in_place(b, 3);
+    }
+}
+
 /// Copies positions into the column-major layout of the global solve (all x, all y, all z).
-pub fn to_columns(x: &[Vec3], columns: &mut [f64]) {
+pub fn to_columns<T: Lane>(x: &[Vector3<T>], columns: &mut [T]) {
     let n = x.len();
     for (i, p) in x.iter().enumerate() {
         for c in 0..3 {
@@ -314,8 +389,8 @@ pub fn to_columns(x: &[Vec3], columns: &mut [f64]) {
 
 /// Node `i` of column-major positions over `n` nodes.
 #[inline]
-pub fn node_of_columns(columns: &[f64], n: usize, i: usize) -> Vec3 {
-    Vec3::new(columns[i], columns[n + i], columns[2 * n + i])
+pub fn node_of_columns<T: Lane>(columns: &[T], n: usize, i: usize) -> Vector3<T> {
+    Vector3::new(columns[i], columns[n + i], columns[2 * n + i])
 }
 
 /// The nodes of column-major positions, in order.
@@ -328,8 +403,13 @@ pub fn nodes_of_columns(columns: &[f64]) -> impl Iterator<Item = Vec3> + '_ {
 /// $`v_{n+1} = (x_{n+1} - x_n)/dt`$, then $`x_n \leftarrow x_{n+1}`$, from the column-major
 /// solution `x_next`.
 pub fn finish_step(state: &mut State, x_next: &[f64], dt: f64) {
-    let n = state.x.len();
-    for (i, (x, v)) in state.x.iter_mut().zip(state.v.iter_mut()).enumerate() {
+    finish_step_of(&mut state.x, &mut state.v, x_next, dt);
+}
+
+/// [`finish_step`] for positions `x` and velocities `v` of any lane type.
+pub fn finish_step_of<T: Lane>(x: &mut [Vector3<T>], v: &mut [Vector3<T>], x_next: &[T], dt: T) {
+    let n = x.len();
+    for (i, (x, v)) in x.iter_mut().zip(v.iter_mut()).enumerate() {
         let x_new = node_of_columns(x_next, n, i);
         *v = (x_new - *x) / dt;
         *x = x_new;

@@ -73,10 +73,30 @@ pub trait Recorder {
 }
 
 /// The recorder of [`simulate`]: the series in memory, as [`Run`] holds them.
-struct InMemory {
+pub(crate) struct InMemory {
     dt: f64,
     kinetic_energy: Vec<f64>,
     positions: Vec<(f64, State)>,
+}
+
+impl InMemory {
+    /// Nothing recorded yet, for a run of time step `dt`.
+    pub(crate) fn new(dt: f64) -> Self {
+        Self {
+            dt,
+            kinetic_energy: Vec::new(),
+            positions: Vec::new(),
+        }
+    }
+
+    /// `run` with the series recorded.
+    pub(crate) fn into_run(self, run: Run) -> Run {
+        Run {
+            kinetic_energy: self.kinetic_energy,
+            positions: self.positions,
+            ..run
+        }
+    }
 }
 
 impl Recorder for InMemory {
@@ -175,17 +195,9 @@ fn energy_scale(system: &MassSpringSystem, state: &State) -> f64 {
 /// stops the run with [`Error::Diverged`], naming the step and time; a failing step stops it
 /// with [`Error::StepFailed`].
 pub fn simulate(solver: &mut dyn TimeStepper, state: State, options: &RunOptions) -> Result<Run> {
-    let mut memory = InMemory {
-        dt: solver.dt(),
-        kinetic_energy: Vec::new(),
-        positions: Vec::new(),
-    };
+    let mut memory = InMemory::new(solver.dt());
     let run = simulate_into(solver, state, options, &mut memory)?;
-    Ok(Run {
-        kinetic_energy: memory.kinetic_energy,
-        positions: memory.positions,
-        ..run
-    })
+    Ok(memory.into_run(run))
 }
 
 /// [`simulate`], handing the recorded series to `recorder` as they come (the [`Run`]'s own
@@ -196,48 +208,115 @@ pub fn simulate_into(
     options: &RunOptions,
     recorder: &mut dyn Recorder,
 ) -> Result<Run> {
-    options.stop.validate()?;
-    require_non_negative("velocity_damping", options.velocity_damping)?;
-    let dt = solver.dt();
-    let name = solver.name();
-    let damping_factor = (-options.velocity_damping * dt).exp();
-    let max_steps = (options.stop.max_time / dt).round() as u64;
-    let scale = energy_scale(solver.system(), &state);
-    let mut detector = PeakDetector::new(dt);
-    let mut peaks = Vec::new();
-    let recorded = |step: u64, e: std::io::Error| {
-        Error::Input(format!("recording step {step} of {name}: {e}"))
-    };
-    let ke0 = state.kinetic_energy(solver.system());
-    detector.push(ke0);
-    if options.recording.kinetic_energy {
-        recorder
-            .kinetic_energy(0, ke0)
-            .map_err(|e| recorded(0, e))?;
+    let mut watch = Watch::start(solver, &state, options, recorder)?;
+    while watch.running() {
+        solver.step(&mut state).map_err(|e| watch.step_failed(e))?;
+        watch.after_step(solver.system(), &mut state, recorder)?;
     }
-    // The last step whose positions were recorded.
-    let mut positions_at = None;
-    if options.recording.positions_every.is_some() {
-        recorder.positions(0, &state).map_err(|e| recorded(0, e))?;
-        positions_at = Some(0);
+    watch.finish(state, recorder)
+}
+
+/// What the run loop does around the steps of one run: the checks before the first, and after
+/// each the damping, the divergence guard, the recording, the peaks and the stopping rule.
+/// [`simulate_into`] watches one run with it, [`crate::batch::simulate_batch`] every run of a
+/// batch, so that a run in a lane is watched as the run alone.
+pub struct Watch<'o> {
+    options: &'o RunOptions,
+    name: String,
+    dt: f64,
+    damping_factor: f64,
+    max_steps: u64,
+    scale: f64,
+    detector: PeakDetector,
+    peaks: Vec<Peak>,
+    steps: u64,
+    /// The last step whose positions were recorded.
+    positions_at: Option<u64>,
+    stopped: bool,
+}
+
+impl<'o> Watch<'o> {
+    /// Checks `options` and records the start `state` of a run of `solver`.
+    pub fn start(
+        solver: &dyn TimeStepper,
+        state: &State,
+        options: &'o RunOptions,
+        recorder: &mut dyn Recorder,
+    ) -> Result<Self> {
+        options.stop.validate()?;
+        require_non_negative("velocity_damping", options.velocity_damping)?;
+        let dt = solver.dt();
+        let mut watch = Self {
+            options,
+            name: solver.name(),
+            dt,
+            damping_factor: (-options.velocity_damping * dt).exp(),
+            max_steps: (options.stop.max_time / dt).round() as u64,
+            scale: energy_scale(solver.system(), state),
+            detector: PeakDetector::new(dt),
+            peaks: Vec::new(),
+            steps: 0,
+            positions_at: None,
+            stopped: false,
+        };
+        let ke0 = state.kinetic_energy(solver.system());
+        watch.detector.push(ke0);
+        if options.recording.kinetic_energy {
+            recorder
+                .kinetic_energy(0, ke0)
+                .map_err(|e| watch.recorded(0, e))?;
+        }
+        if options.recording.positions_every.is_some() {
+            recorder
+                .positions(0, state)
+                .map_err(|e| watch.recorded(0, e))?;
+            watch.positions_at = Some(0);
+        }
+        Ok(watch)
     }
-    let mut steps = 0;
-    let mut stopped = false;
-    while steps < max_steps {
-        let time = (steps + 1) as f64 * dt;
-        solver.step(&mut state).map_err(|e| Error::StepFailed {
-            solver: name.clone(),
-            step: steps + 1,
-            time,
-            source: Box::new(e),
-        })?;
-        steps += 1;
-        if options.velocity_damping > 0.0 {
+
+    fn recorded(&self, step: u64, e: std::io::Error) -> Error {
+        Error::Input(format!("recording step {step} of {}: {e}", self.name))
+    }
+
+    /// Whether the run takes another step: its stopping rule has not fired and time is left.
+    pub fn running(&self) -> bool {
+        !self.stopped && self.steps < self.max_steps
+    }
+
+    /// Whether the run damps the velocities after each step (so that they change outside the
+    /// solver).
+    pub fn damps(&self) -> bool {
+        self.options.velocity_damping > 0.0
+    }
+
+    /// The error of a step that failed.
+    pub fn step_failed(&self, source: Error) -> Error {
+        Error::StepFailed {
+            solver: self.name.clone(),
+            step: self.steps + 1,
+            time: (self.steps + 1) as f64 * self.dt,
+            source: Box::new(source),
+        }
+    }
+
+    /// The solver took a step to `state`.
+    pub fn after_step(
+        &mut self,
+        system: &MassSpringSystem,
+        state: &mut State,
+        recorder: &mut dyn Recorder,
+    ) -> Result<()> {
+        let time = (self.steps + 1) as f64 * self.dt;
+        self.steps += 1;
+        let steps = self.steps;
+        if self.options.velocity_damping > 0.0 {
             for v in &mut state.v {
-                *v *= damping_factor;
+                *v *= self.damping_factor;
             }
         }
-        let ke = state.kinetic_energy(solver.system());
+        let ke = state.kinetic_energy(system);
+        let scale = self.scale;
         if !state.is_finite() || !ke.is_finite() || ke > DIVERGENCE_FACTOR * scale {
             let reason = if state.is_finite() && ke.is_finite() {
                 format!("kinetic energy {ke:e} J exceeds {DIVERGENCE_FACTOR:e} x the energy scale {scale:e} J")
@@ -245,49 +324,67 @@ pub fn simulate_into(
                 "the state is no longer finite".to_string()
             };
             return Err(Error::Diverged {
-                solver: name,
+                solver: self.name.clone(),
                 step: steps,
                 time,
                 reason,
             });
         }
-        if options.recording.kinetic_energy {
+        if self.options.recording.kinetic_energy {
             recorder
                 .kinetic_energy(steps, ke)
-                .map_err(|e| recorded(steps, e))?;
+                .map_err(|e| self.recorded(steps, e))?;
         }
-        if let Some(every) = options.recording.positions_every {
+        if let Some(every) = self.options.recording.positions_every {
             if steps % every.max(1) == 0 {
                 recorder
-                    .positions(steps, &state)
-                    .map_err(|e| recorded(steps, e))?;
-                positions_at = Some(steps);
+                    .positions(steps, state)
+                    .map_err(|e| self.recorded(steps, e))?;
+                self.positions_at = Some(steps);
             }
         }
-        if let Some(peak) = detector.push(ke) {
-            peaks.push(peak);
-            let exempt = options.stop.exempt_first_peak && peaks.len() == 1;
-            if peak.energy < options.stop.threshold && !exempt {
-                stopped = true;
-                break;
+        if let Some(peak) = self.detector.push(ke) {
+            self.peaks.push(peak);
+            let exempt = self.options.stop.exempt_first_peak && self.peaks.len() == 1;
+            if peak.energy < self.options.stop.threshold && !exempt {
+                self.stopped = true;
             }
         }
+        Ok(())
     }
-    if positions_at.is_some_and(|at| at < steps) {
-        recorder
-            .positions(steps, &state)
-            .map_err(|e| recorded(steps, e))?;
+
+    /// Steps `solver` from `state` until the run stops, and returns it.
+    pub fn run_to_end(
+        mut self,
+        solver: &mut dyn TimeStepper,
+        mut state: State,
+        recorder: &mut dyn Recorder,
+    ) -> Result<Run> {
+        while self.running() {
+            solver.step(&mut state).map_err(|e| self.step_failed(e))?;
+            self.after_step(solver.system(), &mut state, recorder)?;
+        }
+        self.finish(state, recorder)
     }
-    Ok(Run {
-        solver: name,
-        dt,
-        steps,
-        peaks,
-        hit_time_limit: !stopped,
-        final_state: state,
-        kinetic_energy: Vec::new(),
-        positions: Vec::new(),
-    })
+
+    /// The run, ended at `state`.
+    pub fn finish(self, state: State, recorder: &mut dyn Recorder) -> Result<Run> {
+        if self.positions_at.is_some_and(|at| at < self.steps) {
+            recorder
+                .positions(self.steps, &state)
+                .map_err(|e| self.recorded(self.steps, e))?;
+        }
+        Ok(Run {
+            solver: self.name,
+            dt: self.dt,
+            steps: self.steps,
+            peaks: self.peaks,
+            hit_time_limit: !self.stopped,
+            final_state: state,
+            kinetic_energy: Vec::new(),
+            positions: Vec::new(),
+        })
+    }
 }
 
 #[cfg(test)]

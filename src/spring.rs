@@ -6,26 +6,25 @@
 //! end points $`x_1, x_2`$; the quantities for $`x_2`$ follow by symmetry
 //! ($`F_2 = -F_1`$, $`\partial F_1/\partial x_2 = -\partial F_1/\partial x_1`$).
 
+use crate::lanes::{self, Lane};
 use crate::system::Vec3;
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 
 /// Eqs. (1), (48): $`C = |x_1 - x_2| - l_0`$, the spring's deformation, and the distance
-/// constraint that XPBD drives to zero.
-pub fn constraint(x1: &Vec3, x2: &Vec3, l0: f64) -> f64 {
+/// constraint that XPBD drives to zero. Generic over the [`Lane`] type so that a batch of
+/// runs evaluates it once for all its lanes ([`crate::lanes`]); `f64` is one run.
+pub fn constraint<T: Lane>(x1: &Vector3<T>, x2: &Vector3<T>, l0: T) -> T {
     (x1 - x2).norm() - l0
 }
 
 /// Eq. (49): $`\nabla_{x_1} C = (x_1 - x_2)/|x_1 - x_2|`$, the unit vector along the spring
 /// ($`\nabla_{x_2} C`$ is its negative). A zero-length spring has no direction; the zero
-/// vector is returned so that a projection leaves it alone.
-pub fn constraint_gradient(x1: &Vec3, x2: &Vec3) -> Vec3 {
+/// vector is returned so that a projection leaves it alone (per lane: a lane's collapsed
+/// spring does not disturb the others').
+pub fn constraint_gradient<T: Lane>(x1: &Vector3<T>, x2: &Vector3<T>) -> Vector3<T> {
     let d = x1 - x2;
     let l = d.norm();
-    if l > 0.0 {
-        d / l
-    } else {
-        Vec3::zeros()
-    }
+    lanes::select(l.simd_gt(T::zero()), d / l, Vector3::zeros())
 }
 
 /// Eq. (2): $`E = \frac12 k\,C^\top C`$, Hooke's energy.

@@ -58,10 +58,12 @@
 //! (`tests/xpbd.rs`) measures both.
 
 use crate::error::{require_non_negative, require_positive, Error, Result};
+use crate::lanes::{self, Lane};
 use crate::solver::TimeStepper;
 use crate::spring;
 use crate::stopping::Convergence;
-use crate::system::{MassSpringSystem, State, Vec3};
+use crate::system::{MassSpringSystem, Spring, State, Vec3};
+use nalgebra::Vector3;
 
 /// Eq. (18): $`\tilde\alpha = \alpha/dt^2`$, the time-step-scaled compliance that Eqs 17-18
 /// use (defined under Eq 18); with $`\alpha`$ in m/N it is in 1/kg, the units of $`w = 1/m`$.
@@ -97,7 +99,7 @@ pub fn inverse_denominator(w: f64, alpha_tilde: f64) -> f64 {
 /// $`\Delta\lambda = \dfrac{-C_j(x_i) - \tilde\alpha_j\lambda_{ij}}{\nabla C_j M^{-1} \nabla C_j^\top + \tilde\alpha_j}`$,
 /// Eq 17 solved for one constraint $`j`$ given its value `c`, its current multiplier `lambda` and
 /// the inverted denominator of [`inverse_denominator`].
-pub fn delta_lambda(c: f64, alpha_tilde: f64, lambda: f64, inverse_denominator: f64) -> f64 {
+pub fn delta_lambda<T: Lane>(c: T, alpha_tilde: T, lambda: T, inverse_denominator: T) -> T {
     (-c - alpha_tilde * lambda) * inverse_denominator
 }
 
@@ -105,7 +107,12 @@ pub fn delta_lambda(c: f64, alpha_tilde: f64, lambda: f64, inverse_denominator: 
 /// $`\Delta x_1 = w_1\nabla_{x_1}C\,\Delta\lambda`$ and
 /// $`\Delta x_2 = w_2\nabla_{x_2}C\,\Delta\lambda = -w_2\nabla_{x_1}C\,\Delta\lambda`$, given
 /// `grad` $`= \nabla_{x_1}C`$ (Eq 49).
-pub fn delta_x(grad: &Vec3, w1: f64, w2: f64, delta_lambda: f64) -> (Vec3, Vec3) {
+pub fn delta_x<T: Lane>(
+    grad: &Vector3<T>,
+    w1: T,
+    w2: T,
+    delta_lambda: T,
+) -> (Vector3<T>, Vector3<T>) {
     (grad * (w1 * delta_lambda), -grad * (w2 * delta_lambda))
 }
 
@@ -192,27 +199,104 @@ enum Compliance {
     Uniform(f64),
 }
 
+/// What a run of Algorithm 2 fixes before its first step, one value per lane ([`Lane`]: `f64`
+/// for one run, a vector for a batch, [`crate::batch`]).
+#[derive(Debug, Clone)]
+pub struct Coefficients<T> {
+    /// Time step, s.
+    pub dt: T,
+    /// $`l_0`$ per spring, m.
+    pub rest_length: Vec<T>,
+    /// $`\tilde\alpha_j = \alpha_j/dt^2`$ per spring.
+    pub alpha_tilde: Vec<T>,
+    /// Eq (18)'s inverted denominator per spring ([`inverse_denominator`]).
+    pub inverse_denominator: Vec<T>,
+    /// Inverse masses $`w_i`$, 0 for fixed nodes.
+    pub w: Vec<T>,
+    /// $`M^{-1}f_{ext}`$ per node, m/s² (0 for fixed nodes).
+    pub external_acceleration: Vec<Vector3<T>>,
+}
+
+/// What a step of Algorithm 2 works on besides the positions and velocities.
+#[derive(Debug, Clone)]
+pub struct Scratch<T> {
+    /// Multipliers $`\lambda_j`$ of the current step.
+    pub lambda: Vec<T>,
+    /// $`x^n`$, kept for line 14.
+    pub x_n: Vec<Vector3<T>>,
+    /// $`\tilde x`$ of the current step, kept for [`residuals`].
+    pub x_tilde: Vec<Vector3<T>>,
+}
+
+impl<T: Lane> Scratch<T> {
+    /// Zeros for `springs` springs and `nodes` nodes.
+    pub fn new(springs: usize, nodes: usize) -> Self {
+        Self {
+            lambda: vec![T::zero(); springs],
+            x_n: vec![Vector3::zeros(); nodes],
+            x_tilde: vec![Vector3::zeros(); nodes],
+        }
+    }
+}
+
+// region: step
+impl<T: Lane> Coefficients<T> {
+    /// Algorithm 2, lines 1-3: $`x_0 = \tilde x = x^n + dt\,v^n + dt^2 M^{-1}f_{ext}`$ (free
+    /// nodes only), $`\lambda = 0`$.
+    pub fn predict(&self, x: &mut [Vector3<T>], v: &[Vector3<T>], scratch: &mut Scratch<T>) {
+        let dt = self.dt;
+        scratch.x_n.copy_from_slice(x);
+        // Grouped as dt·(vⁿ + dt·M⁻¹f_ext), the order in which PBD's lines 1-2 round, so that
+        // zero compliance is PBD bit for bit.
+        for (i, x) in x.iter_mut().enumerate() {
+            let moved = *x + (v[i] + self.external_acceleration[i] * dt) * dt;
+            *x = lanes::select(self.w[i].simd_gt(T::zero()), moved, *x);
+        }
+        scratch.x_tilde.copy_from_slice(x);
+        scratch.lambda.fill(T::zero());
+    }
+
+    /// Algorithm 2, lines 5-11: one Gauss-Seidel sweep over the springs in index order.
+    pub fn sweep(&self, springs: &[Spring], x: &mut [Vector3<T>], lambda: &mut [T]) {
+        for (j, s) in springs.iter().enumerate() {
+            let (w1, w2) = (self.w[s.a], self.w[s.b]);
+            // Eqs 48-49.
+            let c = spring::constraint(&x[s.a], &x[s.b], self.rest_length[j]);
+            let grad = spring::constraint_gradient(&x[s.a], &x[s.b]);
+            // Line 6, Eqs 18 and 50.
+            let delta_lambda = delta_lambda(
+                c,
+                self.alpha_tilde[j],
+                lambda[j],
+                self.inverse_denominator[j],
+            );
+            // Line 7, Eqs 19 and 51.
+            let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, delta_lambda);
+            // Lines 8-9.
+            lambda[j] += delta_lambda;
+            x[s.a] += delta_x1;
+            x[s.b] += delta_x2;
+        }
+    }
+
+    /// Algorithm 2, lines 13-14: $`x^{n+1} = x_i`$ (already in place),
+    /// $`v^{n+1} = (x^{n+1} - x^n)/dt`$.
+    pub fn velocities(&self, x: &[Vector3<T>], v: &mut [Vector3<T>], scratch: &Scratch<T>) {
+        for ((v, x), x_n) in v.iter_mut().zip(x).zip(&scratch.x_n) {
+            *v = (x - x_n) / self.dt;
+        }
+    }
+}
+// endregion: step
+
 /// XPBD (Algorithm 2) with a fixed number of solver iterations per step.
 #[derive(Debug, Clone)]
 pub struct Xpbd {
     system: MassSpringSystem,
-    dt: f64,
     iterations: usize,
     compliance: Compliance,
-    /// $`\tilde\alpha_j = \alpha_j/dt^2`$ per spring.
-    alpha_tilde: Vec<f64>,
-    /// Eq (18)'s inverted denominator per spring ([`inverse_denominator`]).
-    inverse_denominator: Vec<f64>,
-    /// Inverse masses $`w_i`$, 0 for fixed nodes.
-    w: Vec<f64>,
-    /// $`M^{-1}f_{ext}`$ per node, m/s² (0 for fixed nodes).
-    external_acceleration: Vec<Vec3>,
-    /// Multipliers $`\lambda_j`$ of the current step.
-    lambda: Vec<f64>,
-    /// $`x^n`$, kept for line 14.
-    x_n: Vec<Vec3>,
-    /// $`\tilde x`$ of the current step, kept for [`residuals`].
-    x_tilde: Vec<Vec3>,
+    coefficients: Coefficients<f64>,
+    scratch: Scratch<f64>,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
 }
@@ -271,21 +355,32 @@ impl Xpbd {
         let external_acceleration = (0..system.len())
             .map(|i| w[i] * system.external_force(i))
             .collect();
-        let n = system.len();
         Ok(Self {
             system: system.clone(),
-            dt,
             iterations,
             compliance,
-            alpha_tilde,
-            inverse_denominator,
-            w,
-            external_acceleration,
-            lambda: vec![0.0; system.springs().len()],
-            x_n: vec![Vec3::zeros(); n],
-            x_tilde: vec![Vec3::zeros(); n],
+            coefficients: Coefficients {
+                dt,
+                rest_length: system.springs().iter().map(|s| s.rest_length).collect(),
+                alpha_tilde,
+                inverse_denominator,
+                w,
+                external_acceleration,
+            },
+            scratch: Scratch::new(system.springs().len(), system.len()),
             convergence: Convergence::default(),
         })
+    }
+
+    /// What the run fixes before its first step.
+    pub fn coefficients(&self) -> &Coefficients<f64> {
+        &self.coefficients
+    }
+
+    /// Whether each step runs its full count of iterations ([`crate::stopping::Stopping::Count`]),
+    /// as a batch of runs does ([`crate::batch`]).
+    pub fn counts_iterations(&self) -> bool {
+        self.convergence.stopping() == crate::stopping::Stopping::Count
     }
 
     /// Solver iterations per step.
@@ -295,17 +390,17 @@ impl Xpbd {
 
     /// $`\tilde\alpha_j`$ per spring.
     pub fn alpha_tilde(&self) -> &[f64] {
-        &self.alpha_tilde
+        &self.coefficients.alpha_tilde
     }
 
     /// The multipliers $`\lambda_j`$ at the end of the last step.
     pub fn lambda(&self) -> &[f64] {
-        &self.lambda
+        &self.scratch.lambda
     }
 
     /// The prediction $`\tilde x`$ of the last step.
     pub fn prediction(&self) -> &[Vec3] {
-        &self.x_tilde
+        &self.scratch.x_tilde
     }
 }
 
@@ -328,7 +423,7 @@ impl TimeStepper for Xpbd {
     }
 
     fn dt(&self) -> f64 {
-        self.dt
+        self.coefficients.dt
     }
 
     fn system(&self) -> &MassSpringSystem {
@@ -342,44 +437,22 @@ impl TimeStepper for Xpbd {
     /// Algorithm 2. The iterate $`x_i`$ lives in `state.x`.
     // region: step
     fn step(&mut self, state: &mut State) -> Result<()> {
-        let dt = self.dt;
         let x = &mut state.x;
-        // Lines 1-2: x_0 = x̃ = xⁿ + dt·vⁿ + dt²·M⁻¹f_ext, grouped as dt·(vⁿ + dt·M⁻¹f_ext),
-        // the order in which PBD's lines 1-2 round, so that zero compliance is PBD bit for bit.
-        self.x_n.copy_from_slice(x);
-        for (i, x) in x.iter_mut().enumerate() {
-            if self.w[i] > 0.0 {
-                *x += dt * (state.v[i] + dt * self.external_acceleration[i]);
-            }
-        }
-        self.x_tilde.copy_from_slice(x);
-        // Line 3.
-        self.lambda.fill(0.0);
+        // Lines 1-3.
+        self.coefficients.predict(x, &state.v, &mut self.scratch);
         self.convergence.begin(x.iter().copied());
         // Lines 4-12: Gauss-Seidel over the springs in index order, stopping early only in the
         // tolerance mode.
         for _ in 0..self.iterations {
-            for (j, s) in self.system.springs().iter().enumerate() {
-                let (w1, w2) = (self.w[s.a], self.w[s.b]);
-                // Eqs 48-49.
-                let c = spring::constraint(&x[s.a], &x[s.b], s.rest_length);
-                let grad = spring::constraint_gradient(&x[s.a], &x[s.b]);
-                // Line 6, Eqs 18 and 50.
-                let delta_lambda = delta_lambda(
-                    c,
-                    self.alpha_tilde[j],
-                    self.lambda[j],
-                    self.inverse_denominator[j],
-                );
-                // Line 7, Eqs 19 and 51.
-                let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, delta_lambda);
-                // Lines 8-9.
-                self.lambda[j] += delta_lambda;
-                x[s.a] += delta_x1;
-                x[s.b] += delta_x2;
-            }
+            self.coefficients
+                .sweep(self.system.springs(), x, &mut self.scratch.lambda);
             let converged = if self.convergence.wants_value() {
-                let r = constraint_residual(&self.system, x, &self.alpha_tilde, &self.lambda);
+                let r = constraint_residual(
+                    &self.system,
+                    x,
+                    &self.coefficients.alpha_tilde,
+                    &self.scratch.lambda,
+                );
                 self.convergence.converged_value(r)
             } else {
                 self.convergence.converged(x.iter().copied())
@@ -389,10 +462,8 @@ impl TimeStepper for Xpbd {
             }
         }
         self.convergence.end_step(0);
-        // Line 13 (x^{n+1} = x_i is already in place) and line 14.
-        for ((v, x), x_n) in state.v.iter_mut().zip(x.iter()).zip(&self.x_n) {
-            *v = (x - x_n) / dt;
-        }
+        // Lines 13-14.
+        self.coefficients.velocities(x, &mut state.v, &self.scratch);
         Ok(())
     }
     // endregion: step

@@ -7,6 +7,7 @@
 //! reference of the same stiffness. The labelled departures that explain published numbers
 //! live in [`crate::forensics`]; here a [`Configuration`] only carries them to the run.
 
+pub mod batched;
 pub mod pool;
 pub mod published;
 pub mod rule;
@@ -134,36 +135,47 @@ impl ResultSet {
     }
 }
 
-/// Runs one published experiment from the thesis rope at rest.
-pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Result<Run> {
+/// The system and run options of one published experiment under `configuration`.
+fn setup(
+    row: &PublishedRow,
+    configuration: &Configuration,
+) -> Result<(crate::system::MassSpringSystem, RunOptions)> {
     let mut params = RopeParams::thesis(row.stiffness);
     params.gravity = if row.solver == SolverId::BackwardEuler {
         configuration.reference_gravity
     } else {
         configuration.gravity
     };
-    let system = params.build()?;
-    let mut solver = configuration
-        .solver
-        .build(row.solver, &system, row.dt_s, row.iterations)?;
     let options = RunOptions {
         stop: configuration.stop,
         velocity_damping: configuration.velocity_damping,
         ..RunOptions::default()
     };
+    Ok((params.build()?, options))
+}
+
+/// What the profile (`MSS_PROFILE=1`) calls a run of `row` under `configuration`.
+fn profile_label(row: &PublishedRow, configuration: &Configuration) -> String {
+    format!(
+        "run {:?} table {} dt {} s, {} iterations, k {} N/m, damping {} 1/s, {:?}",
+        row.solver,
+        row.table,
+        row.dt_s,
+        row.iterations,
+        row.stiffness,
+        configuration.velocity_damping,
+        configuration.solver
+    )
+}
+
+/// Runs one published experiment from the thesis rope at rest.
+pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Result<Run> {
+    let (system, options) = setup(row, configuration)?;
+    let mut solver = configuration
+        .solver
+        .build(row.solver, &system, row.dt_s, row.iterations)?;
     pool::profiled(
-        || {
-            format!(
-                "run {:?} table {} dt {} s, {} iterations, k {} N/m, damping {} 1/s, {:?}",
-                row.solver,
-                row.table,
-                row.dt_s,
-                row.iterations,
-                row.stiffness,
-                configuration.velocity_damping,
-                configuration.solver
-            )
-        },
+        || profile_label(row, configuration),
         |run: &Result<Run>| {
             run.as_ref()
                 .map_or(String::new(), |r| format!(", {} steps", r.steps))
@@ -220,21 +232,19 @@ pub fn expected_cost(row: &PublishedRow, configuration: &Configuration) -> f64 {
         * row.solver.info().relative_cost
 }
 
-/// Runs every row (in parallel over the available cores, longest first) and measures the
+/// Runs every row (in parallel over the available cores, longest first, the batchable ones in
+/// batches: [`batched`]) and measures the
 /// rest-state errors against the references. `progress(done, total)` is called after each.
 pub fn run_all(
     rows: &[PublishedRow],
     configuration: &Configuration,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<ResultSet> {
-    let runs = run_parallel(
-        rows,
-        |row| expected_cost(row, configuration),
-        |row| run_experiment(row, configuration),
-        progress,
-    )
-    .into_iter()
-    .collect::<Result<Vec<Run>>>()?;
+    let jobs: Vec<(&PublishedRow, &Configuration)> =
+        rows.iter().map(|row| (row, configuration)).collect();
+    let runs = batched::run_experiments(&jobs, progress)
+        .into_iter()
+        .collect::<Result<Vec<Run>>>()?;
     let reference = |k: f64| {
         rows.iter()
             .position(|r| r.solver == SolverId::BackwardEuler && r.stiffness == k)

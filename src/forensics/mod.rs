@@ -29,10 +29,11 @@ pub use liu_fit::LiuFit;
 pub use twins::Twins;
 
 use crate::error::Result;
+use crate::experiments::batched::run_experiments;
 use crate::experiments::pool::spawn_charged;
 use crate::experiments::{
-    expected_cost, faithful_results, measure, run_experiment, run_parallel, same_experiment,
-    Configuration, Measured, PublishedRow, Reference, ResultSet,
+    faithful_results, measure, same_experiment, Configuration, Measured, PublishedRow, Reference,
+    ResultSet,
 };
 use crate::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::registry::{SolverId, SolverSpec};
@@ -113,7 +114,7 @@ pub struct Forensics {
     pub gravity: GravityStudy,
 }
 
-/// Runs (row, configuration) jobs in parallel, identical jobs once.
+/// Runs (row, configuration) jobs in parallel, identical jobs once, XPBD's in batches.
 fn run_unique(
     jobs: &[(PublishedRow, Configuration)],
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -131,12 +132,8 @@ fn run_unique(
                 })
         })
         .collect();
-    let runs = run_parallel(
-        &unique,
-        |(row, configuration)| expected_cost(row, configuration),
-        |(row, configuration)| run_experiment(row, configuration),
-        progress,
-    );
+    let unique: Vec<(&PublishedRow, &Configuration)> = unique.iter().map(|(r, c)| (r, c)).collect();
+    let runs = run_experiments(&unique, progress);
     index.into_iter().map(|i| runs[i].clone()).collect()
 }
 
