@@ -114,10 +114,10 @@ pub fn require_finite(field: impl Into<String>, value: f64) -> Result<f64> {
     }
 }
 
-impl From<crate::catenary::CatenaryError> for Error {
-    fn from(e: crate::catenary::CatenaryError) -> Self {
+impl From<crate::model::catenary::CatenaryError> for Error {
+    fn from(e: crate::model::catenary::CatenaryError) -> Self {
         match e {
-            crate::catenary::CatenaryError::NoConvergence { .. } => Error::NotConverged {
+            crate::model::catenary::CatenaryError::NoConvergence { .. } => Error::NotConverged {
                 what: "catenary".into(),
                 detail: e.to_string(),
             },

@@ -1,10 +1,10 @@
-//! The sheet's exact static equilibrium (`src/sheet_equilibrium.rs`): residual, minimum,
+//! The sheet's exact static equilibrium (`src/model/sheet_equilibrium.rs`): residual, minimum,
 //! symmetry, independence of the start, and an independent oracle.
 
-use mass_spring_solvers::backward_euler;
-use mass_spring_solvers::report::sheet::equilibrium_csv;
-use mass_spring_solvers::scene::{SheetParams, SHEET_SIDE};
-use mass_spring_solvers::sheet_equilibrium::{
+use mass_spring_solvers::solvers::backward_euler;
+use mass_spring_report::sheet::equilibrium_csv;
+use mass_spring_solvers::model::scene::{SheetParams, SHEET_SIDE};
+use mass_spring_solvers::model::sheet_equilibrium::{
     free_hessian, sagged_start, shaped_start, sheet_equilibrium, smallest_hessian_eigenvalue,
     static_equilibrium, Equilibrium, RESIDUAL_TARGET,
 };
@@ -27,7 +27,7 @@ fn largest_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
 /// The four sheets of `sheet_equilibrium.csv`, computed once.
 fn equilibria() -> &'static [(f64, usize, Equilibrium)] {
     static ONCE: std::sync::OnceLock<Vec<(f64, usize, Equilibrium)>> = std::sync::OnceLock::new();
-    ONCE.get_or_init(|| mass_spring_solvers::sheet_equilibrium::report_equilibria().unwrap())
+    ONCE.get_or_init(|| mass_spring_solvers::model::sheet_equilibrium::report_equilibria().unwrap())
 }
 
 /// Below 1e-7 N by the system's force routine, equal to the Newton's own figure, and at

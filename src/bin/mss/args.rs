@@ -4,17 +4,17 @@ use crate::scene::{scene_name, Model};
 use crate::Failure;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, ValueEnum};
-use mass_spring_solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
-use mass_spring_solvers::budget::{
+use mass_spring_solvers::solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
+use mass_spring_solvers::solvers::budget::{
     adaptive_steps, available_memory, fastest_rate, memory_bytes, Shape, BASE_BYTES,
     DOPRI_EVALUATIONS, DOPRI_STABILITY,
 };
 use mass_spring_solvers::error::{shown, Error};
-use mass_spring_solvers::metrics::{StoppingRule, MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
-use mass_spring_solvers::registry::{SolverId, SolverParams, SolverSpec};
-use mass_spring_solvers::scene::THESIS_STIFFNESSES;
-use mass_spring_solvers::scene_file::LIMITS;
-use mass_spring_solvers::solver::{Recording, RunOptions};
+use mass_spring_solvers::model::metrics::{StoppingRule, MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
+use mass_spring_solvers::solvers::registry::{SolverId, SolverParams, SolverSpec};
+use mass_spring_solvers::model::scene::THESIS_STIFFNESSES;
+use mass_spring_solvers::particles::scene_file::LIMITS;
+use mass_spring_solvers::integrators::time_stepper::{Recording, RunOptions};
 use std::path::PathBuf;
 
 /// Iterations per step when `--iterations` is not given (the reference's Newton iterations).
@@ -410,7 +410,7 @@ pub(crate) struct Cli {
     pub(crate) max_work: f64,
 
     /// Refuse, before it starts, a run whose memory estimate is over this many bytes (>= 1e6):
-    /// the solver's peak memory per node, measured on the rope and the sheet (src/budget.rs),
+    /// the solver's peak memory per node, measured on the rope and the sheet (src/solvers/budget.rs),
     /// with a margin [default: the memory available: the least of MemAvailable, the
     /// address-space limit and the control group's limit]
     #[arg(
@@ -677,7 +677,7 @@ pub(crate) fn check_memory(cli: &Cli, settings: &Settings, shape: Shape) -> Resu
     Err(Failure::input(format!(
         "invalid --max-memory: {} bytes{whence} (allowed: at least this run's estimate of \
          {estimate:.3e} bytes, {:.1} GiB: {id} on {} nodes and {} springs{reference}, at the \
-         peak memory a node measured for it, src/budget.rs); take a smaller scene or a leaner \
+         peak memory a node measured for it, src/solvers/budget.rs); take a smaller scene or a leaner \
          solver, or raise --max-memory",
         shown(limit),
         estimate / (1u64 << 30) as f64,

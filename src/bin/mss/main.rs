@@ -13,16 +13,16 @@ mod scene;
 
 use args::{check_work, list_solvers, settings, Cli};
 use clap::Parser;
-use mass_spring_solvers::backward_euler::{
+use mass_spring_solvers::solvers::backward_euler::{
     BackwardEuler, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS,
 };
-use mass_spring_solvers::budget::DOPRI_EVALUATIONS;
+use mass_spring_solvers::solvers::budget::DOPRI_EVALUATIONS;
 use mass_spring_solvers::error::{shown, Error};
-use mass_spring_solvers::experiments::reproduces;
-use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::output_file::OutputFile;
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::solver::{simulate, simulate_into, Run, RunOptions};
+use mass_spring_solvers::studies::experiments::reproduces;
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::platform::output_file::OutputFile;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::integrators::time_stepper::{simulate, simulate_into, Run, RunOptions};
 use output::{
     published_row, reference_summary, write_text, CsvRecorder, PublishedSummary, Report,
     RunSummary, SceneSummary, StopSummary,

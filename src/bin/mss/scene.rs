@@ -6,18 +6,18 @@ use crate::args::{
 };
 use crate::output::{AppliedForces, GroundSummary};
 use crate::Failure;
-use mass_spring_solvers::budget::Shape;
+use mass_spring_solvers::solvers::budget::Shape;
 use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
 use mass_spring_solvers::particles::ParticleSystem;
-use mass_spring_solvers::registry::{Builder, SolverSpec};
-use mass_spring_solvers::scene::{
+use mass_spring_solvers::solvers::registry::{Builder, SolverSpec};
+use mass_spring_solvers::model::scene::{
     check_geometry, RopeParams, SheetParams, MIN_START_LENGTH_RATIO, SHEET_NODES_PER_SIDE,
     THESIS_GRAVITY, THESIS_NODES,
 };
-use mass_spring_solvers::scene_file::{self, SceneFile, LIMITS};
-use mass_spring_solvers::solver::TimeStepper;
-use mass_spring_solvers::system::{MassSpringSystem, Vec3};
+use mass_spring_solvers::particles::scene_file::{self, SceneFile, LIMITS};
+use mass_spring_solvers::integrators::time_stepper::TimeStepper;
+use mass_spring_solvers::model::system::{MassSpringSystem, Vec3};
 
 /// What a scene is made of: a plain mass-spring system (every method runs it), a scene file
 /// (which may ask for the tutorial's forces) or a tutorial particle system (drag and ground:
