@@ -5,8 +5,9 @@
 
 use mass_spring_solvers::solvers::admm::AdmmPd;
 use mass_spring_solvers::solvers::anderson::{Anderson, AndersonParams};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::solvers::backward_euler::{
-    converged_step, incremental_potential, ConvergedStepOptions,
+    incremental_potential, ConvergedStepOptions,
 };
 use mass_spring_solvers::studies::beyond::{gap, iterations_to as search, Start};
 use mass_spring_solvers::solvers::chebyshev::{

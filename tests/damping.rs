@@ -5,8 +5,9 @@
 //! thesis's solvers.
 
 use mass_spring_solvers::solvers::admm::AdmmPd;
+use mass_spring_solvers::solvers::converged_stage::{converged_step, damped_converged_step};
 use mass_spring_solvers::solvers::backward_euler::{
-    converged_step, damped_converged_step, BackwardEuler, ConvergedStepOptions,
+    BackwardEuler, ConvergedStepOptions,
 };
 use mass_spring_solvers::studies::beyond::{gap, Start};
 use mass_spring_solvers::solvers::damped_admm::DampedAdmm;

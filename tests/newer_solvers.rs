@@ -3,8 +3,9 @@
 //! (Eq 20's minimiser); XPBD with substeps (Macklin et al. 2019) against its own constraint
 //! equations and against the exact motion (RK4 with a fine step), whose order it must show.
 
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::solvers::backward_euler::{
-    converged_step, incremental_potential, ConvergedStepOptions,
+    incremental_potential, ConvergedStepOptions,
 };
 use mass_spring_solvers::studies::beyond::Start;
 // The largest distance between corresponding nodes, m.

@@ -4,7 +4,8 @@
 //! other tests of the full result set.
 
 use mass_spring_solvers::solvers::admm::{z_minimisation, z_update, AdmmPd};
-use mass_spring_solvers::solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
 use mass_spring_solvers::solvers::projective::{
     incidence_matrix, mass_matrix, project_on_sphere, project_on_spheres, reduction_matrix,

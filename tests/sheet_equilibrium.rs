@@ -1,7 +1,7 @@
 //! The sheet's exact static equilibrium (`src/model/sheet_equilibrium.rs`): residual, minimum,
 //! symmetry, independence of the start, and an independent oracle.
 
-use mass_spring_solvers::solvers::backward_euler;
+use mass_spring_solvers::solvers::converged_stage;
 use mass_spring_report::sheet::equilibrium_csv;
 use mass_spring_solvers::model::scene::{SheetParams, SHEET_SIDE};
 use mass_spring_solvers::model::sheet_equilibrium::{
@@ -151,7 +151,7 @@ fn the_equilibrium_does_not_depend_on_the_start() {
 fn the_proximal_point_iteration_agrees() {
     for (k, n, eq) in equilibria().iter().filter(|(_, n, _)| *n == 10) {
         let system = SheetParams::spec(*n, *k).build().unwrap();
-        let x = backward_euler::static_equilibrium(&system, 1.0, 1e-12).unwrap();
+        let x = converged_stage::static_equilibrium(&system, 1.0, 1e-12).unwrap();
         let d = largest_distance(&x, &eq.x);
         eprintln!("k = {k:e}, n = {n}: proximal point {d:e} m away");
         assert!(d < 1e-9, "k = {k:e}: {d:e} m");

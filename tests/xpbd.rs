@@ -3,7 +3,8 @@
 //! symmetry. The 18 published rows of Tables 2-3 are checked in `tests/thesis/`, with the other
 //! tests of the full result set.
 
-use mass_spring_solvers::solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::solvers::pbd::Pbd;
 use mass_spring_solvers::model::scene::{
     thesis_rope, RopeParams, THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT,

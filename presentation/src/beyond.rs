@@ -2,7 +2,8 @@
 //! rope ([`mass_spring_solvers::studies::beyond`]): the benchmark's view of the rope (section 12's protocol), and
 //! every solver's convergence toward the converged Backward Euler step.
 
-use mass_spring_solvers::solvers::backward_euler::{converged_step, ConvergedStepOptions};
+use mass_spring_solvers::solvers::backward_euler::ConvergedStepOptions;
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::studies::beyond::{
     convergence_curves, from_comparison_start, grid_settings, grid_solvers, iterations_to,
     own_first_iterate, own_start_effects, rho_scan, setting_label, ConvergenceCurve, GridScene,

@@ -2,7 +2,7 @@
 //! thesis rope (their measured orders and numerical damping, [`mass_spring_solvers::studies::integrator_study`]) and
 //! what each minimizing solver costs per step under each.
 
-use mass_spring_solvers::studies::benchmark::truth::EXACT_STABILITY_FRACTION as REFERENCE_STABILITY_FRACTION;
+use mass_spring_solvers::studies::work_precision::EXACT_STABILITY_FRACTION as REFERENCE_STABILITY_FRACTION;
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::studies::experiments::run_parallel;
 use mass_spring_solvers::studies::integrator_study::{

@@ -1,5 +1,6 @@
-//! The crate's version and its direct dependencies' resolved versions, read from
-//! `Cargo.toml` and `Cargo.lock` at report time.
+//! The crate's version and the direct dependencies of the workspace's two crates (the science
+//! crate's `Cargo.toml`, the presentation's `presentation/Cargo.toml`) with their resolved
+//! versions, read with `Cargo.lock` at report time.
 
 use mass_spring_solvers::error::{Error, Result};
 use crate::format::MarkdownTable;
@@ -11,6 +12,8 @@ use std::path::Path;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Dependency {
     pub name: String,
+    /// The workspace crate whose manifest names it.
+    pub used_by: String,
     /// `normal` or `dev`.
     pub kind: &'static str,
     /// The version requirement in `Cargo.toml`.
@@ -94,6 +97,10 @@ impl Versions {
                 continue;
             };
             for (name, spec) in table {
+                // The workspace's own crates (path dependencies) are not dependencies of it.
+                if spec.as_table().is_some_and(|t| t.contains_key("path")) {
+                    continue;
+                }
                 let (requirement, features) = match spec {
                     toml::Value::String(s) => (s.clone(), String::new()),
                     toml::Value::Table(t) => {
@@ -143,6 +150,7 @@ impl Versions {
                     .unwrap_or_else(|| "not in Cargo.lock".to_string());
                 dependencies.push(Dependency {
                     name: name.clone(),
+                    used_by: field("name"),
                     kind,
                     requirement,
                     features,
@@ -158,19 +166,25 @@ impl Versions {
         })
     }
 
-    /// Reads `Cargo.toml` and `Cargo.lock` of the crate at `root`.
+    /// Reads `Cargo.toml`, `presentation/Cargo.toml` and `Cargo.lock` of the workspace at
+    /// `root`: the science crate's name and version, both crates' dependencies.
     pub fn read(root: &Path) -> Result<Self> {
         let read = |file: &str| {
             std::fs::read_to_string(root.join(file))
                 .map_err(|e| Error::Input(format!("reading {file}: {e}")))
         };
-        Self::parse(&read("Cargo.toml")?, &read("Cargo.lock")?)
+        let lock = read("Cargo.lock")?;
+        let mut versions = Self::parse(&read("Cargo.toml")?, &lock)?;
+        let presentation = Self::parse(&read("presentation/Cargo.toml")?, &lock)?;
+        versions.dependencies.extend(presentation.dependencies);
+        Ok(versions)
     }
 
     /// The dependencies as a Markdown table.
     pub fn table(&self) -> MarkdownTable {
         let mut t = MarkdownTable::new(&[
             "crate",
+            "used by",
             "kind",
             "requirement",
             "features",
@@ -179,6 +193,7 @@ impl Versions {
         for d in &self.dependencies {
             t.row(vec![
                 format!("`{}`", d.name),
+                format!("`{}`", d.used_by),
                 d.kind.to_string(),
                 d.requirement.clone(),
                 d.features.clone(),
@@ -195,7 +210,7 @@ mod tests {
 
     #[test]
     fn parses_manifest_and_lock() {
-        let manifest = "[package]\nname = \"a\"\nversion = \"0.1.0\"\nrust-version = \"1.85\"\n[dependencies]\nx = \"1\"\ny = { version = \"0.3\", default-features = false, features = [\"f\"] }\n[dev-dependencies]\nz = \"2\"\n";
+        let manifest = "[package]\nname = \"a\"\nversion = \"0.1.0\"\nrust-version = \"1.85\"\n[dependencies]\nx = \"1\"\ny = { version = \"0.3\", default-features = false, features = [\"f\"] }\nw = { path = \"w\" }\n[dev-dependencies]\nz = \"2\"\n";
         let lock = "version = 4\n[[package]]\nname = \"x\"\nversion = \"1.2.3\"\n[[package]]\nname = \"x\"\nversion = \"2.0.1\"\n[[package]]\nname = \"y\"\nversion = \"0.3.7\"\n";
         let v = Versions::parse(manifest, lock).unwrap();
         assert_eq!(v.version, "0.1.0");
@@ -203,6 +218,9 @@ mod tests {
         assert_eq!(v.dependencies[1].features, "no default, f");
         assert_eq!(v.dependencies[2].resolved, "not in Cargo.lock");
         assert_eq!(v.dependencies[2].kind, "dev");
+        // The path dependency `w` (a crate of the workspace) is left out; each is `a`'s.
+        assert_eq!(v.dependencies.len(), 3);
+        assert!(v.dependencies.iter().all(|d| d.used_by == "a"));
         assert!(caret_matches("0.24", "0.24.4") && !caret_matches("0.24", "0.25.0"));
         assert!(
             caret_matches("4.6", "4.6.7")

@@ -14,7 +14,7 @@
 //! Chen 2024 (VBD) run fixed counts in their experiments as far as we know them (from memory:
 //! we could not reach their texts). The gradient of the incremental potential (Eq. 20) is not
 //! what PBD and XPBD decrease, so it cannot serve them. The change of $`x`$ serves every
-//! solver, is what [`crate::solvers::backward_euler::converged_step`] already stops Newton on, and is in
+//! solver, is what [`crate::solvers::converged_stage::converged_step`] already stops Newton on, and is in
 //! metres, the unit of the errors it is traded against. Its known weakness: for an iteration
 //! contracting at rate $`\rho`$ the remaining error is about $`\delta/(1-\rho)`$, larger than
 //! $`\delta`$ when $`\rho`$ is close to 1 (Liu 2013 and ADMM-PD on stiff springs); the study

@@ -746,6 +746,19 @@ fn balance_horizontal_tension(
     (H, current, steps)
 }
 
+/// A catenary that cannot be found is bad input, or a Newton iteration that did not converge.
+impl From<CatenaryError> for crate::error::Error {
+    fn from(e: CatenaryError) -> Self {
+        match e {
+            CatenaryError::NoConvergence { .. } => crate::error::Error::NotConverged {
+                what: "catenary".into(),
+                detail: e.to_string(),
+            },
+            _ => crate::error::Error::Input(e.to_string()),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,3 +10,6 @@ pub mod scene;
 pub mod sheet_equilibrium;
 pub mod spring;
 pub mod system;
+
+/// The crate's 3D vector: the thesis writes its equations in 3D, the rope stays in its plane.
+pub type Vec3 = nalgebra::Vector3<f64>;

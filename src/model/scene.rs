@@ -228,7 +228,7 @@ impl SheetParams {
                  no node is free)",
             ));
         }
-        let limit = crate::solvers::budget::available_memory().unwrap_or(ASSUMED_MEMORY);
+        let limit = crate::platform::memory::available_memory().unwrap_or(ASSUMED_MEMORY);
         match self.estimated_bytes() {
             Some(bytes) if bytes <= limit => {}
             _ => {

@@ -6,7 +6,7 @@
 //! end points $`x_1, x_2`$; the quantities for $`x_2`$ follow by symmetry
 //! ($`F_2 = -F_1`$, $`\partial F_1/\partial x_2 = -\partial F_1/\partial x_1`$).
 
-use crate::model::system::Vec3;
+use crate::model::Vec3;
 use nalgebra::Matrix3;
 
 /// Eqs. (1), (48): $`C = |x_1 - x_2| - l_0`$, the spring's deformation, and the distance

@@ -9,8 +9,7 @@
 use crate::error::{require_finite, require_non_negative, require_positive, Error, Result};
 use crate::model::spring;
 
-/// The crate's 3D vector: the thesis writes its equations in 3D, the rope stays in its plane.
-pub type Vec3 = nalgebra::Vector3<f64>;
+pub use crate::model::Vec3;
 
 /// A point mass.
 #[derive(Debug, Clone, PartialEq)]

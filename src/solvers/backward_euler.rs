@@ -16,7 +16,6 @@
 //! the oracle the other solvers are tested against.
 
 use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
-use crate::solvers::converged_stage::converged_stage;
 use crate::integrators::damping::RayleighDamping;
 use crate::integrators::dissipation::{Dissipation, StageDissipation};
 use crate::error::{require_positive, Error, Result};
@@ -478,76 +477,3 @@ pub fn incremental_potential(system: &MassSpringSystem, y: &[Vec3], x: &[Vec3], 
     inertia / (dt * dt) + system.potential_energy(x)
 }
 
-/// Eq. (20): $`x^{n+1} = \arg\min_x \frac{1}{2dt^2}(x - y)^\top M (x - y) + E(x)`$, solved to
-/// `options.tolerance` by projected Newton with a backtracking line search; then
-/// $`v^{n+1} = (x^{n+1} - x^n)/dt`$.
-///
-/// Erratum: the thesis prints $`(x^n - y)`$ in the inertial term, which does not depend on $`x`$;
-/// the minimised variable is $`x`$. Gravity enters through $`E`$ (its potential), which is the
-/// same minimiser as putting $`dt^2 M^{-1} f_{ext}`$ into $`y`$. The Hessian uses the projected
-/// spring Jacobian ([`spring::force_jacobian_definite`]) so every direction descends; at a
-/// stretched-rope solution it equals the exact one and convergence is quadratic.
-///
-/// Fails with [`Error::NotConverged`] when the line search stalls (no decrease of the
-/// potential down to a step of $`10^{-12}`$ of Newton's) or the potential is not finite, rather
-/// than take the stalled step as converged.
-pub fn converged_step(
-    system: &MassSpringSystem,
-    state: &State,
-    dt: f64,
-    options: ConvergedStepOptions,
-) -> Result<State> {
-    damped_converged_step(system, state, dt, RayleighDamping::NONE, options)
-}
-
-/// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) [`converged_step`] with Rayleigh damping: projected
-/// Newton on $`\Phi(x) + h\,\mathcal D(x_n, (x - x_n)/h)`$ ([`crate::integrators::damping`]), the oracle of
-/// the damped solvers. With $`\alpha = \beta = 0`$ it is [`converged_step`].
-pub fn damped_converged_step(
-    system: &MassSpringSystem,
-    state: &State,
-    dt: f64,
-    damping: RayleighDamping,
-    options: ConvergedStepOptions,
-) -> Result<State> {
-    require_positive("dt", dt)?;
-    converged_stage(
-        system,
-        state,
-        &StageProblem::backward_euler(dt),
-        Dissipation::rayleigh(damping),
-        options,
-    )
-}
-
-/// The static equilibrium $`F(x) = 0`$ of a system, by a proximal-point iteration: converged
-/// steps of `dt_s` seconds from rest, repeated until the positions stop moving (`tolerance`, m).
-///
-/// Each step minimises $`\frac{1}{2dt^2}|x - x_k|^2_M + E(x)`$, whose fixed points are exactly the
-/// minimisers of $`E`$; the inertial term regularises the start (a straight rope has no
-/// transverse stiffness). Used to check the analytic catenary.
-pub fn static_equilibrium(
-    system: &MassSpringSystem,
-    dt_s: f64,
-    tolerance: f64,
-) -> Result<Vec<Vec3>> {
-    let mut state = system.initial_state();
-    state.v.fill(Vec3::zeros());
-    for _ in 0..10_000 {
-        let next = converged_step(system, &state, dt_s, ConvergedStepOptions::default())?;
-        let moved = next
-            .x
-            .iter()
-            .zip(&state.x)
-            .map(|(a, b)| (a - b).amax())
-            .fold(0.0, f64::max);
-        state.x = next.x;
-        if moved <= tolerance {
-            return Ok(state.x);
-        }
-    }
-    Err(Error::NotConverged {
-        what: "static equilibrium".into(),
-        detail: format!("positions still move more than {tolerance:e} m after 10000 steps"),
-    })
-}

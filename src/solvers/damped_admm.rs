@@ -33,7 +33,7 @@
 //! The split of the stiffness-proportional term into its own block is this crate's choice (the
 //! paper's text was not at hand; see [`crate::integrators::damping`]); it keeps the springs' local step
 //! (Eqs 55-56) exactly the thesis's. The fixed point is the minimiser of $`\Phi`$, the damped
-//! converged step [`crate::solvers::backward_euler::damped_converged_step`], which the tests check. With
+//! converged step [`crate::solvers::converged_stage::damped_converged_step`], which the tests check. With
 //! $`\alpha = \beta = 0`$ the step is [`crate::solvers::admm::AdmmPd`]'s, bit for bit. No state is carried
 //! across steps: $`H_i`$, $`d_{n,i}`$ and both duals restart at each step.
 //!

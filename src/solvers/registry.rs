@@ -13,7 +13,8 @@
 
 use crate::solvers::admm::AdmmPd;
 use crate::solvers::anderson::{Anderson, AndersonParams};
-use crate::solvers::backward_euler::{damped_converged_step, BackwardEuler, ConvergedStepOptions};
+use crate::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use crate::solvers::converged_stage::damped_converged_step;
 use crate::solvers::chebyshev::{spectral_radius, Chebyshev, ChebyshevParams, RhoRule};
 use crate::solvers::damped_admm::DampedAdmm;
 use crate::integrators::damping::RayleighDamping;

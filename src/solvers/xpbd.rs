@@ -27,7 +27,7 @@
 //! # What XPBD converges to
 //!
 //! Many iterations do *not* reach the Backward Euler step that minimises Eq 20 (the
-//! [`crate::solvers::backward_euler::converged_step`] oracle); they reach a nearby point. Macklin et al.
+//! [`crate::solvers::converged_stage::converged_step`] oracle); they reach a nearby point. Macklin et al.
 //! (2016) write the discrete equations of motion as
 //! $`g(x,\lambda) = M(x - \tilde x) - \nabla C(x)^\top\lambda = 0`$ and
 //! $`h(x,\lambda) = C(x) + \tilde\alpha\lambda = 0`$ (their §3, the discretised Eq 16,

@@ -10,7 +10,8 @@
 //! $`y = x_n + h v_n + h^2 M^{-1} f_{ext}`$ ([`COMPARISON_START`]), so that the curves compare
 //! solvers, not starts; [`own_start_effects`] measures what each solver's own start changes.
 
-use crate::solvers::backward_euler::{converged_step, ConvergedStepOptions};
+use crate::solvers::backward_euler::ConvergedStepOptions;
+use crate::solvers::converged_stage::converged_step;
 use crate::model::catenary::ElasticChain;
 use crate::integrators::damping::RayleighDamping;
 use crate::error::Result;

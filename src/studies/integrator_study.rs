@@ -22,8 +22,6 @@
 //!   solver error it bought: the largest node distance to the same integrator's run with the
 //!   stages solved to round-off, over every step.
 
-use crate::studies::benchmark::truth::EXACT_STABILITY_FRACTION;
-use crate::studies::benchmark::SAMPLE_INTERVAL_S;
 use crate::studies::beyond::{GridScene, CONVERGENCE_DAMPING};
 use crate::solvers::converged_stage::ConvergedNewton;
 use crate::integrators::dissipation::Dissipation;
@@ -32,7 +30,10 @@ use crate::integrators::optimization_integrator::{Integrated, OptimizationIntegr
 use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
-use crate::studies::work_precision::{flops_setup, logged_flops, rk4_stability_limit, whole_steps};
+use crate::studies::work_precision::{
+    flops_setup, logged_flops, rk4_stability_limit, whole_steps, EXACT_STABILITY_FRACTION,
+    SAMPLE_INTERVAL_S,
+};
 
 /// The stiffness of the order study, N/m (the issue: the k = 1e3 rope).
 pub const ORDER_STIFFNESS: f64 = 1e3;

@@ -7,7 +7,6 @@
 //! $`+ \sum_{steps}(`$overhead $`+ \sum_{j < m}`$ iteration $`j)`$ with $`m`$ the step's
 //! iterations, plus its logged extra work.
 
-use crate::studies::benchmark::SAMPLE_INTERVAL_S;
 use crate::studies::beyond::GridScene;
 use crate::error::{require_positive, Error, Result};
 use crate::model::linear::SymmetricMatrix;
@@ -15,6 +14,12 @@ use crate::solvers::local_global::AdmmMerit;
 use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::integrators::stopping::{IterationLog, Stopping};
 use crate::model::system::MassSpringSystem;
+
+/// The interval between the samples of the window, s: a multiple of every swept time step.
+pub const SAMPLE_INTERVAL_S: f64 = 0.1;
+
+/// The exact motion's step as a fraction of RK4's stability limit.
+pub const EXACT_STABILITY_FRACTION: f64 = 0.01;
 
 /// A scene at a stiffness: one case of the benchmark.
 #[derive(Debug, Clone, Copy, PartialEq)]

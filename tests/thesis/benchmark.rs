@@ -9,8 +9,9 @@ use mass_spring_solvers::studies::benchmark::metrics::{energy_decay_per_period, 
 use mass_spring_solvers::studies::benchmark::rows::Row;
 use mass_spring_solvers::studies::benchmark::run::run;
 use mass_spring_solvers::studies::benchmark::sweep::{Configuration, TOLERANCE_CAP};
+use mass_spring_solvers::studies::benchmark::metrics::Trajectory;
 use mass_spring_solvers::studies::benchmark::truth::{
-    lowest_excited_mode, CaseTruth, Converged, SolverTruth, Trajectory,
+    lowest_excited_mode, CaseTruth, Converged, SolverTruth,
 };
 use mass_spring_solvers::studies::benchmark::verdicts::Conclusion;
 use mass_spring_solvers::studies::benchmark::Case;

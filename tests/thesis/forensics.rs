@@ -9,7 +9,8 @@
 //! change with `cargo insta review`.
 
 use mass_spring_solvers::solvers::admm::{default_omega, dual_update, z_minimisation, AdmmPd};
-use mass_spring_solvers::solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::studies::experiments::{
     faithful_results, peak_tolerance, published_rows, Configuration, Measured, PublishedRow,
 };

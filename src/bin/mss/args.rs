@@ -5,9 +5,10 @@ use crate::Failure;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, ValueEnum};
 use mass_spring_solvers::solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
+use mass_spring_solvers::platform::memory::available_memory;
 use mass_spring_solvers::solvers::budget::{
-    adaptive_steps, available_memory, fastest_rate, memory_bytes, Shape, BASE_BYTES,
-    DOPRI_EVALUATIONS, DOPRI_STABILITY,
+    adaptive_steps, fastest_rate, memory_bytes, Shape, BASE_BYTES, DOPRI_EVALUATIONS,
+    DOPRI_STABILITY,
 };
 use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::model::metrics::{StoppingRule, MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};

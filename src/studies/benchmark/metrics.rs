@@ -1,8 +1,33 @@
 //! The benchmark's errors ([`super`], item 3 of its specification): per node, in metres and
 //! relative to the exact motion's amplitude, and the lowest mode's phase and amplitude.
 
-use super::truth::Trajectory;
+use crate::studies::work_precision::SAMPLE_INTERVAL_S;
 use crate::model::system::{MassSpringSystem, Vec3};
+
+/// What a run records over the window: the positions at every sample time and the lowest
+/// mode's coordinate and energy after every step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory {
+    /// Time step, s.
+    pub dt: f64,
+    /// Positions at $`t_j = j\cdot`$ [`SAMPLE_INTERVAL_S`], $`j = 1 \dots J`$.
+    pub samples: Vec<Vec<Vec3>>,
+    /// The lowest mode's coordinate after each step $`n = 1 \dots`$ (time $`n\,dt`$).
+    pub modal: Vec<f64>,
+    /// The lowest mode's energy after each step.
+    pub modal_energy: Vec<f64>,
+}
+
+impl Trajectory {
+    /// The trajectory cut at `window` seconds.
+    pub fn truncate(&mut self, window: f64) {
+        self.samples
+            .truncate((window / SAMPLE_INTERVAL_S).round() as usize);
+        let steps = (window / self.dt).round() as usize;
+        self.modal.truncate(steps);
+        self.modal_energy.truncate(steps);
+    }
+}
 
 /// The free nodes of a system (the errors are over them: fixed nodes never err).
 fn free_nodes(system: &MassSpringSystem) -> Vec<usize> {

@@ -35,13 +35,11 @@
 pub mod metrics;
 pub mod truth;
 
-pub use crate::studies::work_precision::Case;
+pub use crate::studies::work_precision::{Case, SAMPLE_INTERVAL_S};
 
 /// The window holds this many periods of the lowest excited mode.
 pub const WINDOW_PERIODS: f64 = 3.0;
 
-/// The interval between the samples of the window, s: a multiple of every swept time step.
-pub const SAMPLE_INTERVAL_S: f64 = 0.1;
 
 pub mod run;
 pub mod statics;

@@ -2,7 +2,8 @@
 
 use super::metrics::{energy_decay_per_period, largest_distance, modal_period, rms_distance};
 use super::sweep::Configuration;
-use super::truth::{record, CaseTruth, Trajectory};
+use super::metrics::Trajectory;
+use super::truth::{record, CaseTruth};
 use crate::error::Result;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::MassSpringSystem;

@@ -2,6 +2,7 @@
 //! static equilibrium, the lowest mode the start excites, the window it sets, and the exact
 //! motion.
 
+use super::metrics::Trajectory;
 use super::{Case, SAMPLE_INTERVAL_S, WINDOW_PERIODS};
 use crate::integrators::dissipation::Dissipation;
 use crate::error::{Error, Result};
@@ -10,7 +11,7 @@ use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
-use crate::studies::work_precision::rk4_stability_limit;
+use crate::studies::work_precision::{rk4_stability_limit, EXACT_STABILITY_FRACTION};
 
 /// A mode of the linearised system about the equilibrium, with the coordinate that measures it.
 #[derive(Debug, Clone, PartialEq)]
@@ -120,31 +121,6 @@ pub fn whole_samples(periods: f64, period: f64) -> f64 {
 /// the measured periods.
 pub const SCOUTING_PERIODS: f64 = 4.5;
 
-/// What a run records over the window: the positions at every sample time and the lowest
-/// mode's coordinate and energy after every step.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Trajectory {
-    /// Time step, s.
-    pub dt: f64,
-    /// Positions at $`t_j = j\cdot`$ [`SAMPLE_INTERVAL_S`], $`j = 1 \dots J`$.
-    pub samples: Vec<Vec<Vec3>>,
-    /// The lowest mode's coordinate after each step $`n = 1 \dots`$ (time $`n\,dt`$).
-    pub modal: Vec<f64>,
-    /// The lowest mode's energy after each step.
-    pub modal_energy: Vec<f64>,
-}
-
-impl Trajectory {
-    /// The trajectory cut at `window` seconds.
-    pub fn truncate(&mut self, window: f64) {
-        self.samples
-            .truncate((window / SAMPLE_INTERVAL_S).round() as usize);
-        let steps = (window / self.dt).round() as usize;
-        self.modal.truncate(steps);
-        self.modal_energy.truncate(steps);
-    }
-}
-
 /// A node this far from where it started, m, counts as divergence (the scenes span 9 m).
 pub const DIVERGENCE_DISTANCE_M: f64 = 1e3;
 
@@ -196,8 +172,6 @@ pub fn record(
     Ok(t)
 }
 
-/// The exact motion's step as a fraction of RK4's stability limit.
-pub const EXACT_STABILITY_FRACTION: f64 = 0.01;
 
 /// The ground truths of one case.
 #[derive(Debug, Clone, PartialEq)]

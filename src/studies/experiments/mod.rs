@@ -22,7 +22,11 @@ pub use rule::{
 };
 
 use crate::error::Result;
-use crate::studies::forensics::SolverChoice;
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::system::MassSpringSystem;
+use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use crate::solvers::registry::SolverSpec;
+use crate::studies::forensics::admm_variants::{AdmmVariant, VariantAdmm};
 use crate::model::metrics::{
     half_period_f64_clock, half_period_sample_stamp, rest_error_l1, rest_error_l2, rest_error_max,
     rest_error_sum, StoppingRule,
@@ -32,6 +36,38 @@ use crate::model::scene::{RopeParams, THESIS_GRAVITY};
 use crate::integrators::time_stepper::{simulate, Run, RunOptions};
 use crate::model::system::Vec3;
 use std::sync::OnceLock;
+
+/// How the solver of a row is built.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SolverChoice {
+    /// The printed algorithm (Liu started at $`x_n`$, the default reading of its open point).
+    Printed,
+    /// Liu 2013 started at another first iterate (ignored by the other solvers' rows).
+    LiuFirstIterate(FirstIterate),
+    /// ADMM-PD with labelled departures (ignored by the other solvers' rows).
+    Admm(AdmmVariant),
+}
+
+impl SolverChoice {
+    /// The solver of a `kind` row.
+    pub fn build(
+        &self,
+        kind: SolverId,
+        system: &MassSpringSystem,
+        dt: f64,
+        iterations: usize,
+    ) -> Result<Box<dyn TimeStepper + Send>> {
+        Ok(match (self, kind) {
+            (SolverChoice::LiuFirstIterate(first), SolverId::FastMassSpring) => {
+                Box::new(FastMassSpring::new(system, dt, iterations)?.with_first_iterate(*first))
+            }
+            (SolverChoice::Admm(variant), SolverId::AdmmPd) => {
+                Box::new(VariantAdmm::new(system, dt, iterations, *variant)?)
+            }
+            _ => SolverSpec::new(kind, iterations).build_send(system, dt)?,
+        })
+    }
+}
 
 /// How a set of runs is made: the stopping rule, the scene's gravity and how each row's solver
 /// is built. [`Configuration::faithful`] is the thesis's method as written; the others are

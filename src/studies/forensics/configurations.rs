@@ -3,7 +3,7 @@
 //! the rows it is run on.
 
 use super::admm_variants::{AdmmVariant, FixedNodes, StartPoint, Weights};
-use super::SolverChoice;
+use crate::studies::experiments::SolverChoice;
 use crate::studies::experiments::{published_cost, Configuration, PublishedRow};
 use crate::solvers::fast_mass_spring::FirstIterate;
 use crate::solvers::registry::SolverId;

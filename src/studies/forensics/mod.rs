@@ -34,10 +34,9 @@ use crate::studies::experiments::{
     expected_cost, faithful_results, measure, run_experiment, run_parallel, same_experiment,
     Configuration, Measured, PublishedRow, Reference, ResultSet,
 };
-use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
-use crate::solvers::registry::{SolverId, SolverSpec};
-use crate::integrators::time_stepper::{Run, TimeStepper};
-use crate::model::system::{MassSpringSystem, Vec3};
+use crate::solvers::registry::SolverId;
+use crate::integrators::time_stepper::Run;
+use crate::model::system::Vec3;
 use evidence::{classify, run_of, select, Candidates, SceneReadings, Selection};
 use gravity::ErrorPair;
 use liu_fit::{best_fit, GridPoint};
@@ -45,38 +44,6 @@ use std::sync::OnceLock;
 
 /// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
 pub const NOISE_PEAK_J: f64 = 1e-15;
-
-/// How the solver of a row is built.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum SolverChoice {
-    /// The printed algorithm (Liu started at $`x_n`$, the default reading of its open point).
-    Printed,
-    /// Liu 2013 started at another first iterate (ignored by the other solvers' rows).
-    LiuFirstIterate(FirstIterate),
-    /// ADMM-PD with labelled departures (ignored by the other solvers' rows).
-    Admm(AdmmVariant),
-}
-
-impl SolverChoice {
-    /// The solver of a `kind` row.
-    pub fn build(
-        &self,
-        kind: SolverId,
-        system: &MassSpringSystem,
-        dt: f64,
-        iterations: usize,
-    ) -> Result<Box<dyn TimeStepper + Send>> {
-        Ok(match (self, kind) {
-            (SolverChoice::LiuFirstIterate(first), SolverId::FastMassSpring) => {
-                Box::new(FastMassSpring::new(system, dt, iterations)?.with_first_iterate(*first))
-            }
-            (SolverChoice::Admm(variant), SolverId::AdmmPd) => {
-                Box::new(VariantAdmm::new(system, dt, iterations, *variant)?)
-            }
-            _ => SolverSpec::new(kind, iterations).build_send(system, dt)?,
-        })
-    }
-}
 
 /// A named configuration's measured rows (against the faithful references).
 #[derive(Debug, Clone, PartialEq)]
