@@ -36,9 +36,8 @@ pub mod metrics;
 pub mod truth;
 
 pub use crate::studies::work_precision::{Case, SAMPLE_INTERVAL_S};
+pub use truth::WINDOW_PERIODS;
 
-/// The window holds this many periods of the lowest excited mode.
-pub const WINDOW_PERIODS: f64 = 3.0;
 
 
 pub mod run;

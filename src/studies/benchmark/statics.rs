@@ -2,7 +2,7 @@
 //! to rest, by the thesis's own stopping rule, and how far from the exact equilibrium it rests.
 
 use super::sweep::{settings, solvers, Configuration};
-use super::Case;
+use crate::studies::work_precision::Case;
 use crate::studies::beyond::GridScene;
 use crate::error::Result;
 use crate::model::metrics::StoppingRule;

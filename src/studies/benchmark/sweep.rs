@@ -2,7 +2,7 @@
 //! its fixed iteration counts over time steps that reach the asymptotic regime, the explicit
 //! baselines beside them.
 
-use super::Case;
+use crate::studies::work_precision::Case;
 use crate::studies::beyond::{grid_settings, GridScene};
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::solvers::registry::{SolverId, SolverSpec};

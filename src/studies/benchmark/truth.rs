@@ -3,7 +3,6 @@
 //! motion.
 
 use super::metrics::Trajectory;
-use super::{Case, SAMPLE_INTERVAL_S, WINDOW_PERIODS};
 use crate::integrators::dissipation::Dissipation;
 use crate::error::{Error, Result};
 use crate::studies::integrator_study::exact_stages;
@@ -11,7 +10,12 @@ use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
-use crate::studies::work_precision::{rk4_stability_limit, EXACT_STABILITY_FRACTION};
+use crate::studies::work_precision::{
+    rk4_stability_limit, Case, EXACT_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
+};
+
+/// The window holds this many periods of the lowest excited mode.
+pub const WINDOW_PERIODS: f64 = 3.0;
 
 /// A mode of the linearised system about the equilibrium, with the coordinate that measures it.
 #[derive(Debug, Clone, PartialEq)]

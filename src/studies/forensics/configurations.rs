@@ -4,9 +4,27 @@
 
 use super::admm_variants::{AdmmVariant, FixedNodes, StartPoint, Weights};
 use crate::studies::experiments::SolverChoice;
-use crate::studies::experiments::{published_cost, Configuration, PublishedRow};
+use crate::studies::experiments::{published_cost, same_experiment, Configuration, Measured, PublishedRow};
 use crate::solvers::fast_mass_spring::FirstIterate;
 use crate::solvers::registry::SolverId;
+
+/// A named configuration's measured rows (against the faithful references).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConfigurationRun {
+    pub id: ConfigurationId,
+    pub rows: Vec<Measured>,
+    /// Rows whose run failed (a variant may diverge), with the error.
+    pub failed: Vec<(PublishedRow, String)>,
+}
+
+impl ConfigurationRun {
+    /// The measurement of a published row, if this configuration ran it.
+    pub fn row(&self, row: &PublishedRow) -> Option<&Measured> {
+        self.rows
+            .iter()
+            .find(|m| same_experiment(&m.published, row))
+    }
+}
 
 /// The velocity damping values c (s⁻¹) of the Liu hypothesis's grid (forensic finding 3); 0 is
 /// the printed method.

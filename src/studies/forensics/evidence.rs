@@ -28,10 +28,12 @@
 //! noise-limited by the same test on the run with its exact peak count, else **unexplained**.
 //! Twins ([`super::twins`]) count as one observation in every count.
 
-use super::configurations::{AdmmCandidate, ConfigurationId, LiuHypothesis};
-use super::{ConfigurationRun, NOISE_PEAK_J};
+use super::configurations::{AdmmCandidate, ConfigurationId, ConfigurationRun, LiuHypothesis};
 use crate::studies::experiments::{Measured, PublishedRow, HALF_PERIOD_TOLERANCE};
 use crate::solvers::registry::SolverId;
+
+/// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
+pub const NOISE_PEAK_J: f64 = 1e-15;
 
 /// How a published row is reproduced, strongest first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]

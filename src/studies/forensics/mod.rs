@@ -22,8 +22,8 @@ pub mod liu_fit;
 pub mod twins;
 
 pub use admm_variants::{AdmmVariant, FixedNodes, StartPoint, VariantAdmm, Weights};
-pub use configurations::{AdmmCandidate, ConfigurationId, LiuHypothesis};
-pub use evidence::{Evidence, RowEvidence};
+pub use configurations::{AdmmCandidate, ConfigurationId, ConfigurationRun, LiuHypothesis};
+pub use evidence::{Evidence, RowEvidence, NOISE_PEAK_J};
 pub use gravity::{GravityRow, GravityStudy, MISMATCHED_GRAVITY};
 pub use liu_fit::LiuFit;
 pub use twins::Twins;
@@ -42,26 +42,6 @@ use gravity::ErrorPair;
 use liu_fit::{best_fit, GridPoint};
 use std::sync::OnceLock;
 
-/// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
-pub const NOISE_PEAK_J: f64 = 1e-15;
-
-/// A named configuration's measured rows (against the faithful references).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ConfigurationRun {
-    pub id: ConfigurationId,
-    pub rows: Vec<Measured>,
-    /// Rows whose run failed (a variant may diverge), with the error.
-    pub failed: Vec<(PublishedRow, String)>,
-}
-
-impl ConfigurationRun {
-    /// The measurement of a published row, if this configuration ran it.
-    pub fn row(&self, row: &PublishedRow) -> Option<&Measured> {
-        self.rows
-            .iter()
-            .find(|m| same_experiment(&m.published, row))
-    }
-}
 
 /// Everything the forensic sections of the report show.
 #[derive(Debug, Clone, PartialEq)]
