@@ -12,15 +12,15 @@
 //! sweep (a latency bound), and the rope's prefactored global solve (Liu, ADMM). A solver's
 //! step with m iterations divided by m, against its floor, says how much is left to gain.
 
+use mass_spring_solvers::integrators::time_stepper::TimeStepper;
+use mass_spring_solvers::model::boundary::{fixed_unknowns, ConstrainedSystem};
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::particles::scenes::ClothParams;
 use mass_spring_solvers::solvers::admm::AdmmPd;
 use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
-use mass_spring_solvers::model::boundary::{fixed_unknowns, ConstrainedSystem};
 use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
-use mass_spring_solvers::particles::scenes::ClothParams;
 use mass_spring_solvers::solvers::projective::{system_matrix, to_columns, GlobalSolve};
 use mass_spring_solvers::solvers::registry::{Builder, SolverId, SolverSpec};
-use mass_spring_solvers::model::scene::thesis_rope;
-use mass_spring_solvers::integrators::time_stepper::TimeStepper;
 use mass_spring_solvers::{MassSpringSystem, State, Vec3};
 use std::hint::black_box;
 

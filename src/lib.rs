@@ -29,10 +29,10 @@
 //! workspace's other crate, `mass-spring-report` in `presentation/`, which depends on this one.
 
 pub mod error;
-pub mod platform;
-pub mod model;
 pub mod integrators;
+pub mod model;
 pub mod particles;
+pub mod platform;
 pub mod solvers;
 pub mod studies;
 

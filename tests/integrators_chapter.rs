@@ -4,12 +4,12 @@
 
 mod figure_check;
 
-use mass_spring_solvers::studies::integrator_study::minimizing_solvers;
-use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
 use mass_spring_report::format::sig;
 use mass_spring_report::integrators::{
     IntegratorsChapter, COSTS_HEADER, DAMPING_CASE, INTEGRATORS_HEADER, ORDER_CASE,
 };
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::studies::integrator_study::minimizing_solvers;
 use std::sync::OnceLock;
 
 fn chapter() -> &'static IntegratorsChapter {

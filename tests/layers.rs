@@ -205,8 +205,11 @@ fn upward(modules: &Modules) -> Vec<String> {
 /// the crate root left out (it declares every layer).
 fn circles(modules: &Modules) -> Vec<Vec<String>> {
     let names: Vec<&String> = modules.keys().filter(|m| !m.is_empty()).collect();
-    let index_of: BTreeMap<&str, usize> =
-        names.iter().enumerate().map(|(i, m)| (m.as_str(), i)).collect();
+    let index_of: BTreeMap<&str, usize> = names
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (m.as_str(), i))
+        .collect();
     let edges: Vec<Vec<usize>> = names
         .iter()
         .map(|m| {
@@ -306,17 +309,32 @@ fn no_module_imports_itself_through_others() {
 fn the_checks_find_an_upward_import_and_a_circle() {
     let modules: Modules = [
         ("", "pub mod model;\npub mod solvers;\n"),
-        ("model", "pub mod spring;\npub mod system;\npub use system::State;\n"),
+        (
+            "model",
+            "pub mod spring;\npub mod system;\npub use system::State;\n",
+        ),
         // A circle through a group, an upward import inline.
-        ("model::spring", "use crate::model::{system::Vec3};\nfn f() { crate::solvers::xpbd::step() }\n"),
-        ("model::system", "use super::spring; // crate::solvers in a comment is no import\n"),
+        (
+            "model::spring",
+            "use crate::model::{system::Vec3};\nfn f() { crate::solvers::xpbd::step() }\n",
+        ),
+        (
+            "model::system",
+            "use super::spring; // crate::solvers in a comment is no import\n",
+        ),
         ("solvers", "pub mod xpbd;\n"),
-        ("solvers::xpbd", "use crate::model::system::State;\n#[cfg(test)]\nuse crate::solvers;\n"),
+        (
+            "solvers::xpbd",
+            "use crate::model::system::State;\n#[cfg(test)]\nuse crate::solvers;\n",
+        ),
     ]
     .into_iter()
     .map(|(m, t)| (m.to_string(), t.to_string()))
     .collect();
-    assert_eq!(upward(&modules), vec!["model::spring -> solvers::xpbd".to_string()]);
+    assert_eq!(
+        upward(&modules),
+        vec!["model::spring -> solvers::xpbd".to_string()]
+    );
     assert_eq!(
         circles(&modules),
         vec![vec![
@@ -328,4 +346,3 @@ fn the_checks_find_an_upward_import_and_a_circle() {
     // The folder's `pub use` re-export is not a use: `model` is in no circle with its files.
     assert!(imports(&modules, "model").is_empty());
 }
-

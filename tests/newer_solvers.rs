@@ -3,20 +3,18 @@
 //! (Eq 20's minimiser); XPBD with substeps (Macklin et al. 2019) against its own constraint
 //! equations and against the exact motion (RK4 with a fine step), whose order it must show.
 
+use mass_spring_solvers::solvers::backward_euler::{incremental_potential, ConvergedStepOptions};
 use mass_spring_solvers::solvers::converged_stage::converged_step;
-use mass_spring_solvers::solvers::backward_euler::{
-    incremental_potential, ConvergedStepOptions,
-};
 use mass_spring_solvers::studies::beyond::Start;
 // The largest distance between corresponding nodes, m.
-use mass_spring_solvers::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use mass_spring_solvers::model::metrics::rest_error_max as gap;
 use mass_spring_solvers::model::metrics::StoppingRule;
-use mass_spring_solvers::particles::integrators::{Integrator, ParticleStepper};
-use mass_spring_solvers::particles::ParticleSystem;
-use mass_spring_solvers::solvers::quasi_newton::{potential_change, Lbfgs, LbfgsParams};
 use mass_spring_solvers::model::scene::{thesis_rope, RopeParams};
 use mass_spring_solvers::model::spring::force_jacobian as spring_jacobian;
+use mass_spring_solvers::particles::integrators::{Integrator, ParticleStepper};
+use mass_spring_solvers::particles::ParticleSystem;
+use mass_spring_solvers::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use mass_spring_solvers::solvers::quasi_newton::{potential_change, Lbfgs, LbfgsParams};
 use mass_spring_solvers::solvers::vbd::{
     greedy_colouring, local_system, vertex_step, LocalHessian, Vbd, VbdParams,
 };

@@ -15,23 +15,23 @@
 //!   momentum-conserving Rayleigh damping and loses it under the classical one (and under
 //!   Backward Euler, whose own damping takes it).
 
-use mass_spring_solvers::studies::beyond::{Start, CONVERGENCE_DAMPING};
-use mass_spring_solvers::solvers::converged_stage::ConvergedNewton;
 use mass_spring_solvers::integrators::damping::RayleighDamping;
 use mass_spring_solvers::integrators::dissipation::{Dissipation, PowerLawDrag, RayleighForm};
+use mass_spring_solvers::integrators::optimization_integrator::{
+    tr_bdf2_coefficients, Integrated, MinimizingSolver, OptimizationIntegrator, StageProblem, GAMMA,
+};
+use mass_spring_solvers::integrators::stopping::Convergence;
+use mass_spring_solvers::integrators::time_stepper::TimeStepper;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::model::system::{MassSpringSystem, Node, Spring, State, Vec3};
+use mass_spring_solvers::solvers::converged_stage::ConvergedNewton;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{Start, CONVERGENCE_DAMPING};
 use mass_spring_solvers::studies::integrator_study::{
     exact_amplitude_rate, exact_stages, fitted_slope, largest_distance, lowest_mode,
     minimizing_solvers, order_reference, DampingStudy, OrderStudy, DAMPING_DT, DAMPING_STIFFNESS,
     ORDER_STIFFNESS,
 };
-use mass_spring_solvers::integrators::optimization_integrator::{
-    tr_bdf2_coefficients, Integrated, MinimizingSolver, OptimizationIntegrator, StageProblem, GAMMA,
-};
-use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::model::scene::thesis_rope;
-use mass_spring_solvers::integrators::time_stepper::TimeStepper;
-use mass_spring_solvers::integrators::stopping::Convergence;
-use mass_spring_solvers::model::system::{MassSpringSystem, Node, Spring, State, Vec3};
 use mass_spring_solvers::Result;
 use std::process::Command;
 use std::sync::{Arc, Mutex};

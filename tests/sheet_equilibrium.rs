@@ -1,13 +1,13 @@
 //! The sheet's exact static equilibrium (`src/model/sheet_equilibrium.rs`): residual, minimum,
 //! symmetry, independence of the start, and an independent oracle.
 
-use mass_spring_solvers::solvers::converged_stage;
 use mass_spring_report::sheet::equilibrium_csv;
 use mass_spring_solvers::model::scene::{SheetParams, SHEET_SIDE};
 use mass_spring_solvers::model::sheet_equilibrium::{
     free_hessian, sagged_start, shaped_start, sheet_equilibrium, smallest_hessian_eigenvalue,
     static_equilibrium, Equilibrium, RESIDUAL_TARGET,
 };
+use mass_spring_solvers::solvers::converged_stage;
 use mass_spring_solvers::{MassSpringSystem, Vec3};
 
 /// The largest force on a free node by the system's own force routine, not the Newton's.

@@ -7,11 +7,11 @@
 //! last iteration and by more in the one before), and the converged Backward Euler step
 //! (Eq. 20's minimiser), which a tight tolerance must reach.
 
-use mass_spring_solvers::studies::beyond::{gap, Start};
-use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::integrators::stopping::Stopping;
+use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::model::system::Vec3;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{gap, Start};
 use mass_spring_solvers::{Error, MassSpringSystem, State};
 
 /// The solvers whose steps iterate toward the step's solution.

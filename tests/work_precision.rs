@@ -1,13 +1,13 @@
 //! The flop model of [`mass_spring_solvers::studies::work_precision`]: against a hand count, and the
 //! cost the benchmark counts from a run's log against the model's.
 
+use mass_spring_solvers::error::Error;
+use mass_spring_solvers::model::scene::RopeParams;
+use mass_spring_solvers::model::system::Vec3;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use mass_spring_solvers::studies::benchmark::run::run;
 use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration};
 use mass_spring_solvers::studies::benchmark::truth::CaseTruth;
-use mass_spring_solvers::error::Error;
-use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::model::scene::RopeParams;
-use mass_spring_solvers::model::system::Vec3;
 use mass_spring_solvers::studies::work_precision::*;
 
 fn rope3(stiffness: f64) -> mass_spring_solvers::model::system::MassSpringSystem {

@@ -3,12 +3,12 @@
 //! symmetry. The 18 published rows of Tables 2-3 are checked in `tests/thesis/`, with the other
 //! tests of the full result set.
 
-use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
-use mass_spring_solvers::solvers::converged_stage::converged_step;
-use mass_spring_solvers::solvers::pbd::Pbd;
 use mass_spring_solvers::model::scene::{
     thesis_rope, RopeParams, THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT,
 };
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::pbd::Pbd;
 use mass_spring_solvers::solvers::xpbd::{residuals, Xpbd};
 use mass_spring_solvers::{MassSpringSystem, Node, Spring, State, TimeStepper, Vec3};
 
@@ -89,7 +89,11 @@ fn xpbd_does_not_reach_the_converged_backward_euler_step() {
             .iter()
             .zip(&alpha_tilde)
             .map(|(s, at)| {
-                -mass_spring_solvers::model::spring::constraint(&be.x[s.a], &be.x[s.b], s.rest_length) / at
+                -mass_spring_solvers::model::spring::constraint(
+                    &be.x[s.a],
+                    &be.x[s.b],
+                    s.rest_length,
+                ) / at
             })
             .collect();
         let g_be = max_norm(&residuals(&rope, &be.x, &prediction, &lambda, &alpha_tilde).g);

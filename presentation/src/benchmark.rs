@@ -2,6 +2,16 @@
 //! every view of [`mass_spring_solvers::studies::benchmark`]'s one result set, read from its rows (the content of
 //! `data/benchmark.csv` and `data/benchmark_truths.csv`) and from nothing else.
 
+use crate::benchmark_wall::WallTiming;
+use crate::data::CsvFile;
+use crate::figures::{colour, solver_line};
+use crate::format::{full, sig, sig4, MarkdownTable};
+use crate::output::OutputFile;
+use crate::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM};
+use crate::ChapterFigure;
+use mass_spring_solvers::error::Result;
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::benchmark::rows::{Row, TruthRow};
 use mass_spring_solvers::studies::benchmark::sweep::{solvers, BASELINES, SECOND_ORDER};
 use mass_spring_solvers::studies::benchmark::verdicts::{
@@ -9,18 +19,6 @@ use mass_spring_solvers::studies::benchmark::verdicts::{
 };
 use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
 use mass_spring_solvers::studies::beyond::{kendall_tau, GridScene};
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::solvers::registry::SolverId;
-use crate::benchmark_wall::WallTiming;
-use crate::data::CsvFile;
-use crate::figures::{colour, solver_line};
-use crate::format::{full, sig, sig4, MarkdownTable};
-use crate::output::OutputFile;
-use crate::plot::{
-    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
-};
-use crate::ChapterFigure;
 
 /// The chapter's data: the benchmark's rows.
 #[derive(Debug, Clone, PartialEq)]
@@ -791,11 +789,8 @@ impl BenchmarkChapter {
         }
         md += &t.render();
         md += "\n";
-        md += &crate::benchmark_wall::section(
-            &format!("{number}.7"),
-            self.wall.as_ref(),
-            &self.rows,
-        );
+        md +=
+            &crate::benchmark_wall::section(&format!("{number}.7"), self.wall.as_ref(), &self.rows);
         md += &crate::benchmark_tolerance::section(&format!("{number}.8"), &self.rows);
         md
     }

@@ -2,12 +2,12 @@
 //! each iterative solver aiming at a solver error, every step stopping at its own residual,
 //! its target beside what it achieved (section 12.8).
 
+use crate::benchmark::of_case;
+use crate::format::{sci3, sig, MarkdownTable};
+use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::benchmark::rows::Row;
 use mass_spring_solvers::studies::benchmark::sweep::{SOLVER_ERROR_TARGETS_M, TOLERANCE_CAP};
 use mass_spring_solvers::studies::benchmark::Case;
-use mass_spring_solvers::solvers::registry::SolverId;
-use crate::benchmark::of_case;
-use crate::format::{sci3, sig, MarkdownTable};
 
 /// A tolerance point whose achieved solver error is within this factor of its target meets
 /// it (the hypothesis of `tests/thesis/benchmark.rs`, fixed before the first run).

@@ -10,16 +10,16 @@
 //! by each cost, the solvers ranked by both, Kendall's τ between the two rankings, and the
 //! pairs the two costs order differently by more than a tie ([`TIE`]) in both.
 
-use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration, BASELINES};
-use mass_spring_solvers::studies::benchmark::verdicts::{DYNAMICS_LEVELS, TIE};
-use mass_spring_solvers::studies::benchmark::Case;
-use mass_spring_solvers::studies::beyond::kendall_tau;
-use mass_spring_solvers::error::{Error, Result};
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::benchmark::{doing_nothing, front_series, of_case, FAMILIES};
 use crate::format::{short, sig, MarkdownTable};
 use crate::plot::{Axis, Chart, LegendPlace, Panel, FULL_WIDTH_MM};
 use crate::ChapterFigure;
+use mass_spring_solvers::error::{Error, Result};
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration, BASELINES};
+use mass_spring_solvers::studies::benchmark::verdicts::{DYNAMICS_LEVELS, TIE};
+use mass_spring_solvers::studies::benchmark::Case;
+use mass_spring_solvers::studies::beyond::kendall_tau;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

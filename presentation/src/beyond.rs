@@ -2,17 +2,6 @@
 //! rope ([`mass_spring_solvers::studies::beyond`]): the benchmark's view of the rope (section 12's protocol), and
 //! every solver's convergence toward the converged Backward Euler step.
 
-use mass_spring_solvers::solvers::backward_euler::ConvergedStepOptions;
-use mass_spring_solvers::solvers::converged_stage::converged_step;
-use mass_spring_solvers::studies::beyond::{
-    convergence_curves, from_comparison_start, grid_settings, grid_solvers, iterations_to,
-    own_first_iterate, own_start_effects, rho_scan, setting_label, ConvergenceCurve, GridScene,
-    RhoPoint, Start, StartEffect, COMPARISON_START, CONVERGENCE_ITERATIONS, GRID_DTS, STEP10_DT,
-};
-use mass_spring_solvers::solvers::chebyshev::{spectral_radius, ChebyshevParams};
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::solvers::local_global::Base;
-use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use crate::benchmark::FAMILIES;
 use crate::data::CsvFile;
 use crate::figures::{coinciding_groups, colour, solver_line};
@@ -21,8 +10,19 @@ use crate::output::OutputFile;
 use crate::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Series, FULL_WIDTH_MM};
 use crate::tables::stiffness_label;
 use crate::ChapterFigure;
+use mass_spring_solvers::error::Result;
 use mass_spring_solvers::model::scene::{thesis_rope, THESIS_STIFFNESSES};
 use mass_spring_solvers::model::system::State;
+use mass_spring_solvers::solvers::backward_euler::ConvergedStepOptions;
+use mass_spring_solvers::solvers::chebyshev::{spectral_radius, ChebyshevParams};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::local_global::Base;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{
+    convergence_curves, from_comparison_start, grid_settings, grid_solvers, iterations_to,
+    own_first_iterate, own_start_effects, rho_scan, setting_label, ConvergenceCurve, GridScene,
+    RhoPoint, Start, StartEffect, COMPARISON_START, CONVERGENCE_ITERATIONS, GRID_DTS, STEP10_DT,
+};
 
 /// The solvers the chapter's tables show: the grid's, less the thesis's four (whose tables
 /// are Tables 1-7; they run in the grid for the sheet chapter's rankings).
@@ -165,7 +165,9 @@ pub const RHO_SCAN_MAX: usize = 2000;
 
 /// The state one converged step of [`STEP10_DT`] before step10 (step9), for the solvers whose
 /// start uses the previous step.
-fn step9(system: &mass_spring_solvers::model::system::MassSpringSystem) -> Result<mass_spring_solvers::model::system::State> {
+fn step9(
+    system: &mass_spring_solvers::model::system::MassSpringSystem,
+) -> Result<mass_spring_solvers::model::system::State> {
     let mut state = system.initial_state();
     for _ in 0..9 {
         state = converged_step(system, &state, STEP10_DT, ConvergedStepOptions::default())?;

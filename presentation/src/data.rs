@@ -5,13 +5,15 @@
 //! the figures) one CSV per figure. Numbers are written as the shortest decimal that
 //! round-trips the `f64`.
 
-use mass_spring_solvers::studies::experiments::{better_time_convention, Measured, PublishedRow, ResultSet};
-use mass_spring_solvers::studies::forensics::Forensics;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::forensics::row_label;
 use crate::format::{full, full_opt};
 use crate::rest_state::Catenary;
 use crate::tables::half_period_deviation;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
+    better_time_convention, Measured, PublishedRow, ResultSet,
+};
+use mass_spring_solvers::studies::forensics::Forensics;
 
 /// The columns of `results.csv` and `table1.csv`: those of `thesis_results.csv` (the published
 /// table's own names; thesis convention for `half_period_s`) plus the exact-convention
@@ -266,26 +268,29 @@ pub const LIU_GRID_HEADER: &[&str] = &[
 /// `liu_grid.csv`: every grid point on every Liu row, then the damping probes.
 pub fn liu_grid_csv(forensics: &Forensics) -> String {
     let fit = &forensics.liu;
-    let record =
-        |id: String, role: &str, h: mass_spring_solvers::studies::forensics::LiuHypothesis, c: f64, m: &Measured| {
-            let p = &m.published;
-            vec![
-                id,
-                role.to_string(),
-                p.table.to_string(),
-                full(p.dt_s),
-                p.iterations.to_string(),
-                full(p.stiffness),
-                h.exempt_first_peak.to_string(),
-                full(c),
-                full(h.threshold(p.stiffness)),
-                m.peaks.to_string(),
-                full_opt(m.half_period_thesis),
-                full_opt(m.error_sum),
-                full_opt(m.last_peak_energy),
-                m.reproduces().to_string(),
-            ]
-        };
+    let record = |id: String,
+                  role: &str,
+                  h: mass_spring_solvers::studies::forensics::LiuHypothesis,
+                  c: f64,
+                  m: &Measured| {
+        let p = &m.published;
+        vec![
+            id,
+            role.to_string(),
+            p.table.to_string(),
+            full(p.dt_s),
+            p.iterations.to_string(),
+            full(p.stiffness),
+            h.exempt_first_peak.to_string(),
+            full(c),
+            full(h.threshold(p.stiffness)),
+            m.peaks.to_string(),
+            full_opt(m.half_period_thesis),
+            full_opt(m.error_sum),
+            full_opt(m.last_peak_energy),
+            m.reproduces().to_string(),
+        ]
+    };
     let mut records = Vec::new();
     for point in &fit.grid {
         let role = if point.hypothesis == fit.in_sample {

@@ -7,12 +7,6 @@
 //! filled markers on solid lines. The style itself (sizes, fonts, legends outside the data)
 //! is [`crate::plot`]'s.
 
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::studies::experiments::{
-    peak_tolerance, published_rows, Measured, PublishedRow, HALF_PERIOD_TOLERANCE,
-};
-use mass_spring_solvers::studies::forensics::Evidence;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::data::CsvFile;
 use crate::format::{full, full_opt, sig4};
 use crate::plot::{
@@ -24,8 +18,14 @@ use crate::runs::{
 };
 use crate::tables::{iteration_count, measured, stiffness_label};
 use crate::ReportData;
+use mass_spring_solvers::error::Result;
 use mass_spring_solvers::integrators::time_stepper::Run;
 use mass_spring_solvers::model::system::Vec3;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
+    peak_tolerance, published_rows, Measured, PublishedRow, HALF_PERIOD_TOLERANCE,
+};
+use mass_spring_solvers::studies::forensics::Evidence;
 
 /// One figure: file stem (`fig05-error-dt-k1e3`), caption, layout, SVG and CSV text.
 #[derive(Debug, Clone, PartialEq)]
@@ -1294,7 +1294,10 @@ fn kinetic_energy_middle(runs: &FigureRuns, number: u8) -> Result<Figure> {
                 "stopping threshold",
                 vec![
                     (0.0, mass_spring_solvers::model::metrics::STOP_THRESHOLD_J),
-                    (panel_end(&panel.series), mass_spring_solvers::model::metrics::STOP_THRESHOLD_J),
+                    (
+                        panel_end(&panel.series),
+                        mass_spring_solvers::model::metrics::STOP_THRESHOLD_J,
+                    ),
                 ],
                 GREY,
             )

@@ -8,21 +8,6 @@
 //! and the gravity-mismatch study of the rest-state error floors. Everything here only
 //! formats; every number in the prose comes from the runs.
 
-use mass_spring_solvers::studies::experiments::{
-    better_time_convention, published_rows, same_experiment, Measured, PublishedRow, ResultSet,
-    TimeConvention, MARGINAL_HALF_PERIOD,
-};
-use mass_spring_solvers::studies::forensics::configurations::{
-    LiuHypothesis, LIU_DAMPING_GRID, VARIANT_MAX_ITERATIONS, VARIANT_TIME_FACTOR,
-};
-use mass_spring_solvers::studies::forensics::evidence::{Choice, ADMM_CANDIDATES_TRIED, ADMM_PROTOTYPE_CANDIDATES};
-use mass_spring_solvers::studies::forensics::gravity::{Hypothesis, DISTINCT_ERROR_M, PROVENANCE};
-use mass_spring_solvers::studies::forensics::liu_fit::{peaks_within_tolerance, DAMPING_BISECTIONS, THRESHOLD_FLOOR_J};
-use mass_spring_solvers::studies::forensics::{
-    AdmmCandidate, ConfigurationId, Evidence, Forensics, RowEvidence, MISMATCHED_GRAVITY,
-};
-use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::format::{
     full, opt4, opt_rest_error, percent, rest_error, sci3, short, sig, sig4, MarkdownTable,
 };
@@ -30,7 +15,26 @@ use crate::tables::{
     half_period_deviation, printed, published_table, stiffness_label, ERROR_CHECK_ABOVE,
     ERROR_RATIO_RANGE,
 };
+use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
 use mass_spring_solvers::model::scene::THESIS_GRAVITY;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
+    better_time_convention, published_rows, same_experiment, Measured, PublishedRow, ResultSet,
+    TimeConvention, MARGINAL_HALF_PERIOD,
+};
+use mass_spring_solvers::studies::forensics::configurations::{
+    LiuHypothesis, LIU_DAMPING_GRID, VARIANT_MAX_ITERATIONS, VARIANT_TIME_FACTOR,
+};
+use mass_spring_solvers::studies::forensics::evidence::{
+    Choice, ADMM_CANDIDATES_TRIED, ADMM_PROTOTYPE_CANDIDATES,
+};
+use mass_spring_solvers::studies::forensics::gravity::{Hypothesis, DISTINCT_ERROR_M, PROVENANCE};
+use mass_spring_solvers::studies::forensics::liu_fit::{
+    peaks_within_tolerance, DAMPING_BISECTIONS, THRESHOLD_FLOOR_J,
+};
+use mass_spring_solvers::studies::forensics::{
+    AdmmCandidate, ConfigurationId, Evidence, Forensics, RowEvidence, MISMATCHED_GRAVITY,
+};
 
 /// `T7 0.1/1`: a row's table, time step and iterations.
 pub fn row_label(row: &PublishedRow) -> String {

@@ -187,7 +187,10 @@ pub const ROUND_OFF_REST_ERROR_M: f64 = 1e-6;
 /// its digits are floating-point noise.
 pub fn energy(e: f64) -> String {
     if e.abs() < mass_spring_solvers::studies::forensics::NOISE_PEAK_J {
-        format!("< {:e}", mass_spring_solvers::studies::forensics::NOISE_PEAK_J)
+        format!(
+            "< {:e}",
+            mass_spring_solvers::studies::forensics::NOISE_PEAK_J
+        )
     } else {
         sig4(e)
     }

@@ -2,23 +2,21 @@
 //! thesis rope (their measured orders and numerical damping, [`mass_spring_solvers::studies::integrator_study`]) and
 //! what each minimizing solver costs per step under each.
 
-use mass_spring_solvers::studies::work_precision::EXACT_STABILITY_FRACTION as REFERENCE_STABILITY_FRACTION;
+use crate::data::write_csv;
+use crate::format::{full, short, sig, sig4, MarkdownTable};
+use crate::output::OutputFile;
+use crate::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM};
+use crate::ChapterFigure;
 use mass_spring_solvers::error::Result;
+use mass_spring_solvers::integrators::optimization_integrator::{OptimizationIntegrator, GAMMA};
+use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::experiments::run_parallel;
 use mass_spring_solvers::studies::integrator_study::{
     exact_amplitude_rate, lowest_mode, minimizing_solvers, order_reference, CostRow, DampingStudy,
     OrderStudy, COST_CAP, COST_DT, COST_STIFFNESS, COST_TIME_S, COST_TOLERANCE_M, DAMPING_DT,
     DAMPING_PERIODS, DAMPING_STIFFNESS, MODE_AMPLITUDE_M, ORDER_DTS, ORDER_STIFFNESS, ORDER_TIME_S,
 };
-use mass_spring_solvers::integrators::optimization_integrator::{OptimizationIntegrator, GAMMA};
-use mass_spring_solvers::solvers::registry::SolverId;
-use crate::data::write_csv;
-use crate::format::{full, short, sig, sig4, MarkdownTable};
-use crate::output::OutputFile;
-use crate::plot::{
-    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM,
-};
-use crate::ChapterFigure;
+use mass_spring_solvers::studies::work_precision::EXACT_STABILITY_FRACTION as REFERENCE_STABILITY_FRACTION;
 
 /// The columns of `data/integrators.csv`.
 pub const INTEGRATORS_HEADER: [&str; 4] = ["integrator", "case", "order", "damping_per_period"];

@@ -33,12 +33,6 @@ pub mod traceability;
 pub mod tutorial;
 pub mod versions;
 
-use mass_spring_solvers::solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::studies::experiments::{published_rows, ResultSet, HALF_PERIOD_TOLERANCE};
-use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
-use mass_spring_solvers::model::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::benchmark::BenchmarkChapter;
 use crate::beyond::BeyondChapter;
 use crate::format::{short, sig, MarkdownTable};
@@ -51,10 +45,16 @@ use crate::sheet::SheetChapter;
 use crate::traceability::{PaperTag, Quote, Tag};
 use crate::tutorial::TutorialChapter;
 use crate::versions::Versions;
+use mass_spring_solvers::error::Result;
+use mass_spring_solvers::model::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
 use mass_spring_solvers::model::scene::{
     THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT, THESIS_GRAVITY, THESIS_NODES, THESIS_NODE_MASS,
     THESIS_REST_LENGTH,
 };
+use mass_spring_solvers::solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{published_rows, ResultSet, HALF_PERIOD_TOLERANCE};
+use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
 use std::path::{Path, PathBuf};
 
 /// The workspace's root directory, the science crate's (where `src/`, `Cargo.toml` and

@@ -2,14 +2,14 @@
 //! equilibrium of the discrete elastic chain beside the final state of our Backward Euler
 //! reference.
 
-use mass_spring_solvers::model::catenary::ElasticChain;
-use mass_spring_solvers::error::{Error, Result};
-use mass_spring_solvers::studies::experiments::ResultSet;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::format::{sig, sig4, MarkdownTable};
 use crate::tables::stiffness_label;
+use mass_spring_solvers::error::{Error, Result};
+use mass_spring_solvers::model::catenary::ElasticChain;
 use mass_spring_solvers::model::scene::THESIS_STIFFNESSES;
 use mass_spring_solvers::model::system::Vec3;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::ResultSet;
 
 /// The exact discrete-chain equilibrium of the thesis rope per stiffness.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -82,7 +82,8 @@ pub fn comparison(results: &ResultSet, catenary: &Catenary) -> String {
         let lowest = exact.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
         // A residual oscillation of kinetic energy E over the free mass M at angular frequency
         // ω = π/(T/2) has amplitude √(2E/M)/ω.
-        let free_mass = (exact.len().saturating_sub(2)) as f64 * mass_spring_solvers::model::scene::THESIS_NODE_MASS;
+        let free_mass = (exact.len().saturating_sub(2)) as f64
+            * mass_spring_solvers::model::scene::THESIS_NODE_MASS;
         let amplitude = reference
             .last_peak_energy
             .zip(reference.half_period_exact)

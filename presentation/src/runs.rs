@@ -4,16 +4,18 @@
 //! Each run is made once per process, for the solvers present in the result set, in
 //! parallel over the available cores.
 
-use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
+use crate::tables::iteration_count;
 use mass_spring_solvers::error::Result;
+use mass_spring_solvers::integrators::time_stepper::{simulate, Recording, Run, RunOptions};
+use mass_spring_solvers::model::metrics::StoppingRule;
+use mass_spring_solvers::model::scene::{
+    RopeParams, SheetParams, SheetSupport, SHEET_NODES_PER_SIDE,
+};
+use mass_spring_solvers::model::system::{MassSpringSystem, Vec3};
+use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use mass_spring_solvers::studies::experiments::pool::spawn_charged;
 use mass_spring_solvers::studies::experiments::ResultSet;
-use mass_spring_solvers::model::metrics::StoppingRule;
-use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
-use crate::tables::iteration_count;
-use mass_spring_solvers::model::scene::{RopeParams, SheetParams, SheetSupport, SHEET_NODES_PER_SIDE};
-use mass_spring_solvers::integrators::time_stepper::{simulate, Recording, Run, RunOptions};
-use mass_spring_solvers::model::system::{MassSpringSystem, Vec3};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;

@@ -3,9 +3,6 @@
 //! it (section 12's protocol), and the thesis's conclusions revisited: does the ranking of the
 //! solvers on the rope hold one dimension up?
 
-use mass_spring_solvers::studies::beyond::GridScene;
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::benchmark::{
     mean_with_interval, BenchmarkChapter, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD,
 };
@@ -13,13 +10,14 @@ use crate::data::CsvFile;
 use crate::figures::colour;
 use crate::format::{full, sig4, MarkdownTable};
 use crate::output::OutputFile;
-use crate::plot::{
-    Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM,
-};
+use crate::plot::{Axis, Chart, LegendPlace, Line, Marker, Panel, Rgb, Series, FULL_WIDTH_MM};
 use crate::tables::stiffness_label;
 use crate::ChapterFigure;
+use mass_spring_solvers::error::Result;
 use mass_spring_solvers::model::scene::{SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
 use mass_spring_solvers::model::sheet_equilibrium::{report_equilibria, Equilibrium};
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::beyond::GridScene;
 
 /// The colour of the stiff sheet's profiles in Figure S1 (the soft one's is Backward Euler's).
 const PROFILE_BLUE: Rgb = Rgb(0, 114, 178);

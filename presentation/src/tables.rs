@@ -6,15 +6,15 @@
 //! Published values are shown exactly as the thesis prints them (with a decimal point),
 //! ours with [`SIGNIFICANT_DIGITS`] significant digits.
 
-use mass_spring_solvers::studies::experiments::{
-    peak_tolerance, published_rows, Measured, PublishedRow, ResultSet, HALF_PERIOD_TOLERANCE,
-    PUBLISHED_CSV,
-};
-use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::format::{
     counted, full, opt4, percent, rest_error, sci3, sig4, signed, MarkdownTable,
     ROUND_OFF_REST_ERROR_M, SIGNIFICANT_DIGITS,
+};
+use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
+    peak_tolerance, published_rows, Measured, PublishedRow, ResultSet, HALF_PERIOD_TOLERANCE,
+    PUBLISHED_CSV,
 };
 use std::sync::OnceLock;
 

@@ -9,9 +9,9 @@
 //! text between a line `// region: NAME` and a line `// endregion: NAME`; several regions
 //! with the same name in one file are quoted in order.
 
+use crate::format::MarkdownTable;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::solvers::registry::SolverId;
-use crate::format::MarkdownTable;
 use std::collections::BTreeMap;
 use std::path::Path;
 

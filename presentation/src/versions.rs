@@ -2,8 +2,8 @@
 //! crate's `Cargo.toml`, the presentation's `presentation/Cargo.toml`) with their resolved
 //! versions, read with `Cargo.lock` at report time.
 
-use mass_spring_solvers::error::{Error, Result};
 use crate::format::MarkdownTable;
+use mass_spring_solvers::error::{Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -4,11 +4,11 @@
 //! recomputed on rows built to a known answer, the files read back strictly, and the files of
 //! a quick run (no time is asserted).
 
-use mass_spring_solvers::studies::benchmark::sweep::{configurations, Configuration};
-use mass_spring_solvers::studies::benchmark::Case;
-use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use mass_spring_report::benchmark::rows_csv;
 use mass_spring_report::benchmark_wall::*;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::benchmark::sweep::{configurations, Configuration};
+use mass_spring_solvers::studies::benchmark::Case;
 use std::process::Command;
 
 #[path = "../../tests/figure_check/mod.rs"]

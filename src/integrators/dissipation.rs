@@ -49,8 +49,8 @@
 //!   the implicit midpoint rule's angular momentum exactly (tested: to round-off), where
 //!   mass-proportional damping, $`-\alpha M u`$, takes it away.
 
-use crate::integrators::damping::{spring_hessian, RayleighDamping};
 use crate::error::{require_non_negative, Error, Result};
+use crate::integrators::damping::{spring_hessian, RayleighDamping};
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, Vec3};
 use nalgebra::Matrix3;

@@ -73,10 +73,10 @@
 //! proportional term is exact for a linear spring and first order in the change of the
 //! stiffness over a step otherwise. Fixed nodes keep $`x_a = x_n`$, $`u_0 = 0`$ exactly.
 
-use crate::integrators::dissipation::Dissipation;
 use crate::error::{Error, Result};
-use crate::integrators::time_stepper::TimeStepper;
+use crate::integrators::dissipation::Dissipation;
 use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 
 /// TR-BDF2's $`\gamma = 2 - \sqrt2`$ (module doc).

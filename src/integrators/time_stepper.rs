@@ -5,8 +5,10 @@
 //! records what the report and the command line need.
 
 use crate::error::{require_non_negative, Error, Result};
-use crate::model::metrics::{half_period_exact, half_period_thesis, Peak, PeakDetector, StoppingRule};
 use crate::integrators::stopping::{Convergence, IterationLog, Stopping};
+use crate::model::metrics::{
+    half_period_exact, half_period_thesis, Peak, PeakDetector, StoppingRule,
+};
 use crate::model::system::{MassSpringSystem, State};
 
 /// A time-stepping method for a mass-spring system.
@@ -293,9 +295,9 @@ pub fn simulate_into(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solvers::backward_euler::BackwardEuler;
     use crate::model::metrics::StoppingRule;
     use crate::model::scene::thesis_rope;
+    use crate::solvers::backward_euler::BackwardEuler;
 
     /// Collects what it is handed, with the step numbers.
     #[derive(Default)]

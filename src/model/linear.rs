@@ -811,7 +811,10 @@ mod tests {
 
     /// The pattern of `system`'s springs with `block` unknowns per node, made positive
     /// definite by a dominant diagonal, and the factorisation [`Factorization::new`] picks.
-    fn factorization_of(system: &crate::model::system::MassSpringSystem, block: usize) -> Factorization {
+    fn factorization_of(
+        system: &crate::model::system::MassSpringSystem,
+        block: usize,
+    ) -> Factorization {
         let edges: Vec<_> = system.springs().iter().map(|s| (s.a, s.b)).collect();
         let mut a = SymmetricMatrix::from_node_graph(system.len(), block, &edges);
         for &(i, j) in &edges {

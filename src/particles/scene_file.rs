@@ -45,10 +45,10 @@
 //! column where the field is written.
 
 use crate::error::{require_non_negative, require_within, Error, Result};
-use crate::particles::{Drag, Ground, ParticleSystem, Particles};
-use crate::platform::paths::{is_named_pipe, read_named_pipe, FIFO_PATIENCE};
 use crate::model::scene::check_geometry;
 use crate::model::system::{MassSpringSystem, Node, Spring, Vec3};
+use crate::particles::{Drag, Ground, ParticleSystem, Particles};
+use crate::platform::paths::{is_named_pipe, read_named_pipe, FIFO_PATIENCE};
 use serde::Deserialize;
 use std::io::Read;
 use std::ops::Range;

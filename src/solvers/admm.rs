@@ -33,13 +33,13 @@
 use crate::error::{require_positive, Error, Result};
 use crate::integrators::first_iterate::{FirstIterate, StepStart};
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
+use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::projective::{
     finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve,
     SpringIncidence,
 };
-use crate::integrators::time_stepper::TimeStepper;
-use crate::integrators::stopping::Convergence;
-use crate::model::system::{MassSpringSystem, State, Vec3};
 
 /// The default weights $`\omega_i = \sqrt{k_i}`$ (§2.3.2, Eqs 37-38: $`A = WD`$, $`B = -W`$).
 pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {

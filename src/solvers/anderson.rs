@@ -56,11 +56,11 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{Error, Result};
 use crate::integrators::first_iterate::FirstIterate;
-use crate::solvers::local_global::{AdmmMerit, Base, LocalGlobal, Merit};
 use crate::integrators::optimization_integrator::{MinimizingSolver, StageProblem};
-use crate::integrators::time_stepper::TimeStepper;
 use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State};
+use crate::solvers::local_global::{AdmmMerit, Base, LocalGlobal, Merit};
 
 /// Largest window accepted.
 pub const MAX_WINDOW: usize = 20;

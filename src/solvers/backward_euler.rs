@@ -15,16 +15,16 @@
 //! search on the incremental potential of Eq (20): it converges at any $`dt\sqrt{k/m}`$ and is
 //! the oracle the other solvers are tested against.
 
-use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
+use crate::error::{require_positive, Error, Result};
 use crate::integrators::damping::RayleighDamping;
 use crate::integrators::dissipation::{Dissipation, StageDissipation};
-use crate::error::{require_positive, Error, Result};
 use crate::integrators::first_iterate::{FirstIterate, StepStart};
-use crate::model::linear::SymmetricMatrix;
 use crate::integrators::optimization_integrator::{MinimizingSolver, StageProblem};
-use crate::integrators::time_stepper::TimeStepper;
-use crate::model::spring;
 use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
+use crate::model::linear::SymmetricMatrix;
+use crate::model::spring;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 
@@ -476,4 +476,3 @@ pub fn incremental_potential(system: &MassSpringSystem, y: &[Vec3], x: &[Vec3], 
         .sum();
     inertia / (dt * dt) + system.potential_energy(x)
 }
-

@@ -19,8 +19,8 @@
 //! 4.7 GB, the allocation that aborted in `shared/docs/reliability-cases.md` [7]; the estimate
 //! there is 13 GB, the extrapolated measurement 10 GB.
 
-use crate::solvers::registry::{SolverId, SolverParams};
 use crate::model::system::MassSpringSystem;
+use crate::solvers::registry::{SolverId, SolverParams};
 
 /// The process's own memory before the scene: the binary, its libraries, the allocator.
 pub const BASE_BYTES: f64 = 16.0 * 1024.0 * 1024.0;

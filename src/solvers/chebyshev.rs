@@ -64,15 +64,15 @@
 //! Measured: the report's section 10 (iterations to 1e-6 m from the inertial prediction, and
 //! the scan of $`\rho`$), `tests/accelerated.rs`.
 
-use crate::solvers::backward_euler::inertia;
 use crate::error::{Error, Result};
 use crate::integrators::first_iterate::FirstIterate;
-use crate::solvers::local_global::{AdmmMerit, Base, LocalGlobal};
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
-use crate::solvers::quasi_newton::potential_gradient;
-use crate::integrators::time_stepper::TimeStepper;
 use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::backward_euler::inertia;
+use crate::solvers::local_global::{AdmmMerit, Base, LocalGlobal};
+use crate::solvers::quasi_newton::potential_gradient;
 
 /// How $`\rho`$ is found when it is not given (module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

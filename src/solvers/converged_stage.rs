@@ -11,15 +11,17 @@
 //! smoothed at rest) with a backtracking line search on the objective; the first iterate is
 //! $`x_a + \tau u_0`$.
 
-use crate::solvers::backward_euler::{incremental_potential, inertia, ConvergedStepOptions, ImplicitMatrix};
-use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
+use crate::error::{require_positive, Error, Result};
 use crate::integrators::damping::RayleighDamping;
 use crate::integrators::dissipation::{Dissipation, StageDissipation};
-use crate::error::{require_positive, Error, Result};
 use crate::integrators::optimization_integrator::{MinimizingSolver, StageProblem};
 use crate::integrators::time_stepper::TimeStepper;
+use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::backward_euler::{
+    incremental_potential, inertia, ConvergedStepOptions, ImplicitMatrix,
+};
 use nalgebra::Matrix3;
 
 /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) The

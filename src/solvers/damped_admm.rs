@@ -55,19 +55,19 @@
 //! iteration with $`h`$ the stage's $`\tau`$ and $`(x_n, v_n)`$ its pseudo-state ($`H_i`$ frozen at
 //! the stage's $`x_D`$); the matrix is factored once per distinct $`\tau`$.
 
-use crate::solvers::admm::{default_omega, z_minimisation, AdmmIterate};
+use crate::error::{require_positive, Error, Result};
 use crate::integrators::damping::RayleighDamping;
 use crate::integrators::dissipation::{Dissipation, PowerLawDrag, RayleighForm, StageDissipation};
-use crate::error::{require_positive, Error, Result};
 use crate::integrators::first_iterate::{FirstIterate, StepStart};
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
+use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::admm::{default_omega, z_minimisation, AdmmIterate};
 use crate::solvers::projective::{
     finish_step, node_of_columns, nodes_of_columns, reduction_matrix, to_columns, GlobalSolve,
     SpringIncidence,
 };
-use crate::integrators::time_stepper::TimeStepper;
-use crate::integrators::stopping::Convergence;
-use crate::model::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 
 /// The stiffness-proportional damping as ADMM's second block of $`g`$.

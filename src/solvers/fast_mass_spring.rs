@@ -31,13 +31,13 @@
 use crate::error::{require_positive, Error, Result};
 use crate::integrators::first_iterate::StepStart;
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
+use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::projective::{
     finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve,
     SpringIncidence,
 };
-use crate::integrators::time_stepper::TimeStepper;
-use crate::integrators::stopping::Convergence;
-use crate::model::system::{MassSpringSystem, State, Vec3};
 
 /// Where each step's local/global iteration starts, a point Algorithm 3 leaves open: the
 /// crate's one notion of a first iterate.

@@ -34,14 +34,16 @@
 
 use std::str::FromStr;
 
-use crate::solvers::admm::{default_omega, AdmmIterate};
-use crate::solvers::backward_euler::incremental_potential;
 use crate::error::{require_positive, Error, Result};
-use crate::solvers::fast_mass_spring::FastMassSpring;
 use crate::integrators::first_iterate::{FirstIterate, StepStart};
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
-use crate::solvers::projective::{finish_step, node_of_columns, nodes_of_columns, to_columns, GlobalSolve};
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::admm::{default_omega, AdmmIterate};
+use crate::solvers::backward_euler::incremental_potential;
+use crate::solvers::fast_mass_spring::FastMassSpring;
+use crate::solvers::projective::{
+    finish_step, node_of_columns, nodes_of_columns, to_columns, GlobalSolve,
+};
 
 /// The local-global iteration being accelerated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

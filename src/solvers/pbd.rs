@@ -20,9 +20,9 @@
 //! is XPBD with zero compliance (§2.2.1), bit for bit: [`crate::solvers::xpbd::Xpbd::with_compliance`].
 
 use crate::error::{require_positive, Error, Result};
+use crate::integrators::stopping::Convergence;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::spring;
-use crate::integrators::stopping::Convergence;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::xpbd::{generalized_inverse_mass, inverse_denominator};
 

@@ -19,8 +19,8 @@
 //! ([`to_columns`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
 //! [`ConstrainedSystem`] in the precomputation; each solve then carries their positions.
 
-use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::error::{require_non_negative, require_positive, Error, Result};
+use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
 use crate::model::linear::SymmetricMatrix;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 

@@ -72,14 +72,14 @@
 //! the full 24 unknowns. What slows both is the Laplacian's isotropic stiffness: across a
 //! spring's axis $`H_0`$ has $`k`$, the true Hessian $`k(1 - l_0/l)`$, smaller by the strain.
 
-use crate::solvers::backward_euler::inertia;
 use crate::error::{Error, Result};
 use crate::integrators::first_iterate::{FirstIterate, StepStart};
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
-use crate::solvers::projective::{finish_step, node_of_columns, to_columns, GlobalSolve};
-use crate::integrators::time_stepper::TimeStepper;
 use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::backward_euler::inertia;
+use crate::solvers::projective::{finish_step, node_of_columns, to_columns, GlobalSolve};
 use std::collections::VecDeque;
 
 /// A search direction whose largest component is below this, m, ends the step: the iterate has
@@ -488,8 +488,8 @@ impl MinimizingSolver for Lbfgs {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solvers::backward_euler::incremental_potential;
     use crate::model::scene::thesis_rope;
+    use crate::solvers::backward_euler::incremental_potential;
 
     /// The term-by-term difference equals the difference of the totals where the totals are
     /// precise (a large change).

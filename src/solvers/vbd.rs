@@ -83,9 +83,9 @@
 use crate::error::{require_positive, Error, Result};
 use crate::integrators::first_iterate::{inertial_prediction, FirstIterate, StepStart};
 use crate::integrators::optimization_integrator::{MinimizingSolver, StageProblem};
+use crate::integrators::stopping::Convergence;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::spring;
-use crate::integrators::stopping::Convergence;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Matrix3;
 

@@ -58,9 +58,9 @@
 //! (`tests/xpbd.rs`) measures both.
 
 use crate::error::{require_non_negative, require_positive, Error, Result};
+use crate::integrators::stopping::Convergence;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::spring;
-use crate::integrators::stopping::Convergence;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 
 /// Eq. (18): $`\tilde\alpha = \alpha/dt^2`$, the time-step-scaled compliance that Eqs 17-18

@@ -10,18 +10,18 @@
 //! $`y = x_n + h v_n + h^2 M^{-1} f_{ext}`$ ([`COMPARISON_START`]), so that the curves compare
 //! solvers, not starts; [`own_start_effects`] measures what each solver's own start changes.
 
-use crate::solvers::backward_euler::ConvergedStepOptions;
-use crate::solvers::converged_stage::converged_step;
-use crate::model::catenary::ElasticChain;
-use crate::integrators::damping::RayleighDamping;
 use crate::error::Result;
-use crate::studies::experiments::run_parallel;
+use crate::integrators::damping::RayleighDamping;
 use crate::integrators::first_iterate::FirstIterate;
+use crate::model::catenary::ElasticChain;
 use crate::model::metrics::rest_error_max;
-use crate::solvers::registry::{Builder, SolverId, SolverSpec};
 use crate::model::scene::{thesis_rope, SheetParams, SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
 use crate::model::sheet_equilibrium::sheet_equilibrium;
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::backward_euler::ConvergedStepOptions;
+use crate::solvers::converged_stage::converged_step;
+use crate::solvers::registry::{Builder, SolverId, SolverSpec};
+use crate::studies::experiments::run_parallel;
 
 /// The time steps of Tables 2-7, s.
 pub const GRID_DTS: [f64; 3] = [0.1, 0.01, 0.001];

@@ -22,14 +22,14 @@
 //!   solver error it bought: the largest node distance to the same integrator's run with the
 //!   stages solved to round-off, over every step.
 
-use crate::studies::beyond::{GridScene, CONVERGENCE_DAMPING};
-use crate::solvers::converged_stage::ConvergedNewton;
-use crate::integrators::dissipation::Dissipation;
 use crate::error::{Error, Result};
+use crate::integrators::dissipation::Dissipation;
 use crate::integrators::optimization_integrator::{Integrated, OptimizationIntegrator};
-use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::converged_stage::ConvergedNewton;
+use crate::solvers::registry::{SolverId, SolverSpec};
+use crate::studies::beyond::{GridScene, CONVERGENCE_DAMPING};
 use crate::studies::work_precision::{
     flops_setup, logged_flops, rk4_stability_limit, whole_steps, EXACT_STABILITY_FRACTION,
     SAMPLE_INTERVAL_S,

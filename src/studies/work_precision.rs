@@ -7,13 +7,13 @@
 //! $`+ \sum_{steps}(`$overhead $`+ \sum_{j < m}`$ iteration $`j)`$ with $`m`$ the step's
 //! iterations, plus its logged extra work.
 
-use crate::studies::beyond::GridScene;
 use crate::error::{require_positive, Error, Result};
+use crate::integrators::stopping::{IterationLog, Stopping};
 use crate::model::linear::SymmetricMatrix;
+use crate::model::system::MassSpringSystem;
 use crate::solvers::local_global::AdmmMerit;
 use crate::solvers::registry::{SolverId, SolverSpec};
-use crate::integrators::stopping::{IterationLog, Stopping};
-use crate::model::system::MassSpringSystem;
+use crate::studies::beyond::GridScene;
 
 /// The interval between the samples of the window, s: a multiple of every swept time step.
 pub const SAMPLE_INTERVAL_S: f64 = 0.1;

@@ -5,23 +5,23 @@
 //! ([`super::report::benchmark`]); the sheet's are `make report`'s.
 
 use super::report::ROPES;
+use mass_spring_report::benchmark::{rows_csv, BenchmarkChapter};
+use mass_spring_report::benchmark_tolerance::Summary;
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::integrators::stopping::Stopping;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::benchmark::metrics::Trajectory;
 use mass_spring_solvers::studies::benchmark::metrics::{energy_decay_per_period, modal_period};
 use mass_spring_solvers::studies::benchmark::rows::Row;
 use mass_spring_solvers::studies::benchmark::run::run;
 use mass_spring_solvers::studies::benchmark::sweep::{Configuration, TOLERANCE_CAP};
-use mass_spring_solvers::studies::benchmark::metrics::Trajectory;
 use mass_spring_solvers::studies::benchmark::truth::{
     lowest_excited_mode, CaseTruth, Converged, SolverTruth,
 };
 use mass_spring_solvers::studies::benchmark::verdicts::Conclusion;
 use mass_spring_solvers::studies::benchmark::Case;
 use mass_spring_solvers::studies::beyond::GridScene;
-use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
-use mass_spring_report::benchmark::{rows_csv, BenchmarkChapter};
-use mass_spring_report::benchmark_tolerance::Summary;
-use mass_spring_solvers::model::scene::thesis_rope;
-use mass_spring_solvers::integrators::stopping::Stopping;
 
 fn chapter() -> &'static BenchmarkChapter {
     super::report::benchmark()

@@ -8,24 +8,26 @@
 //! significant digits and their round-off as bounds (`lock.rs`, `docs/snapshots.md`); review a
 //! change with `cargo insta review`.
 
+use mass_spring_report::forensics::damping_scan;
+use mass_spring_report::format::sig4;
+use mass_spring_report::tables::explanations;
+use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::solvers::admm::{default_omega, dual_update, z_minimisation, AdmmPd};
 use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
 use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use mass_spring_solvers::solvers::projective::{
+    finish_step, reduction_matrix, to_columns, GlobalSolve,
+};
+use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::experiments::{
     faithful_results, peak_tolerance, published_rows, Configuration, Measured, PublishedRow,
 };
-use mass_spring_solvers::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use mass_spring_solvers::studies::forensics::configurations::LIU_DAMPING_GRID;
 use mass_spring_solvers::studies::forensics::{
     forensic_results, AdmmCandidate, AdmmVariant, ConfigurationId, FixedNodes, LiuHypothesis,
     StartPoint, VariantAdmm, Weights,
 };
-use mass_spring_solvers::solvers::projective::{finish_step, reduction_matrix, to_columns, GlobalSolve};
-use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_report::forensics::damping_scan;
-use mass_spring_report::format::sig4;
-use mass_spring_report::tables::explanations;
-use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::{MassSpringSystem, Result, State, TimeStepper, Vec3};
 
 use super::lock;

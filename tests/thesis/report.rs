@@ -8,9 +8,6 @@
 //! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
 //! accept it with `INSTA_UPDATE=always cargo test --test thesis`.
 
-use mass_spring_solvers::studies::benchmark::Case;
-use mass_spring_solvers::studies::experiments::{faithful_results, published_rows};
-use mass_spring_solvers::studies::forensics::forensic_results;
 use mass_spring_report::benchmark::BenchmarkChapter;
 use mass_spring_report::beyond::BeyondChapter;
 use mass_spring_report::integrators::IntegratorsChapter;
@@ -21,9 +18,10 @@ use mass_spring_report::rest_state::Catenary;
 use mass_spring_report::runs::FigureRuns;
 use mass_spring_report::sheet::SheetChapter;
 use mass_spring_report::tutorial::TutorialChapter;
-use mass_spring_report::{
-    crate_root, figures, render, solvers_in, tables, ReportData, Sources,
-};
+use mass_spring_report::{crate_root, figures, render, solvers_in, tables, ReportData, Sources};
+use mass_spring_solvers::studies::benchmark::Case;
+use mass_spring_solvers::studies::experiments::{faithful_results, published_rows};
+use mass_spring_solvers::studies::forensics::forensic_results;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 

@@ -12,10 +12,6 @@
 //! `run-info.md`; a live counter shows too when stderr is a terminal.
 
 use clap::Parser;
-use mass_spring_solvers::error::Failure;
-use mass_spring_solvers::studies::experiments::{published_rows, run_all, Configuration, PublishedRow};
-use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
-use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_report::benchmark::BenchmarkChapter;
 use mass_spring_report::benchmark_wall::WallTiming;
 use mass_spring_report::beyond::BeyondChapter;
@@ -27,6 +23,12 @@ use mass_spring_report::runs::FigureRuns;
 use mass_spring_report::sheet::SheetChapter;
 use mass_spring_report::tutorial::TutorialChapter;
 use mass_spring_report::{crate_root, render, repository_containing, ReportData, Sources};
+use mass_spring_solvers::error::Failure;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
+    published_rows, run_all, Configuration, PublishedRow,
+};
+use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
 use mass_spring_solvers::Error;
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;

@@ -32,9 +32,9 @@
 
 mod ownership;
 
+use crate::output::OutputFile;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::platform::paths::{describe_file_type, device_of, mount_points};
-use crate::output::OutputFile;
 use ownership::{
     existing_ownership, foreign_entries, manifest_text, read_manifest, relative_inside, Manifest,
     Ownership,

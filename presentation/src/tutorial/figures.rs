@@ -7,9 +7,6 @@ use super::studies::{
     AdaptiveRun, AdaptiveStudy, ClothDropRun, ConvergenceSeries, DragFall, EnergyRun, Method,
     PendulumRun, SpringPairRun, FORCE_DT, PAIR_DT, REFERENCE_TOLERANCE,
 };
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::particles::Integrator;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::data::CsvFile;
 use crate::format::{full, short, sig4};
 use crate::plot::{
@@ -17,7 +14,10 @@ use crate::plot::{
     COLUMN_WIDTH_MM, FULL_WIDTH_MM,
 };
 use crate::ChapterFigure;
+use mass_spring_solvers::error::Result;
 use mass_spring_solvers::model::system::Vec3;
+use mass_spring_solvers::particles::Integrator;
+use mass_spring_solvers::solvers::registry::SolverId;
 
 const BLACK: Rgb = Rgb(0, 0, 0);
 const GREY: Rgb = Rgb(120, 120, 120);

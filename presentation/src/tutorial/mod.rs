@@ -7,15 +7,15 @@
 pub mod figures;
 pub mod studies;
 
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::particles::adaptive::{MAX_GROWTH, MAX_SHRINK, SAFETY};
-use mass_spring_solvers::particles::Integrator;
-use mass_spring_solvers::solvers::registry::SolverId;
 use crate::data::CsvFile;
 use crate::format::{full, short, sig, sig4, MarkdownTable};
 use crate::output::OutputFile;
 use crate::ChapterFigure;
 use figures::sig_short;
+use mass_spring_solvers::error::Result;
+use mass_spring_solvers::particles::adaptive::{MAX_GROWTH, MAX_SHRINK, SAFETY};
+use mass_spring_solvers::particles::Integrator;
+use mass_spring_solvers::solvers::registry::SolverId;
 use studies::{
     AdaptiveStudy, BounceRun, ClothDropRun, ConvergenceSeries, DragFall, EnergyRun,
     GravityParticle, PendulumRun, SpringPairRun, StabilityLimit,
@@ -365,7 +365,9 @@ impl TutorialChapter {
             full(studies::FORCE_DT),
             full(studies::GRAVITIES_TIME)
         );
-        let v = |x: mass_spring_solvers::model::system::Vec3| format!("({}, {}, {})", sig4(x.x), sig4(x.y), sig4(x.z));
+        let v = |x: mass_spring_solvers::model::system::Vec3| {
+            format!("({}, {}, {})", sig4(x.x), sig4(x.y), sig4(x.z))
+        };
         let mut t = MarkdownTable::new(&[
             "particle",
             "gravities acting",

@@ -3,14 +3,14 @@
 //! Every function runs the crate's own integrators; nothing here is a published number.
 
 use mass_spring_solvers::error::Result;
+use mass_spring_solvers::integrators::time_stepper::TimeStepper;
+use mass_spring_solvers::model::system::{MassSpringSystem, Node, Spring, State, Vec3};
 use mass_spring_solvers::particles::scenes::{ClothDropParams, PendulumParams};
 use mass_spring_solvers::particles::{
     AdaptiveStats, AdaptiveStepper, DampedSprings, Drag, Gravity, Ground, Integrator,
     ParticleStepper, ParticleSystem, Particles,
 };
 use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::integrators::time_stepper::TimeStepper;
-use mass_spring_solvers::model::system::{MassSpringSystem, Node, Spring, State, Vec3};
 
 // ---------------------------------------------------------------------------------------------
 // The test oscillator

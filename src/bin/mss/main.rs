@@ -7,27 +7,29 @@
 //! Exit status: 0 on success, 2 for bad input (an option or a scene file out of range, a path
 //! that cannot be written), 1 for a run that failed (diverged, or a step that failed).
 
-mod args;
+mod cli;
 mod output;
 mod scene;
+mod settings;
 
-use args::{check_work, list_solvers, settings, Cli};
 use clap::Parser;
+use cli::{scene_name, Cli};
+use mass_spring_solvers::error::{shown, Error};
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::integrators::time_stepper::{simulate, simulate_into, Run, RunOptions};
+use mass_spring_solvers::platform::output_file::OutputFile;
 use mass_spring_solvers::solvers::backward_euler::{
     BackwardEuler, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS,
 };
 use mass_spring_solvers::solvers::budget::DOPRI_EVALUATIONS;
-use mass_spring_solvers::error::{shown, Error};
-use mass_spring_solvers::studies::experiments::reproduces;
-use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::platform::output_file::OutputFile;
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::integrators::time_stepper::{simulate, simulate_into, Run, RunOptions};
+use mass_spring_solvers::studies::experiments::reproduces;
 use output::{
     published_row, reference_summary, write_text, CsvRecorder, PublishedSummary, Report,
     RunSummary, SceneSummary, StopSummary,
 };
-use scene::{build_scene, build_stepper, scene_name};
+use scene::{build_scene, build_stepper};
+use settings::{check_work, list_solvers, settings};
 use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
@@ -80,7 +82,8 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     let mut settings = settings(cli)?;
     let scene = scene_name(cli);
     let model = build_scene(cli, &settings)?;
-    settings.spec.params.adaptive_attempts = check_work(cli, &settings, &model)?;
+    settings.spec.params.adaptive_attempts =
+        check_work(cli, &settings, model.system(), model.drag())?;
     let mut summary = SceneSummary::new(scene.clone(), model.system());
     let published = published_row(cli, &settings, model.system());
     let reference_system = if cli.compare_reference {

@@ -1,16 +1,17 @@
 //! What a run prints (text or JSON) and the CSV series it writes as it goes.
 
-use crate::args::{Cli, SceneArg, Settings};
-use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
+use crate::cli::{Cli, SceneArg};
+use crate::settings::Settings;
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::integrators::time_stepper::{Recorder, Run};
 use mass_spring_solvers::model::metrics::{
     rest_error_l2, rest_error_max, rest_error_sum, Peak, StoppingRule,
 };
-use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::model::scene::THESIS_GRAVITY;
+use mass_spring_solvers::model::system::{MassSpringSystem, State};
 use mass_spring_solvers::platform::output_file::OutputFile;
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::model::scene::THESIS_GRAVITY;
-use mass_spring_solvers::integrators::time_stepper::{Recorder, Run};
-use mass_spring_solvers::model::system::{MassSpringSystem, State};
+use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
 use serde::Serialize;
 use std::io::Write;
 

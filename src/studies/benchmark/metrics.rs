@@ -1,8 +1,8 @@
 //! The benchmark's errors ([`super`], item 3 of its specification): per node, in metres and
 //! relative to the exact motion's amplitude, and the lowest mode's phase and amplitude.
 
-use crate::studies::work_precision::SAMPLE_INTERVAL_S;
 use crate::model::system::{MassSpringSystem, Vec3};
+use crate::studies::work_precision::SAMPLE_INTERVAL_S;
 
 /// What a run records over the window: the positions at every sample time and the lowest
 /// mode's coordinate and energy after every step.

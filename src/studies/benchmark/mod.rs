@@ -38,15 +38,13 @@ pub mod truth;
 pub use crate::studies::work_precision::{Case, SAMPLE_INTERVAL_S};
 pub use truth::WINDOW_PERIODS;
 
-
-
 pub mod run;
 pub mod statics;
 pub mod sweep;
 
 use crate::error::Result;
-use crate::studies::experiments::run_parallel;
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
+use crate::studies::experiments::run_parallel;
 use run::Outcome;
 use statics::{run_statics, statics_configurations, StaticsOutcome};
 use sweep::{configurations, dts, tolerance_configurations, Configuration, SOLVER_ERROR_DTS};

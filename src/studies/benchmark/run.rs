@@ -1,8 +1,8 @@
 //! One configuration run and measured against its case's ground truths.
 
+use super::metrics::Trajectory;
 use super::metrics::{energy_decay_per_period, largest_distance, modal_period, rms_distance};
 use super::sweep::Configuration;
-use super::metrics::Trajectory;
 use super::truth::{record, CaseTruth};
 use crate::error::Result;
 use crate::integrators::time_stepper::TimeStepper;

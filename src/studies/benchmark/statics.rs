@@ -2,12 +2,12 @@
 //! to rest, by the thesis's own stopping rule, and how far from the exact equilibrium it rests.
 
 use super::sweep::{settings, solvers, Configuration};
-use crate::studies::work_precision::Case;
-use crate::studies::beyond::GridScene;
 use crate::error::Result;
-use crate::model::metrics::StoppingRule;
 use crate::integrators::time_stepper::{simulate, RunOptions};
+use crate::model::metrics::StoppingRule;
 use crate::model::system::Vec3;
+use crate::studies::beyond::GridScene;
+use crate::studies::work_precision::Case;
 use crate::studies::work_precision::{flops_per_step, flops_setup, logged_flops};
 
 /// The statics runs stop at the thesis's rule (the first kinetic-energy peak below 1e-3 J) or

@@ -2,11 +2,11 @@
 //! its fixed iteration counts over time steps that reach the asymptotic regime, the explicit
 //! baselines beside them.
 
-use crate::studies::work_precision::Case;
-use crate::studies::beyond::{grid_settings, GridScene};
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
-use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::integrators::stopping::Stopping;
+use crate::solvers::registry::{SolverId, SolverSpec};
+use crate::studies::beyond::{grid_settings, GridScene};
+use crate::studies::work_precision::Case;
 
 /// One configuration: a solver with its settings at a time step, on a case.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -3,13 +3,13 @@
 //! motion.
 
 use super::metrics::Trajectory;
-use crate::integrators::dissipation::Dissipation;
 use crate::error::{Error, Result};
-use crate::studies::integrator_study::exact_stages;
+use crate::integrators::dissipation::Dissipation;
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
-use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::registry::{SolverId, SolverSpec};
+use crate::studies::integrator_study::exact_stages;
 use crate::studies::work_precision::{
     rk4_stability_limit, Case, EXACT_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
 };
@@ -175,7 +175,6 @@ pub fn record(
     }
     Ok(t)
 }
-
 
 /// The ground truths of one case.
 #[derive(Debug, Clone, PartialEq)]

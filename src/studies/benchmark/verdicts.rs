@@ -162,8 +162,6 @@ impl Conclusion {
     }
 }
 
-
-
 impl Conclusion {
     pub const ALL: [Conclusion; 6] = [
         Conclusion::StaticsProjectiveDynamics,

@@ -23,18 +23,18 @@ pub use rule::{
 
 use crate::error::Result;
 use crate::integrators::time_stepper::TimeStepper;
-use crate::model::system::MassSpringSystem;
-use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
-use crate::solvers::registry::SolverSpec;
-use crate::studies::forensics::admm_variants::{AdmmVariant, VariantAdmm};
+use crate::integrators::time_stepper::{simulate, Run, RunOptions};
 use crate::model::metrics::{
     half_period_f64_clock, half_period_sample_stamp, rest_error_l1, rest_error_l2, rest_error_max,
     rest_error_sum, StoppingRule,
 };
-use crate::solvers::registry::SolverId;
 use crate::model::scene::{RopeParams, THESIS_GRAVITY};
-use crate::integrators::time_stepper::{simulate, Run, RunOptions};
+use crate::model::system::MassSpringSystem;
 use crate::model::system::Vec3;
+use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use crate::solvers::registry::SolverId;
+use crate::solvers::registry::SolverSpec;
+use crate::studies::forensics::admm_variants::{AdmmVariant, VariantAdmm};
 use std::sync::OnceLock;
 
 /// How the solver of a row is built.

@@ -17,13 +17,13 @@
 //! [`AdmmVariant::PRINTED`] is Algorithm 4 as printed, bit for bit [`AdmmPd`](crate::solvers::admm::AdmmPd)
 //! (a test checks it).
 
-use crate::solvers::admm::{default_omega, AdmmIterate};
-use crate::model::boundary::EliminatedSystem;
 use crate::error::{require_positive, Error, Result};
-use crate::model::linear::Factorization;
-use crate::solvers::projective::{finish_step, system_matrix, GlobalSolve};
 use crate::integrators::time_stepper::TimeStepper;
+use crate::model::boundary::EliminatedSystem;
+use crate::model::linear::Factorization;
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::admm::{default_omega, AdmmIterate};
+use crate::solvers::projective::{finish_step, system_matrix, GlobalSolve};
 
 /// The per-spring weights $`\omega_i`$ of a variant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -3,10 +3,12 @@
 //! the rows it is run on.
 
 use super::admm_variants::{AdmmVariant, FixedNodes, StartPoint, Weights};
-use crate::studies::experiments::SolverChoice;
-use crate::studies::experiments::{published_cost, same_experiment, Configuration, Measured, PublishedRow};
 use crate::solvers::fast_mass_spring::FirstIterate;
 use crate::solvers::registry::SolverId;
+use crate::studies::experiments::SolverChoice;
+use crate::studies::experiments::{
+    published_cost, same_experiment, Configuration, Measured, PublishedRow,
+};
 
 /// A named configuration's measured rows (against the faithful references).
 #[derive(Debug, Clone, PartialEq)]

@@ -29,8 +29,8 @@
 //! Twins ([`super::twins`]) count as one observation in every count.
 
 use super::configurations::{AdmmCandidate, ConfigurationId, ConfigurationRun, LiuHypothesis};
-use crate::studies::experiments::{Measured, PublishedRow, HALF_PERIOD_TOLERANCE};
 use crate::solvers::registry::SolverId;
+use crate::studies::experiments::{Measured, PublishedRow, HALF_PERIOD_TOLERANCE};
 
 /// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
 pub const NOISE_PEAK_J: f64 = 1e-15;

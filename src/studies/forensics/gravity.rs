@@ -19,13 +19,13 @@
 
 use super::configurations::ConfigurationId;
 use super::twins::Twins;
-use crate::model::catenary::ElasticChain;
 use crate::error::{Error, Result};
-use crate::studies::experiments::rule::{within_band, ERROR_CHECK_ABOVE};
-use crate::studies::experiments::{Measured, PublishedRow};
+use crate::model::catenary::ElasticChain;
 use crate::model::metrics::{rest_error_l1, rest_error_sum};
 use crate::model::scene::{RopeParams, THESIS_GRAVITY};
 use crate::model::system::Vec3;
+use crate::studies::experiments::rule::{within_band, ERROR_CHECK_ABOVE};
+use crate::studies::experiments::{Measured, PublishedRow};
 
 /// The other gravity of the hypothesis, m/s².
 pub const MISMATCHED_GRAVITY: f64 = 9.8;

@@ -23,8 +23,10 @@
 
 use super::configurations::LiuHypothesis;
 use super::twins::Twins;
-use crate::studies::experiments::{peak_tolerance, reproduces, same_experiment, Measured, PublishedRow};
 use crate::model::metrics::{half_period_thesis, Peak};
+use crate::studies::experiments::{
+    peak_tolerance, reproduces, same_experiment, Measured, PublishedRow,
+};
 
 /// The Liu rows measured at one grid point, in published order.
 #[derive(Debug, Clone, PartialEq)]

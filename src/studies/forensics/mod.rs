@@ -29,19 +29,18 @@ pub use liu_fit::LiuFit;
 pub use twins::Twins;
 
 use crate::error::Result;
+use crate::integrators::time_stepper::Run;
+use crate::model::system::Vec3;
+use crate::solvers::registry::SolverId;
 use crate::studies::experiments::pool::spawn_charged;
 use crate::studies::experiments::{
     expected_cost, faithful_results, measure, run_experiment, run_parallel, same_experiment,
     Configuration, Measured, PublishedRow, Reference, ResultSet,
 };
-use crate::solvers::registry::SolverId;
-use crate::integrators::time_stepper::Run;
-use crate::model::system::Vec3;
 use evidence::{classify, run_of, select, Candidates, SceneReadings, Selection};
 use gravity::ErrorPair;
 use liu_fit::{best_fit, GridPoint};
 use std::sync::OnceLock;
-
 
 /// Everything the forensic sections of the report show.
 #[derive(Debug, Clone, PartialEq)]

@@ -7,8 +7,8 @@
 //! differ, but both runs have converged each step, so the second row adds no information: every
 //! fit, split and headline count takes a pair once (the rule of [`super::evidence`]).
 
-use crate::studies::experiments::{same_experiment, Measured, PublishedRow};
 use crate::model::metrics::rest_error_sum;
+use crate::studies::experiments::{same_experiment, Measured, PublishedRow};
 
 /// Largest relative difference of our two T/2 that still counts as the same value.
 pub const TWIN_HALF_PERIOD_REL: f64 = 1e-9;

@@ -8,17 +8,17 @@
 //! time.
 
 use crate::measure::{time_batches, REPEATS};
-use mass_spring_solvers::studies::benchmark::run::{build_solver, run, Outcome};
-use mass_spring_solvers::studies::benchmark::sweep::{configurations, dts, Configuration};
-use mass_spring_solvers::studies::benchmark::truth::CaseTruth;
-use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
-use mass_spring_solvers::error::{Error, Result};
-use mass_spring_solvers::studies::experiments::run_parallel;
 use mass_spring_report::benchmark_wall::{
     costs_compared, figure, stem, RunTime, WallRow, WallTiming, WALL_CSV, WALL_SPREAD_FLAG,
 };
 use mass_spring_report::format::short;
 use mass_spring_report::ChapterFigure;
+use mass_spring_solvers::error::{Error, Result};
+use mass_spring_solvers::studies::benchmark::run::{build_solver, run, Outcome};
+use mass_spring_solvers::studies::benchmark::sweep::{configurations, dts, Configuration};
+use mass_spring_solvers::studies::benchmark::truth::CaseTruth;
+use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
+use mass_spring_solvers::studies::experiments::run_parallel;
 use std::fmt::Write as _;
 use std::time::Instant;
 

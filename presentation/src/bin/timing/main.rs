@@ -24,10 +24,10 @@ mod scaling;
 mod scaling_md;
 
 use clap::Parser;
-use mass_spring_solvers::error::{Error, Failure, Result};
-use mass_spring_solvers::platform::output_file::{Links, OutputFile};
 use mass_spring_report::benchmark::rows_csv;
 use mass_spring_report::benchmark_wall::{WallTiming, MACHINE_CSV, WALL_CSV};
+use mass_spring_solvers::error::{Error, Failure, Result};
+use mass_spring_solvers::platform::output_file::{Links, OutputFile};
 use measure::{checkout, load_average, machine, machine_md, BATCH_SECONDS};
 use scaling::{measure as measure_point, point_line, scaling_study, solvers, SIDES};
 use scaling_md::scaling_md;
@@ -126,12 +126,11 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
     let mut names: Vec<String> = ["TIMING.md", WALL_CSV, MACHINE_CSV]
         .map(String::from)
         .to_vec();
-    names.extend(cases.iter().map(|&c| {
-        format!(
-            "{}.svg",
-            mass_spring_report::benchmark_wall::stem(c)
-        )
-    }));
+    names.extend(
+        cases
+            .iter()
+            .map(|&c| format!("{}.svg", mass_spring_report::benchmark_wall::stem(c))),
+    );
     if !args.quick {
         names.extend(["scaling.csv", "bandwidth.csv", "scaling.svg"].map(String::from));
     }

@@ -12,14 +12,14 @@
 //! step does a square root and a division per spring, against their measured throughput.
 
 use crate::measure::{seconds, thread_cpu, time_batches, Time, BATCH_SECONDS, REPEATS};
+use mass_spring_report::benchmark::rows_csv;
+use mass_spring_solvers::error::{Error, Result};
+use mass_spring_solvers::model::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
+use mass_spring_solvers::model::scene::SheetParams;
 use mass_spring_solvers::solvers::admm::AdmmPd;
 use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
-use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
-use mass_spring_solvers::model::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
 use mass_spring_solvers::solvers::registry::{Builder, SolverId, SolverSpec};
-use mass_spring_report::benchmark::rows_csv;
-use mass_spring_solvers::model::scene::SheetParams;
 use mass_spring_solvers::{MassSpringSystem, State, TimeStepper};
 use serde::{Deserialize, Serialize};
 use std::path::Path;

@@ -6,10 +6,10 @@ use crate::scaling::{
     solvers, Point, Scaling, BYTES_PER_FACTOR_ENTRY, DT, ITERATIONS, NEWTON_ITERATIONS, SIDES,
     STIFFNESS,
 };
-use mass_spring_solvers::error::Result;
-use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_report::figures::{colour, solver_line, solver_marker};
 use mass_spring_report::plot::{self, Axis, Chart, Entry, Line, Panel, Rgb, Series};
+use mass_spring_solvers::error::Result;
+use mass_spring_solvers::solvers::registry::SolverId;
 use std::fmt::Write as _;
 
 /// Least-squares slope of log y against log x.
