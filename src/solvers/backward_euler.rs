@@ -11,7 +11,7 @@
 //! at $`x_k`$, drops (erratum: without it the iteration converges to a different, over-damped
 //! scheme). The thesis's reference uses dt = 1e-3 and 5 iterations per step.
 //!
-//! [`converged_step`] is the same step solved to a tolerance, by projected Newton with a line
+//! [`converged_step`](crate::solvers::converged_stage::converged_step) is the same step solved to a tolerance, by projected Newton with a line
 //! search on the incremental potential of Eq (20): it converges at any $`dt\sqrt{k/m}`$ and is
 //! the oracle the other solvers are tested against.
 
@@ -437,7 +437,7 @@ impl MinimizingSolver for BackwardEuler {
     }
 }
 
-/// Settings of [`converged_step`].
+/// Settings of [`converged_step`](crate::solvers::converged_stage::converged_step).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConvergedStepOptions {
     /// Stop when the largest position update is below this, m.

@@ -16,7 +16,7 @@
 //! under faer's fill-reducing ordering, not the bandwidth's n per node), and `mss` peaks at
 //! 7.4, 7.7, 8.3, 8.5 and 8.9 KiB a node at n = 40, 80, 160, 240 and 320 (1.6 KiB a node on the
 //! banded rope, flat from 1e5 to 1e6 nodes). At n = 1000 the factor alone is 5.9e8 non-zeros,
-//! 4.7 GB, the allocation that aborted in `shared/docs/reliability-cases.md` [7]; the estimate
+//! 4.7 GB, the allocation that aborted in `shared/docs/reliability-cases.md` \[7\]; the estimate
 //! there is 13 GB, the extrapolated measurement 10 GB.
 
 use crate::model::system::MassSpringSystem;

@@ -7,7 +7,7 @@
 //! parameters: the iteration count and the options of [`SolverParams`].
 //!
 //! What the registry does not hold, on purpose: the forensic readings of the thesis's open
-//! points ([`crate::studies::forensics::SolverChoice`], which builds departures from the printed
+//! points ([`crate::studies::experiments::SolverChoice`], which builds departures from the printed
 //! algorithms for the forensic chapter only) and the stopping rule and recording of a run
 //! ([`crate::integrators::time_stepper::RunOptions`]), which belong to the run, not to the solver.
 

@@ -58,7 +58,7 @@ pub struct SolverParams {
 }
 
 impl SolverParams {
-    /// The option `name` (an [`OptionInfo::name`]) as text; None for an unset optional value
+    /// The option `name` (an [`OptionInfo::name`](super::OptionInfo::name)) as text; None for an unset optional value
     /// or a name no solver has.
     pub fn get(&self, name: &str) -> Option<String> {
         Some(match name {
@@ -85,7 +85,7 @@ impl SolverParams {
         })
     }
 
-    /// Sets the option `name` (an [`OptionInfo::name`]) from its text, checked against its
+    /// Sets the option `name` (an [`OptionInfo::name`](super::OptionInfo::name)) from its text, checked against its
     /// range by the solver that reads it.
     pub fn set(&mut self, name: &str, value: &str) -> Result<()> {
         let number = || -> Result<f64> {
