@@ -6,4 +6,5 @@ pub mod beyond;
 pub mod experiments;
 pub mod forensics;
 pub mod integrator_study;
+pub mod tutorial;
 pub mod work_precision;

@@ -5,7 +5,7 @@
 //! [`TutorialChapter::compute`].
 
 pub mod figures;
-pub mod studies;
+pub use mass_spring_solvers::studies::tutorial as studies;
 
 use crate::data::CsvFile;
 use crate::format::{full, short, sig, sig4, MarkdownTable};
