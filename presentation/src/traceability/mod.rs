@@ -11,9 +11,16 @@
 
 use crate::format::MarkdownTable;
 use mass_spring_solvers::error::{Error, Result};
-use mass_spring_solvers::solvers::registry::SolverId;
 use std::collections::BTreeMap;
 use std::path::Path;
+
+mod papers;
+mod quote;
+pub use papers::{
+    paper_summary, paper_table, parse_paper_tag, scan_paper_text, scan_papers, verification,
+    PaperTag, Verified, READ_TEXTS, UNREAD_TEXTS,
+};
+pub use quote::{extract_region, solver_file, solver_step, Quote, STEP_REGION};
 
 /// The thesis's numbered equations: number and what each one is.
 pub const EQUATIONS: [(u8, &str); 56] = [
@@ -143,113 +150,6 @@ pub struct Tag {
     pub line: usize,
 }
 
-/// How a paper tag was checked (`docs/papers.md` says which texts could be read).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Verified {
-    /// Against the paper's text.
-    Text,
-    /// Against the authors' reference code, which the tag's doc line names.
-    ReferenceCode,
-    /// Neither: the tag's doc line says so, and names the code checked or that none exists.
-    Unverified,
-}
-
-impl Verified {
-    /// The column's word.
-    pub fn label(self) -> &'static str {
-        match self {
-            Verified::Text => "text",
-            Verified::ReferenceCode => "reference code",
-            Verified::Unverified => "unverified",
-        }
-    }
-}
-
-/// The works whose text was read (papers.md): their tags are checked against it.
-pub const READ_TEXTS: [&str; 3] = ["Chen 2024", "Macklin 2019", "Wang 2015"];
-
-/// The works whose tags may be unverified: those whose body could not be read (papers.md),
-/// and the textbook the sheet's Newton solver cites.
-pub const UNREAD_TEXTS: [&str; 5] = [
-    "Brown 2018",
-    "Liu 2017",
-    "Nocedal 2006",
-    "Peng 2018",
-    "Zhang 2019",
-];
-
-/// How the tag of `paper` whose doc line is `line` was checked: a read text's tags against
-/// it; another's against the reference code its line names ("checked against ..."), unless
-/// the line says "unverified". `None` for a line of an unread work that says neither, or of
-/// a work on neither list: a tag the table cannot vouch for.
-pub fn verification(paper: &str, line: &str) -> Option<Verified> {
-    let line = line.to_lowercase();
-    if READ_TEXTS.contains(&paper) {
-        return (!line.contains("unverified")).then_some(Verified::Text);
-    }
-    if !UNREAD_TEXTS.contains(&paper) {
-        return None;
-    }
-    let names_code = line.contains("checked against")
-        || line.contains("no reference code")
-        || line.contains("no body text or reference code");
-    match (line.contains("unverified"), names_code) {
-        (true, true) => Some(Verified::Unverified),
-        (false, true) if line.contains("checked against") => Some(Verified::ReferenceCode),
-        _ => None,
-    }
-}
-
-/// A tag of a paper after the thesis, `[Wang 2015, Eq. 14, Alg. 1]`, at the start of the first
-/// line of a doc comment (never `Eq. (N)`, which names the thesis's equations).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PaperTag {
-    /// `Wang 2015`.
-    pub paper: String,
-    /// What of the paper: `Eq. 14`, `Alg. 1`, `Rayleigh damping`.
-    pub reference: String,
-    /// How it was checked; `None` when the doc line does not say ([`verification`]).
-    pub verified: Option<Verified>,
-    pub item: String,
-    pub file: String,
-    pub line: usize,
-}
-
-/// The paper and the reference of a paper-tag line: `[Author Year, what]` at its start, the
-/// author a capitalised word, the year four digits.
-pub fn parse_paper_tag(line: &str) -> Option<(String, String)> {
-    let (inside, _) = line.strip_prefix('[')?.split_once(']')?;
-    let (paper, reference) = inside.split_once(", ")?;
-    let (author, year) = paper.rsplit_once(' ')?;
-    let well_formed = author.starts_with(|c: char| c.is_ascii_uppercase())
-        && year.len() == 4
-        && year.chars().all(|c| c.is_ascii_digit())
-        && !reference.trim().is_empty();
-    well_formed.then(|| (paper.to_string(), reference.trim().to_string()))
-}
-
-/// The second traceability table: every paper tag, by paper.
-pub fn paper_table(tags: &[PaperTag]) -> MarkdownTable {
-    let mut sorted: Vec<&PaperTag> = tags.iter().collect();
-    sorted.sort_by(|a, b| (&a.paper, &a.file, a.line).cmp(&(&b.paper, &b.file, b.line)));
-    let mut t = MarkdownTable::new(&["paper", "what", "verified against", "code", "where"]);
-    for tag in sorted {
-        t.row(vec![
-            tag.paper.clone(),
-            tag.reference.clone(),
-            tag.verified
-                .map_or("**not stated**", Verified::label)
-                .to_string(),
-            format!("`{}`", tag.item),
-            format!(
-                "[`{}:{}`](../{}#L{})",
-                tag.file, tag.line, tag.file, tag.line
-            ),
-        ]);
-    }
-    t
-}
-
 /// The equation numbers of a tag line (the first line of a doc comment, without `///`), or
 /// `None` if the line is not a tag: `Eq. (18): ...`, `Eqs. (48), (49): ...`,
 /// `Eqs. (45)-(47): ...` (mixtures such as `Eqs. (6), (8)-(9): ...` also parse).
@@ -356,47 +256,6 @@ pub fn scan_text(file: &str, text: &str) -> Vec<Tag> {
             item,
             file: file.to_string(),
             line,
-        })
-        .collect()
-}
-
-/// The paper tags of one source file's text.
-pub fn scan_paper_text(file: &str, text: &str) -> Vec<PaperTag> {
-    let parse = |line: &str| {
-        parse_paper_tag(line).map(|(paper, reference)| {
-            let verified = verification(&paper, line);
-            (paper, reference, verified)
-        })
-    };
-    scan_items(file, text, parse)
-        .into_iter()
-        .map(|((paper, reference, verified), item, line)| PaperTag {
-            paper,
-            reference,
-            verified,
-            item,
-            file: file.to_string(),
-            line,
-        })
-        .collect()
-}
-
-/// The paper-tag table without line numbers, for its snapshot: one line per tag,
-/// `paper | what | verified against | item (file)`.
-pub fn paper_summary(tags: &[PaperTag]) -> String {
-    let mut sorted: Vec<&PaperTag> = tags.iter().collect();
-    sorted.sort_by(|a, b| (&a.paper, &a.file, a.line).cmp(&(&b.paper, &b.file, b.line)));
-    sorted
-        .iter()
-        .map(|t| {
-            format!(
-                "{} | {} | {} | {} ({})\n",
-                t.paper,
-                t.reference,
-                t.verified.map_or("NOT STATED", Verified::label),
-                t.item,
-                t.file
-            )
         })
         .collect()
 }
@@ -511,11 +370,6 @@ pub fn scan(root: &Path) -> Result<Vec<Tag>> {
     scan_files(root, scan_text)
 }
 
-/// Every paper tag in `root/src/**/*.rs`, in file and line order.
-pub fn scan_papers(root: &Path) -> Result<Vec<PaperTag>> {
-    scan_files(root, scan_paper_text)
-}
-
 fn scan_files<T>(root: &Path, scan: impl Fn(&str, &str) -> Vec<T>) -> Result<Vec<T>> {
     let mut files = Vec::new();
     rust_files(root, &root.join("src"), &mut files)?;
@@ -615,104 +469,6 @@ pub fn summary(tags: &[Tag]) -> String {
         out += &format!("Eq. ({n:2}) {text}\n");
     }
     out
-}
-
-/// Where each solver's step function lives and the region that quotes it.
-pub const STEP_REGION: &str = "step";
-
-/// The source file of each solver of the thesis's tables.
-pub fn solver_file(kind: SolverId) -> &'static str {
-    kind.info().file
-}
-
-/// A region of source text quoted in the report.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Quote {
-    pub file: String,
-    /// 1-based first line of the first region's body.
-    pub line: usize,
-    /// The regions' text, dedented; several regions are separated by a `// ...` line.
-    pub code: String,
-}
-
-/// The text between `// region: NAME` and `// endregion: NAME` in `text` (the file `file`).
-/// Errors name the file and the marker when a marker is missing or unbalanced.
-pub fn extract_region(file: &str, text: &str, name: &str) -> Result<Quote> {
-    let start = format!("// region: {name}");
-    let end = format!("// endregion: {name}");
-    let mut bodies: Vec<Vec<&str>> = Vec::new();
-    let mut first_line = None;
-    let mut open: Option<(usize, Vec<&str>)> = None;
-    for (i, line) in text.lines().enumerate() {
-        let t = line.trim();
-        if t == start {
-            if let Some((at, _)) = open {
-                return Err(Error::Input(format!(
-                    "{file}:{}: `{start}` opened again before `{end}` closed the region opened at line {}",
-                    i + 1,
-                    at + 1
-                )));
-            }
-            open = Some((i, Vec::new()));
-            first_line.get_or_insert(i + 2);
-        } else if t == end {
-            match open.take() {
-                Some((_, body)) => bodies.push(body),
-                None => {
-                    return Err(Error::Input(format!(
-                        "{file}:{}: `{end}` without a preceding `{start}`",
-                        i + 1
-                    )))
-                }
-            }
-        } else if let Some((_, body)) = open.as_mut() {
-            body.push(line);
-        }
-    }
-    if let Some((at, _)) = open {
-        return Err(Error::Input(format!(
-            "{file}:{}: `{start}` is never closed by `{end}`",
-            at + 1
-        )));
-    }
-    if bodies.is_empty() {
-        return Err(Error::Input(format!(
-            "{file} has no `{start}` marker: put `{start}` and `{end}` comment lines around the code the report quotes"
-        )));
-    }
-    let parts: Vec<String> = bodies.iter().map(|b| dedent(b)).collect();
-    Ok(Quote {
-        file: file.to_string(),
-        line: first_line.unwrap_or(1),
-        code: parts.join("\n// ...\n"),
-    })
-}
-
-/// Lines with their common leading whitespace removed, trailing blank lines dropped.
-fn dedent(lines: &[&str]) -> String {
-    let indent = lines
-        .iter()
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| l.len() - l.trim_start().len())
-        .min()
-        .unwrap_or(0);
-    let mut out: Vec<&str> = lines
-        .iter()
-        .map(|l| l.get(indent..).unwrap_or("").trim_end())
-        .collect();
-    while out.last().is_some_and(|l| l.is_empty()) {
-        out.pop();
-    }
-    while out.first().is_some_and(|l| l.is_empty()) {
-        out.remove(0);
-    }
-    out.join("\n")
-}
-
-/// The step region of a solver, read from the crate at `root`.
-pub fn solver_step(root: &Path, kind: SolverId) -> Result<Quote> {
-    let file = solver_file(kind);
-    extract_region(file, &read_source(root, file)?, STEP_REGION)
 }
 
 #[cfg(test)]
