@@ -4,7 +4,7 @@
 //! a directory this user cannot rename, a foreign entry where the new report writes). Every
 //! check here runs before anything is written.
 
-use super::{io_error, sorted_entries, MANIFEST, MANIFEST_HEADER, REPORT_TITLE};
+use super::files::{io_error, sorted_entries, MANIFEST, MANIFEST_HEADER, REPORT_TITLE};
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::platform::paths::{describe_file_type, is_mount_point, mount_points};
 use std::collections::BTreeSet;
