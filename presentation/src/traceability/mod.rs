@@ -492,7 +492,7 @@ mod tests {
         let text = "//! Module.\n\n/// Eq. (1): $C$.\n/// more\n#[inline]\npub fn constraint(a: f64) -> f64 {\n    a\n}\n\nimpl Foo for Bar {\n    /// Eqs. (10), (12): iteration.\n    fn newton(&self) {}\n}\n/// Not a tag.\n/// Eq. (2): second line does not count.\nfn other() {}\n";
         let tags = scan_text("src/model/spring.rs", text);
         assert_eq!(tags.len(), 2);
-        assert_eq!(tags[0].item, "spring::constraint");
+        assert_eq!(tags[0].item, "model::spring::constraint");
         assert_eq!(tags[0].line, 3);
         assert_eq!(tags[1].item, "Bar::newton");
         assert_eq!(tags[1].equations, vec![10, 12]);

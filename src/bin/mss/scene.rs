@@ -3,7 +3,7 @@
 use crate::cli::{Cli, SceneArg, DEFAULT_ROPE_STIFFNESS, MAX_ROPE_NODES, MAX_SHEET_SIDE};
 use crate::output::{AppliedForces, GroundSummary};
 use crate::settings::{check, check_memory, check_range, Settings};
-use crate::Failure;
+use crate::failure::Failure;
 use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::integrators::time_stepper::TimeStepper;
 use mass_spring_solvers::model::scene::{

@@ -4,7 +4,7 @@
 use crate::cli::{
     scene_name, Cli, SceneArg, ASSUMED_MEMORY, DEFAULT_ITERATIONS, DEFAULT_POSITIONS_EVERY,
 };
-use crate::Failure;
+use crate::failure::Failure;
 use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::integrators::time_stepper::{Recording, RunOptions};
 use mass_spring_solvers::model::metrics::StoppingRule;
