@@ -88,7 +88,7 @@ fn check_dir(
 
 #[test]
 fn every_data_file_reads_back_against_its_schema() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("report/data");
+    let data = mass_spring_report::crate_root().join("report/data");
     let (files, all) = check_dir(&data, schema_of);
     assert!(files > 30, "{files} files");
     assert!(all.is_empty(), "{}", all.join("\n"));
@@ -96,7 +96,7 @@ fn every_data_file_reads_back_against_its_schema() {
 
 #[test]
 fn every_committed_timing_file_reads_back_against_its_schema() {
-    let timing = Path::new(env!("CARGO_MANIFEST_DIR")).join("report/timing");
+    let timing = mass_spring_report::crate_root().join("report/timing");
     let (files, all) = check_dir(&timing, timing_schema_of);
     assert_eq!(files, TIMING_FILES.len(), "one file per schema");
     assert!(all.is_empty(), "{}", all.join("\n"));

@@ -271,7 +271,7 @@ fn a_read_only_directory_in_the_previous_report_does_not_mix_old_and_new() {
 
 #[test]
 fn report_out_dot_in_the_repository_refuses_and_deletes_nothing() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = &mass_spring_report::crate_root();
     let before = contents(&root.join("data"));
     let out = Command::new(env!("CARGO_BIN_EXE_report"))
         .args(["--out", ".", "--tables", "1"])
@@ -683,18 +683,21 @@ fn an_output_whose_parent_is_missing_is_refused_and_creates_nothing() {
 /// section names at least the tests of this cases.
 #[test]
 fn every_promise_about_files_in_the_readme_names_a_test_that_exists() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = &mass_spring_report::crate_root();
     let readme = std::fs::read_to_string(root.join("docs/building.md")).unwrap();
     let start = readme
         .find("## What the tools promise about files")
         .expect("docs/building.md has the section");
     let section = &readme[start..];
     let section = &section[..section[3..].find("\n## ").map_or(section.len(), |e| e + 3)];
+    // The tests of both crates of the workspace.
     let mut sources = String::new();
-    for entry in std::fs::read_dir(root.join("tests")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "rs") {
-            sources += &std::fs::read_to_string(path).unwrap();
+    for dir in ["tests", "presentation/tests"] {
+        for entry in std::fs::read_dir(root.join(dir)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "rs") {
+                sources += &std::fs::read_to_string(path).unwrap();
+            }
         }
     }
     let named: Vec<&str> = section

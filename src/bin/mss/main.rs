@@ -13,9 +13,9 @@ mod output;
 mod scene;
 mod settings;
 
-use failure::Failure;
 use clap::Parser;
 use cli::{scene_name, Cli};
+use failure::Failure;
 use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::integrators::time_stepper::{simulate, simulate_into, Run, RunOptions};

@@ -1,9 +1,9 @@
 //! The scene of a run and its time stepper.
 
 use crate::cli::{Cli, SceneArg, DEFAULT_ROPE_STIFFNESS, MAX_ROPE_NODES, MAX_SHEET_SIDE};
+use crate::failure::Failure;
 use crate::output::{AppliedForces, GroundSummary};
 use crate::settings::{check, check_memory, check_range, Settings};
-use crate::failure::Failure;
 use mass_spring_solvers::error::{shown, Error};
 use mass_spring_solvers::integrators::time_stepper::TimeStepper;
 use mass_spring_solvers::model::scene::{
