@@ -12,19 +12,19 @@
 //! sweep (a latency bound), and the rope's prefactored global solve (Liu, ADMM). A solver's
 //! step with m iterations divided by m, against its floor, says how much is left to gain.
 
-use mass_spring_solvers::admm::AdmmPd;
-use mass_spring_solvers::backward_euler::BackwardEuler;
-use mass_spring_solvers::batch::liu::LiuLanes;
-use mass_spring_solvers::batch::xpbd::XpbdLanes;
-use mass_spring_solvers::batch::{LaneSolver, WIDTH};
-use mass_spring_solvers::boundary::{fixed_unknowns, ConstrainedSystem};
-use mass_spring_solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::integrators::time_stepper::TimeStepper;
+use mass_spring_solvers::model::boundary::{fixed_unknowns, ConstrainedSystem};
+use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::particles::scenes::ClothParams;
-use mass_spring_solvers::projective::{system_matrix, to_columns, GlobalSolve};
-use mass_spring_solvers::registry::{Builder, SolverId, SolverSpec};
-use mass_spring_solvers::scene::thesis_rope;
-use mass_spring_solvers::solver::TimeStepper;
-use mass_spring_solvers::xpbd::Xpbd;
+use mass_spring_solvers::solvers::admm::AdmmPd;
+use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
+use mass_spring_solvers::solvers::batch::liu::LiuLanes;
+use mass_spring_solvers::solvers::batch::xpbd::XpbdLanes;
+use mass_spring_solvers::solvers::batch::{LaneSolver, WIDTH};
+use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::solvers::projective::{system_matrix, to_columns, GlobalSolve};
+use mass_spring_solvers::solvers::registry::{Builder, SolverId, SolverSpec};
+use mass_spring_solvers::solvers::xpbd::Xpbd;
 use mass_spring_solvers::{MassSpringSystem, State, Vec3};
 use std::hint::black_box;
 

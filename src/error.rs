@@ -114,18 +114,6 @@ pub fn require_finite(field: impl Into<String>, value: f64) -> Result<f64> {
     }
 }
 
-impl From<crate::catenary::CatenaryError> for Error {
-    fn from(e: crate::catenary::CatenaryError) -> Self {
-        match e {
-            crate::catenary::CatenaryError::NoConvergence { .. } => Error::NotConverged {
-                what: "catenary".into(),
-                detail: e.to_string(),
-            },
-            _ => Error::Input(e.to_string()),
-        }
-    }
-}
-
 /// Why a command-line tool (`report`, `timing`) stops: bad input, found before anything runs
 /// or is measured (exit 2), or a failure of the run or of writing its files (exit 1).
 #[derive(Debug)]

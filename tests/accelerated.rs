@@ -3,21 +3,20 @@
 //! iterations), the base solvers themselves (an acceleration switched off is the base, bit for
 //! bit), and the incremental potential that Anderson's safeguard keeps from rising.
 
-use mass_spring_solvers::admm::AdmmPd;
-use mass_spring_solvers::anderson::{Anderson, AndersonParams};
-use mass_spring_solvers::backward_euler::{
-    converged_step, incremental_potential, ConvergedStepOptions,
-};
-use mass_spring_solvers::beyond::{gap, iterations_to as search, Start};
-use mass_spring_solvers::chebyshev::{
+use mass_spring_report::beyond::{accelerations, nudged_starts};
+use mass_spring_solvers::integrators::first_iterate::FirstIterate;
+use mass_spring_solvers::model::scene::{thesis_rope, THESIS_STIFFNESSES};
+use mass_spring_solvers::solvers::admm::AdmmPd;
+use mass_spring_solvers::solvers::anderson::{Anderson, AndersonParams};
+use mass_spring_solvers::solvers::backward_euler::{incremental_potential, ConvergedStepOptions};
+use mass_spring_solvers::solvers::chebyshev::{
     asymptotic_rate, gradient_ratio, Chebyshev, ChebyshevParams, RhoRule,
 };
-use mass_spring_solvers::fast_mass_spring::FastMassSpring;
-use mass_spring_solvers::first_iterate::FirstIterate;
-use mass_spring_solvers::local_global::{AdmmMerit, Base};
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::report::beyond::{accelerations, nudged_starts};
-use mass_spring_solvers::scene::{thesis_rope, THESIS_STIFFNESSES};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::solvers::local_global::{AdmmMerit, Base};
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{gap, iterations_to as search, Start};
 use mass_spring_solvers::{Error, MassSpringSystem, State, TimeStepper, Vec3};
 
 /// The moving start state shared by the new solvers' tests: the thesis rope after 10
@@ -101,7 +100,7 @@ fn base_target(base: Base) -> f64 {
 /// m), or either count moving.
 #[test]
 fn admm_safeguards_differ_in_cost_and_reach() {
-    use mass_spring_solvers::work_precision::flops_of_extra;
+    use mass_spring_solvers::studies::work_precision::flops_of_extra;
     let system = thesis_rope(1e6).unwrap();
     let dt = 1e-2;
     let start = step10(&system);

@@ -1,9 +1,9 @@
-//! The machinery of the chapters beyond the thesis (`src/beyond.rs`): the convergence curves,
+//! The machinery of the chapters beyond the thesis (`src/studies/beyond.rs`): the convergence curves,
 //! the search for the iterations to a tolerance, and the rankings' rank correlation.
 
-use mass_spring_solvers::beyond::{gap, gap_curve, iterations_to, kendall_tau, Start};
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::scene::thesis_rope;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{gap, gap_curve, iterations_to, kendall_tau, Start};
 
 /// Newton converges quadratically: Backward Euler's curve reaches round-off in a few
 /// iterations; Liu 2013's falls but slowly (its rate is the spectral radius).

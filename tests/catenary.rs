@@ -1,10 +1,10 @@
 //! The analytic catenary checks the ground truth (issue 2, item 6). The reference runs' rest
 //! state against it is checked in `tests/thesis/reference.rs`, on the runs of the result set.
 
-use mass_spring_solvers::backward_euler::static_equilibrium;
-use mass_spring_solvers::catenary::ElasticChain;
-use mass_spring_solvers::metrics::rest_error_max;
-use mass_spring_solvers::scene::thesis_rope;
+use mass_spring_solvers::model::catenary::ElasticChain;
+use mass_spring_solvers::model::metrics::rest_error_max;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::converged_stage::static_equilibrium;
 
 /// A Newton-converged static solve of the spring system agrees with the exact discrete
 /// equilibrium to 1e-9 m at both stiffnesses.

@@ -1,7 +1,7 @@
 //! The `mss` command line, run as a user runs it: metrics, exit statuses, error messages,
 //! CSV output and the help text.
 
-use mass_spring_solvers::registry::{Builder, SolverId};
+use mass_spring_solvers::solvers::registry::{Builder, SolverId};
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -1,20 +1,19 @@
-//! Rayleigh damping after Brown et al. 2018 (`src/damping.rs`, `src/damped_admm.rs`, the damped
-//! Backward Euler of `src/backward_euler.rs`) against independent oracles: rigid motion, the
+//! Rayleigh damping after Brown et al. 2018 (`src/integrators/damping.rs`, `src/solvers/damped_admm.rs`, the damped
+//! Backward Euler of `src/solvers/backward_euler.rs`) against independent oracles: rigid motion, the
 //! modal damping ratio of the linearised rope, and the damped converged step; plus the oracle's
 //! own honesty (a stalled line search is an error) and the rejection of `Spring::damping` by the
 //! thesis's solvers.
 
-use mass_spring_solvers::admm::AdmmPd;
-use mass_spring_solvers::backward_euler::{
-    converged_step, damped_converged_step, BackwardEuler, ConvergedStepOptions,
-};
-use mass_spring_solvers::beyond::{gap, Start};
-use mass_spring_solvers::damped_admm::DampedAdmm;
-use mass_spring_solvers::damping::{rayleigh_force, spring_hessian, RayleighDamping};
-use mass_spring_solvers::fast_mass_spring::FastMassSpring;
-use mass_spring_solvers::pbd::Pbd;
-use mass_spring_solvers::scene::{thesis_rope, RopeParams};
-use mass_spring_solvers::xpbd::Xpbd;
+use mass_spring_solvers::integrators::damping::{rayleigh_force, spring_hessian, RayleighDamping};
+use mass_spring_solvers::model::scene::{thesis_rope, RopeParams};
+use mass_spring_solvers::solvers::admm::AdmmPd;
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::{converged_step, damped_converged_step};
+use mass_spring_solvers::solvers::damped_admm::DampedAdmm;
+use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::solvers::pbd::Pbd;
+use mass_spring_solvers::solvers::xpbd::Xpbd;
+use mass_spring_solvers::studies::beyond::{gap, Start};
 use mass_spring_solvers::{Error, MassSpringSystem, Node, Spring, State, TimeStepper, Vec3};
 use nalgebra::{DMatrix, Rotation3};
 

@@ -9,7 +9,7 @@ mod numbering;
 mod scale;
 
 use figure_check::problems;
-use mass_spring_solvers::report::plot::{
+use mass_spring_report::plot::{
     layout, Align, Axis, Chart, Corner, LegendPlace, Line, Marker, Panel, Rgb, Series,
     COLUMN_WIDTH_MM, FULL_WIDTH_MM,
 };

@@ -2,12 +2,15 @@
 //! solver iterating on the incremental potential, Chebyshev's rule for rho, Anderson-ADMM's
 //! safeguard, VBD's local Hessian, and XPBD substeps' constraint damping and sweep.
 
-use mass_spring_solvers::backward_euler::{converged_step, ConvergedStepOptions};
-use mass_spring_solvers::beyond::{gap, Start};
-use mass_spring_solvers::first_iterate::{inertial_prediction, FirstIterate, StepStart};
-use mass_spring_solvers::optimization_integrator::StageProblem;
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::scene::thesis_rope;
+use mass_spring_solvers::integrators::first_iterate::{
+    inertial_prediction, FirstIterate, StepStart,
+};
+use mass_spring_solvers::integrators::optimization_integrator::StageProblem;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::backward_euler::ConvergedStepOptions;
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{gap, Start};
 use mass_spring_solvers::{Error, State};
 use std::process::Command;
 

@@ -1,15 +1,15 @@
-//! The report's optimization-integrators chapter (`src/report/integrators.rs`): its CSV files
+//! The report's optimization-integrators chapter (`presentation/src/integrators.rs`): its CSV files
 //! read back strictly, its figure passes the figure test, and each claim of its prose is
 //! recomputed from the data.
 
 mod figure_check;
 
-use mass_spring_solvers::integrator_study::minimizing_solvers;
-use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::report::format::sig;
-use mass_spring_solvers::report::integrators::{
+use mass_spring_report::format::sig;
+use mass_spring_report::integrators::{
     IntegratorsChapter, COSTS_HEADER, DAMPING_CASE, INTEGRATORS_HEADER, ORDER_CASE,
 };
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::studies::integrator_study::minimizing_solvers;
 use std::sync::OnceLock;
 
 fn chapter() -> &'static IntegratorsChapter {

@@ -3,24 +3,23 @@
 //! (Eq 20's minimiser); XPBD with substeps (Macklin et al. 2019) against its own constraint
 //! equations and against the exact motion (RK4 with a fine step), whose order it must show.
 
-use mass_spring_solvers::backward_euler::{
-    converged_step, incremental_potential, ConvergedStepOptions,
-};
-use mass_spring_solvers::beyond::Start;
+use mass_spring_solvers::solvers::backward_euler::{incremental_potential, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::studies::beyond::Start;
 // The largest distance between corresponding nodes, m.
-use mass_spring_solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
-use mass_spring_solvers::metrics::rest_error_max as gap;
-use mass_spring_solvers::metrics::StoppingRule;
+use mass_spring_solvers::model::metrics::rest_error_max as gap;
+use mass_spring_solvers::model::metrics::StoppingRule;
+use mass_spring_solvers::model::scene::{thesis_rope, RopeParams};
+use mass_spring_solvers::model::spring::force_jacobian as spring_jacobian;
 use mass_spring_solvers::particles::integrators::{Integrator, ParticleStepper};
 use mass_spring_solvers::particles::ParticleSystem;
-use mass_spring_solvers::quasi_newton::{potential_change, Lbfgs, LbfgsParams};
-use mass_spring_solvers::scene::{thesis_rope, RopeParams};
-use mass_spring_solvers::spring::force_jacobian as spring_jacobian;
-use mass_spring_solvers::vbd::{
+use mass_spring_solvers::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use mass_spring_solvers::solvers::quasi_newton::{potential_change, Lbfgs, LbfgsParams};
+use mass_spring_solvers::solvers::vbd::{
     greedy_colouring, local_system, vertex_step, LocalHessian, Vbd, VbdParams,
 };
-use mass_spring_solvers::xpbd::{residuals, Xpbd};
-use mass_spring_solvers::xpbd_substeps::{XpbdSubsteps, XpbdSubstepsParams};
+use mass_spring_solvers::solvers::xpbd::{residuals, Xpbd};
+use mass_spring_solvers::solvers::xpbd_substeps::{XpbdSubsteps, XpbdSubstepsParams};
 use mass_spring_solvers::{
     simulate, Error, MassSpringSystem, Result, RunOptions, State, TimeStepper, Vec3,
 };
@@ -421,7 +420,7 @@ fn vbd_colouring_separates_neighbours() {
         greedy_colouring(&rope),
         [vec![1, 3, 5, 7], vec![2, 4, 6, 8]]
     );
-    let sheet = mass_spring_solvers::scene::SheetParams::spec(6, 1e3)
+    let sheet = mass_spring_solvers::model::scene::SheetParams::spec(6, 1e3)
         .build()
         .unwrap();
     let colours = greedy_colouring(&sheet);
@@ -515,8 +514,8 @@ fn vbd_vertex_step_never_raises_the_potential() {
 /// projection not reaching it.
 #[test]
 fn vbd_exact_and_projected_hessians_part_on_a_compressed_rope() {
-    use mass_spring_solvers::first_iterate::inertial_prediction;
-    use mass_spring_solvers::quasi_newton::potential_gradient;
+    use mass_spring_solvers::integrators::first_iterate::inertial_prediction;
+    use mass_spring_solvers::solvers::quasi_newton::potential_gradient;
     let rope = RopeParams {
         rest_length: 1.2,
         ..RopeParams::thesis(1e6)
@@ -602,7 +601,7 @@ fn vbd_exact_and_projected_hessians_part_on_a_compressed_rope() {
 /// across the axis, so it is skipped in every sweep; the projection moves it along the axis.
 #[test]
 fn vbd_skips_a_vertex_with_a_singular_hessian_and_counts_it() {
-    use mass_spring_solvers::system::{Node, Spring};
+    use mass_spring_solvers::model::system::{Node, Spring};
     let (m, h, k) = (1.0, 0.1, 1e3);
     let l0 = 1.0 + m / (2.0 * k * h * h);
     let node = |x: f64, fixed| Node {
@@ -752,8 +751,8 @@ fn runs_are_deterministic() {
 /// the decay itself. The Jacobi sweep, on this one constraint, is the Gauss-Seidel sweep.
 #[test]
 fn constraint_damping_matches_the_damped_oscillator() {
-    use mass_spring_solvers::system::{Node, Spring};
-    use mass_spring_solvers::xpbd_substeps::{damped_delta_lambda, Sweep};
+    use mass_spring_solvers::model::system::{Node, Spring};
+    use mass_spring_solvers::solvers::xpbd_substeps::{damped_delta_lambda, Sweep};
     let (k, beta, r0, mu) = (100.0_f64, 2.0_f64, 0.1_f64, 0.5_f64);
     let node = |x: f64| Node {
         mass: 1.0,
@@ -815,8 +814,8 @@ fn constraint_damping_matches_the_damped_oscillator() {
     );
     assert_eq!(largest_gap(40, beta, Sweep::Jacobi), gaps[2]);
     // Eq. 8 with γ = 0 is XPBD's Eq 18.
-    let inverse = mass_spring_solvers::xpbd::inverse_denominator(2.0, 0.01);
-    let plain = mass_spring_solvers::xpbd::delta_lambda(0.3, 0.01, 0.2, inverse);
+    let inverse = mass_spring_solvers::solvers::xpbd::inverse_denominator(2.0, 0.01);
+    let plain = mass_spring_solvers::solvers::xpbd::delta_lambda(0.3, 0.01, 0.2, inverse);
     assert_eq!(
         damped_delta_lambda(0.3, 0.01, 0.2, inverse, 0.0, 5.0),
         plain
@@ -828,7 +827,7 @@ fn constraint_damping_matches_the_damped_oscillator() {
 /// rope differs from Gauss-Seidel and still converges to the exact motion.
 #[test]
 fn jacobi_sweep_on_the_rope() {
-    use mass_spring_solvers::xpbd_substeps::Sweep;
+    use mass_spring_solvers::solvers::xpbd_substeps::Sweep;
     let rope = thesis_rope(1e6).unwrap();
     let state = step10(&rope);
     let dt = 1e-2;

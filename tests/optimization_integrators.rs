@@ -1,5 +1,5 @@
-//! The optimization integrators of issue 23 (`src/optimization_integrator.rs`) and their
-//! dissipation functions (`src/dissipation.rs`), each claim recomputed and each test shown
+//! The optimization integrators of issue 23 (`src/integrators/optimization_integrator.rs`) and their
+//! dissipation functions (`src/integrators/dissipation.rs`), each claim recomputed and each test shown
 //! failing on a plausible wrong hypothesis:
 //! - the global orders (1 for Backward Euler, 2 for the others) against the exact motion; a
 //!   TR-BDF2 whose trapezoid forgets its explicit half is first order and fails;
@@ -15,23 +15,23 @@
 //!   momentum-conserving Rayleigh damping and loses it under the classical one (and under
 //!   Backward Euler, whose own damping takes it).
 
-use mass_spring_solvers::beyond::{Start, CONVERGENCE_DAMPING};
-use mass_spring_solvers::converged_stage::ConvergedNewton;
-use mass_spring_solvers::damping::RayleighDamping;
-use mass_spring_solvers::dissipation::{Dissipation, PowerLawDrag, RayleighForm};
-use mass_spring_solvers::integrator_study::{
+use mass_spring_solvers::integrators::damping::RayleighDamping;
+use mass_spring_solvers::integrators::dissipation::{Dissipation, PowerLawDrag, RayleighForm};
+use mass_spring_solvers::integrators::optimization_integrator::{
+    tr_bdf2_coefficients, Integrated, MinimizingSolver, OptimizationIntegrator, StageProblem, GAMMA,
+};
+use mass_spring_solvers::integrators::stopping::Convergence;
+use mass_spring_solvers::integrators::time_stepper::TimeStepper;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::model::system::{MassSpringSystem, Node, Spring, State, Vec3};
+use mass_spring_solvers::solvers::converged_stage::ConvergedNewton;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{Start, CONVERGENCE_DAMPING};
+use mass_spring_solvers::studies::integrator_study::{
     exact_amplitude_rate, exact_stages, fitted_slope, largest_distance, lowest_mode,
     minimizing_solvers, order_reference, DampingStudy, OrderStudy, DAMPING_DT, DAMPING_STIFFNESS,
     ORDER_STIFFNESS,
 };
-use mass_spring_solvers::optimization_integrator::{
-    tr_bdf2_coefficients, Integrated, MinimizingSolver, OptimizationIntegrator, StageProblem, GAMMA,
-};
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::scene::thesis_rope;
-use mass_spring_solvers::solver::TimeStepper;
-use mass_spring_solvers::stopping::Convergence;
-use mass_spring_solvers::system::{MassSpringSystem, Node, Spring, State, Vec3};
 use mass_spring_solvers::Result;
 use std::process::Command;
 use std::sync::{Arc, Mutex};
@@ -118,13 +118,13 @@ fn the_integrators_are_of_orders_one_and_two() {
     let exact = order_reference().unwrap();
     // RK4 at half the exact motion's step, to t = 1 s.
     let finer = {
-        let system = mass_spring_solvers::beyond::GridScene::Rope
+        let system = mass_spring_solvers::studies::beyond::GridScene::Rope
             .system(ORDER_STIFFNESS)
             .unwrap();
-        let limit = mass_spring_solvers::work_precision::rk4_stability_limit(&system);
+        let limit = mass_spring_solvers::studies::work_precision::rk4_stability_limit(&system);
         let per_sample = (0.1 / (0.005 * limit)).ceil();
-        let mut rk4 = mass_spring_solvers::registry::SolverSpec::new(
-            mass_spring_solvers::registry::SolverId::Rk4,
+        let mut rk4 = mass_spring_solvers::solvers::registry::SolverSpec::new(
+            mass_spring_solvers::solvers::registry::SolverId::Rk4,
             1,
         )
         .build(&system, 0.1 / per_sample)

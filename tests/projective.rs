@@ -3,14 +3,15 @@
 //! symmetry and fixed nodes. The published Tables 4-7 are checked in `tests/thesis/`, with the
 //! other tests of the full result set.
 
-use mass_spring_solvers::admm::{z_minimisation, z_update, AdmmPd};
-use mass_spring_solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
-use mass_spring_solvers::fast_mass_spring::FastMassSpring;
-use mass_spring_solvers::projective::{
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::admm::{z_minimisation, z_update, AdmmPd};
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
+use mass_spring_solvers::solvers::projective::{
     incidence_matrix, mass_matrix, project_on_sphere, project_on_spheres, reduction_matrix,
     stiffness_laplacian, system_matrix, weighted_laplacian,
 };
-use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::{Error, MassSpringSystem, Node, Spring, State, TimeStepper, Vec3};
 
 /// A moving state: the thesis rope after `steps` steps of the Backward Euler reference.

@@ -1,11 +1,14 @@
 //! The ground truth (issue 2): Backward Euler + Newton is the Newton scheme and converges; that it
 //! reproduces Table 1 is checked in `tests/thesis/reference.rs`, on the runs of the result set.
 
-use mass_spring_solvers::backward_euler::{
-    converged_step, velocity_residual, BackwardEuler, ConvergedStepOptions,
+use mass_spring_solvers::integrators::time_stepper::{
+    simulate, Recording, RunOptions, TimeStepper,
 };
-use mass_spring_solvers::scene::thesis_rope;
-use mass_spring_solvers::solver::{simulate, Recording, RunOptions, TimeStepper};
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::backward_euler::{
+    velocity_residual, BackwardEuler, ConvergedStepOptions,
+};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::{MassSpringSystem, State, Vec3};
 use nalgebra::{DMatrix, DVector};
 

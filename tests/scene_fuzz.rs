@@ -2,7 +2,7 @@
 //! every run checks the same files): it never panics, every rejection names a line or a field,
 //! and every scene it accepts is within the plausible ranges.
 
-use mass_spring_solvers::scene_file::{parse, LIMITS};
+use mass_spring_solvers::particles::scene_file::{parse, LIMITS};
 use std::path::Path;
 
 /// Mutated files per example scene.

@@ -1,13 +1,13 @@
-//! The sheet's exact static equilibrium (`src/sheet_equilibrium.rs`): residual, minimum,
+//! The sheet's exact static equilibrium (`src/model/sheet_equilibrium.rs`): residual, minimum,
 //! symmetry, independence of the start, and an independent oracle.
 
-use mass_spring_solvers::backward_euler;
-use mass_spring_solvers::report::sheet::equilibrium_csv;
-use mass_spring_solvers::scene::{SheetParams, SHEET_SIDE};
-use mass_spring_solvers::sheet_equilibrium::{
+use mass_spring_report::sheet::equilibrium_csv;
+use mass_spring_solvers::model::scene::{SheetParams, SHEET_SIDE};
+use mass_spring_solvers::model::sheet_equilibrium::{
     free_hessian, sagged_start, shaped_start, sheet_equilibrium, smallest_hessian_eigenvalue,
     static_equilibrium, Equilibrium, RESIDUAL_TARGET,
 };
+use mass_spring_solvers::solvers::converged_stage;
 use mass_spring_solvers::{MassSpringSystem, Vec3};
 
 /// The largest force on a free node by the system's own force routine, not the Newton's.
@@ -27,7 +27,7 @@ fn largest_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
 /// The four sheets of `sheet_equilibrium.csv`, computed once.
 fn equilibria() -> &'static [(f64, usize, Equilibrium)] {
     static ONCE: std::sync::OnceLock<Vec<(f64, usize, Equilibrium)>> = std::sync::OnceLock::new();
-    ONCE.get_or_init(|| mass_spring_solvers::sheet_equilibrium::report_equilibria().unwrap())
+    ONCE.get_or_init(|| mass_spring_solvers::model::sheet_equilibrium::report_equilibria().unwrap())
 }
 
 /// Below 1e-7 N by the system's force routine, equal to the Newton's own figure, and at
@@ -151,7 +151,7 @@ fn the_equilibrium_does_not_depend_on_the_start() {
 fn the_proximal_point_iteration_agrees() {
     for (k, n, eq) in equilibria().iter().filter(|(_, n, _)| *n == 10) {
         let system = SheetParams::spec(*n, *k).build().unwrap();
-        let x = backward_euler::static_equilibrium(&system, 1.0, 1e-12).unwrap();
+        let x = converged_stage::static_equilibrium(&system, 1.0, 1e-12).unwrap();
         let d = largest_distance(&x, &eq.x);
         eprintln!("k = {k:e}, n = {n}: proximal point {d:e} m away");
         assert!(d < 1e-9, "k = {k:e}: {d:e} m");

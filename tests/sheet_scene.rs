@@ -1,7 +1,7 @@
 //! The sheet's scene file loads the system the constructor builds (`docs/sheet-scene.md`).
 
-use mass_spring_solvers::scene::SheetParams;
-use mass_spring_solvers::scene_file;
+use mass_spring_solvers::model::scene::SheetParams;
+use mass_spring_solvers::particles::scene_file;
 use std::path::Path;
 
 #[test]

@@ -1,4 +1,4 @@
-//! Iterations to a tolerance (issue 14, step 1; `src/stopping.rs`): every iterative solver of
+//! Iterations to a tolerance (issue 14, step 1; `src/integrators/stopping.rs`): every iterative solver of
 //! the registry stops a step at the first iterate that moves no node by more than the
 //! tolerance, and its log counts what the steps took.
 //!
@@ -7,11 +7,11 @@
 //! last iteration and by more in the one before), and the converged Backward Euler step
 //! (Eq. 20's minimiser), which a tight tolerance must reach.
 
-use mass_spring_solvers::beyond::{gap, Start};
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::scene::thesis_rope;
-use mass_spring_solvers::stopping::Stopping;
-use mass_spring_solvers::system::Vec3;
+use mass_spring_solvers::integrators::stopping::Stopping;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::model::system::Vec3;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::beyond::{gap, Start};
 use mass_spring_solvers::{Error, MassSpringSystem, State};
 
 /// The solvers whose steps iterate toward the step's solution.
@@ -192,7 +192,7 @@ fn stage_residual(system: &MassSpringSystem, state: &State, next: &State, dt: f6
 /// maximum).
 /// Negative case: the increment mode at the same tolerance stops Liu 2013 on the stiff rope
 /// more than 10 × the tolerance from the converged step (its increments shrink by a ratio
-/// near one, `src/stopping.rs`).
+/// near one, `src/integrators/stopping.rs`).
 #[test]
 fn a_residual_step_meets_its_residual() {
     let dt = 1e-2;

@@ -4,11 +4,11 @@
 //! function is marked for quoting. The snapshot holds the table without line numbers, so that
 //! edits which only move code do not change it.
 
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::report::crate_root;
-use mass_spring_solvers::report::traceability::{
+use mass_spring_report::crate_root;
+use mass_spring_report::traceability::{
     missing, must_have_code, scan, solver_step, summary, NOT_CODE,
 };
+use mass_spring_solvers::solvers::registry::SolverId;
 
 #[test]
 fn every_equation_is_implemented_or_listed() {
@@ -53,8 +53,8 @@ fn every_solver_step_is_marked_for_quoting() {
 /// tags the thesis's table cannot read as thesis equations.
 #[test]
 fn every_newer_solver_cites_its_paper() {
-    use mass_spring_solvers::registry::Family;
-    use mass_spring_solvers::report::traceability::{parse_paper_tag, parse_tag, scan_papers};
+    use mass_spring_report::traceability::{parse_paper_tag, parse_tag, scan_papers};
+    use mass_spring_solvers::solvers::registry::Family;
     let tags = scan_papers(&crate_root()).expect("src/ reads");
     for id in SolverId::ALL
         .into_iter()
@@ -81,7 +81,7 @@ fn every_newer_solver_cites_its_paper() {
 /// tag of a read text, or a tag of a work on neither list.
 #[test]
 fn every_paper_tag_says_how_it_was_verified() {
-    use mass_spring_solvers::report::traceability::{
+    use mass_spring_report::traceability::{
         paper_summary, paper_table, scan_papers, verification, Verified,
     };
     let tags = scan_papers(&crate_root()).expect("src/ reads");

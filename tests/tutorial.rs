@@ -2,13 +2,14 @@
 //! oscillators for the convergence orders, the eigenvalues of the linearised thesis rope for
 //! the stability limits, and elementary mechanics for the ground, the drag and momentum.
 
-use mass_spring_solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
-use mass_spring_solvers::metrics::StoppingRule;
+use mass_spring_solvers::model::metrics::StoppingRule;
+use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
 use mass_spring_solvers::particles::{
     DampedSprings, Drag, Gravity, Ground, Integrator, ParticleStepper, ParticleSystem, Particles,
 };
-use mass_spring_solvers::scene::thesis_rope;
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
 use mass_spring_solvers::{
     simulate, Error, MassSpringSystem, Node, RunOptions, Spring, State, TimeStepper, Vec3,
 };

@@ -2,13 +2,13 @@
 //! number the chapter prints comes from [`TutorialChapter::compute`], and each of its five
 //! points is checked here against an oracle that does not come from the code under test.
 
+use mass_spring_report::tutorial::TutorialChapter;
 use mass_spring_solvers::particles::{AdaptiveStepper, Integrator, ParticleSystem};
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::report::tutorial::studies::{
-    self, expected_limit, log_log_slope, spectral_radius, Method, Oscillator, Scheme, DROP,
-    GROWTH_THRESHOLD,
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::tutorial::{
+    self as studies, expected_limit, log_log_slope, spectral_radius, Method, Oscillator, Scheme,
+    DROP, GROWTH_THRESHOLD,
 };
-use mass_spring_solvers::report::tutorial::TutorialChapter;
 use mass_spring_solvers::{TimeStepper, Vec3};
 use std::process::Command;
 use std::sync::OnceLock;

@@ -1,16 +1,16 @@
-//! The flop model of [`mass_spring_solvers::work_precision`]: against a hand count, and the
+//! The flop model of [`mass_spring_solvers::studies::work_precision`]: against a hand count, and the
 //! cost the benchmark counts from a run's log against the model's.
 
-use mass_spring_solvers::benchmark::run::run;
-use mass_spring_solvers::benchmark::sweep::{solvers, Configuration};
-use mass_spring_solvers::benchmark::truth::CaseTruth;
 use mass_spring_solvers::error::Error;
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::scene::RopeParams;
-use mass_spring_solvers::system::Vec3;
-use mass_spring_solvers::work_precision::*;
+use mass_spring_solvers::model::scene::RopeParams;
+use mass_spring_solvers::model::system::Vec3;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::benchmark::run::run;
+use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration};
+use mass_spring_solvers::studies::benchmark::truth::CaseTruth;
+use mass_spring_solvers::studies::work_precision::*;
 
-fn rope3(stiffness: f64) -> mass_spring_solvers::system::MassSpringSystem {
+fn rope3(stiffness: f64) -> mass_spring_solvers::model::system::MassSpringSystem {
     RopeParams {
         nodes: 3,
         node_mass: 2.0,

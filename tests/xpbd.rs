@@ -3,12 +3,13 @@
 //! symmetry. The 18 published rows of Tables 2-3 are checked in `tests/thesis/`, with the other
 //! tests of the full result set.
 
-use mass_spring_solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
-use mass_spring_solvers::pbd::Pbd;
-use mass_spring_solvers::scene::{
+use mass_spring_solvers::model::scene::{
     thesis_rope, RopeParams, THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT,
 };
-use mass_spring_solvers::xpbd::{residuals, Xpbd};
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::pbd::Pbd;
+use mass_spring_solvers::solvers::xpbd::{residuals, Xpbd};
 use mass_spring_solvers::{MassSpringSystem, Node, Spring, State, TimeStepper, Vec3};
 
 /// Advances `state` by `steps` steps of `solver`.
@@ -88,7 +89,11 @@ fn xpbd_does_not_reach_the_converged_backward_euler_step() {
             .iter()
             .zip(&alpha_tilde)
             .map(|(s, at)| {
-                -mass_spring_solvers::spring::constraint(&be.x[s.a], &be.x[s.b], s.rest_length) / at
+                -mass_spring_solvers::model::spring::constraint(
+                    &be.x[s.a],
+                    &be.x[s.b],
+                    s.rest_length,
+                ) / at
             })
             .collect();
         let g_be = max_norm(&residuals(&rope, &be.x, &prediction, &lambda, &alpha_tilde).g);
@@ -173,7 +178,7 @@ fn pbd_with_factor_one_keeps_the_rest_lengths() {
     for _ in 0..200 {
         pbd.step(&mut state).unwrap();
         for s in rope.springs() {
-            let c = mass_spring_solvers::spring::constraint(
+            let c = mass_spring_solvers::model::spring::constraint(
                 &state.x[s.a],
                 &state.x[s.b],
                 s.rest_length,

@@ -22,8 +22,8 @@
 use super::integrators::axpy;
 use super::ParticleSystem;
 use crate::error::{require_positive, Error, Result};
-use crate::solver::TimeStepper;
-use crate::system::{MassSpringSystem, State, Vec3};
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::system::{MassSpringSystem, State, Vec3};
 
 /// Stages of the Dormand-Prince pair (the forces do not depend on time, so the nodes $`c_i`$ of
 /// the tableau are not needed).

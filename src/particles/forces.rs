@@ -4,8 +4,8 @@
 
 use super::{Force, Particles};
 use crate::error::{require_finite, require_non_negative, Result};
-use crate::spring;
-use crate::system::{MassSpringSystem, Spring, State, Vec3};
+use crate::model::spring;
+use crate::model::system::{MassSpringSystem, Spring, State, Vec3};
 
 /// Gravity on a set of particles: $`f_i = m_i\,g`$. A system may hold several, each on its own
 /// set of particles.

@@ -2,7 +2,7 @@
 //! horizontal plane with a restitution coefficient, resolved after every step.
 
 use crate::error::{require_finite, Error, Result};
-use crate::system::{MassSpringSystem, State};
+use crate::model::system::{MassSpringSystem, State};
 
 /// The plane $`y = y_0`$, $`y_0`$ = `height`, with restitution `e` $`\in [0, 1]`$.
 #[derive(Debug, Clone, Copy, PartialEq)]

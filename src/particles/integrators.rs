@@ -18,8 +18,8 @@
 
 use super::ParticleSystem;
 use crate::error::{require_positive, Error, Result};
-use crate::solver::TimeStepper;
-use crate::system::{MassSpringSystem, State, Vec3};
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::system::{MassSpringSystem, State, Vec3};
 
 /// The three integrators of the tutorial.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -11,7 +11,7 @@
 //!   [`forces::Drag`], [`forces::DampedSprings`]);
 //! - the first-order form $`x' = v`$, $`v' = f/m`$ ([`ParticleSystem::derivative`]), advanced by
 //!   explicit Euler, symplectic Euler or RK4 ([`integrators`]), each a
-//!   [`crate::solver::TimeStepper`] driven by [`crate::solver::simulate`] like the thesis's
+//!   [`crate::integrators::time_stepper::TimeStepper`] driven by [`crate::integrators::time_stepper::simulate`] like the thesis's
 //!   solvers;
 //! - a ground plane with restitution ([`ground::Ground`]);
 //! - beyond the tutorial, the adaptive Dormand-Prince 5(4) integrator it promises for "another
@@ -23,6 +23,7 @@ pub mod adaptive;
 pub mod forces;
 pub mod ground;
 pub mod integrators;
+pub mod scene_file;
 pub mod scenes;
 
 pub use adaptive::{AdaptiveStats, AdaptiveStepper};
@@ -31,7 +32,7 @@ pub use ground::Ground;
 pub use integrators::{Integrator, ParticleStepper};
 
 use crate::error::{Error, Result};
-use crate::system::{MassSpringSystem, State, Vec3};
+use crate::model::system::{MassSpringSystem, State, Vec3};
 
 /// A set of particles a force object acts on.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -99,7 +100,7 @@ impl ParticleSystem {
     /// A particle system with exactly the force objects `forces` (validated against `system`).
     ///
     /// The force objects are the only forces applied: `system.gravity()` is not added (it only
-    /// enters the energy scale of [`crate::solver::simulate`]'s divergence guard, beside the
+    /// enters the energy scale of [`crate::integrators::time_stepper::simulate`]'s divergence guard, beside the
     /// springs' energy scale).
     pub fn new(system: MassSpringSystem, forces: Vec<Box<dyn Force>>) -> Result<Self> {
         forces.into_iter().try_fold(

@@ -11,7 +11,7 @@
 
 use super::{Drag, Ground, ParticleSystem, Particles};
 use crate::error::{require_finite, require_non_negative, require_positive, Error, Result};
-use crate::system::{MassSpringSystem, Node, Spring, Vec3};
+use crate::model::system::{MassSpringSystem, Node, Spring, Vec3};
 
 /// A rectangular cloth of `nx` × `ny` particles as a triangle mesh: a spring on every edge of
 /// the grid (structural springs) and one diagonal per quad, from particle $`(i, j)`$ to

@@ -17,7 +17,7 @@
 //!   that no later series draws over (a series hidden under another is named with it, not
 //!   drawn twice).
 
-use mass_spring_solvers::report::plot::{
+use mass_spring_report::plot::{
     DrawnSeries, Layout, Line, Mark, Marker, Rect, Rgb, Style, TextRole, PT_PER_MM,
     SVG_UNITS_PER_PT, WHITE,
 };

@@ -2,7 +2,7 @@
 //! exaggeration of a panel is its y-axis's length per metre over its x-axis's, from the axes
 //! rectangle (pt) and the data ranges it draws; 1 is to scale.
 
-use mass_spring_solvers::report::plot::Layout;
+use mass_spring_report::plot::Layout;
 
 /// Length per data unit along x and along y of a panel, pt.
 pub fn scales(layout: &Layout, panel: usize) -> (f64, f64) {

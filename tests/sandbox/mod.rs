@@ -158,3 +158,20 @@ pub fn under_address_limit(program: &str, args: &[&str]) -> Option<Command> {
 pub fn quoted(path: &Path) -> String {
     format!("'{}'", path.display().to_string().replace('\'', r"'\''"))
 }
+
+/// Runs `program` with `args` under the 4 GiB address-space limit: it must exit 0 or 2 (refused
+/// before any allocation), never end by a signal or a panic.
+pub fn exits_2_or_succeeds(program: &str, args: &[&str]) {
+    let Some(mut command) = under_address_limit(program, args) else {
+        return;
+    };
+    let out = run_within(&mut command, Duration::from_secs(60), &format!("{args:?}"));
+    let code = out.status.code();
+    assert!(
+        matches!(code, Some(0) | Some(2)),
+        "{args:?} ended with {:?}: {}",
+        out.status,
+        stderr(&out)
+    );
+    assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
+}

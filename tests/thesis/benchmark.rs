@@ -1,26 +1,27 @@
-//! The benchmark (`src/benchmark/`): its metrics on signals with known answers, its ground
+//! The benchmark (`src/studies/benchmark/`): its metrics on signals with known answers, its ground
 //! truths, and the claims its chapter makes, each recomputed from `benchmark.csv` (read back
 //! strictly) with this file's own code and shown failing on a plausible wrong hypothesis.
 //! The rope's two cases run once per process, as the report data's benchmark
 //! ([`super::report::benchmark`]); the sheet's are `make report`'s.
 
 use super::report::ROPES;
-use mass_spring_solvers::benchmark::metrics::{energy_decay_per_period, modal_period};
-use mass_spring_solvers::benchmark::rows::Row;
-use mass_spring_solvers::benchmark::run::run;
-use mass_spring_solvers::benchmark::sweep::{Configuration, TOLERANCE_CAP};
-use mass_spring_solvers::benchmark::truth::{
-    lowest_excited_mode, CaseTruth, Converged, SolverTruth, Trajectory,
+use mass_spring_report::benchmark::{rows_csv, BenchmarkChapter};
+use mass_spring_report::benchmark_tolerance::Summary;
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::integrators::stopping::Stopping;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
+use mass_spring_solvers::studies::benchmark::metrics::Trajectory;
+use mass_spring_solvers::studies::benchmark::metrics::{energy_decay_per_period, modal_period};
+use mass_spring_solvers::studies::benchmark::rows::Row;
+use mass_spring_solvers::studies::benchmark::run::run;
+use mass_spring_solvers::studies::benchmark::sweep::{Configuration, TOLERANCE_CAP};
+use mass_spring_solvers::studies::benchmark::truth::{
+    lowest_excited_mode, CaseTruth, Converged, SolverTruth,
 };
-use mass_spring_solvers::benchmark::verdicts::Conclusion;
-use mass_spring_solvers::benchmark::Case;
-use mass_spring_solvers::beyond::GridScene;
-use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::report::benchmark::{rows_csv, BenchmarkChapter};
-use mass_spring_solvers::report::benchmark_tolerance::Summary;
-use mass_spring_solvers::scene::thesis_rope;
-use mass_spring_solvers::stopping::Stopping;
+use mass_spring_solvers::studies::benchmark::verdicts::Conclusion;
+use mass_spring_solvers::studies::benchmark::Case;
+use mass_spring_solvers::studies::beyond::GridScene;
 
 fn chapter() -> &'static BenchmarkChapter {
     super::report::benchmark()

@@ -2,22 +2,22 @@
 //! its claim from the runs or from the CSV files the report writes, with its own code, and has
 //! a negative case beside it, a plausible wrong hypothesis that the same check rejects.
 
-use mass_spring_solvers::experiments::{
-    faithful_results, published_rows, reproduces, same_experiment, Measured, PublishedRow,
-};
-use mass_spring_solvers::forensics::evidence::{
-    round_off_spread, Choice, ADMM_CANDIDATES_TRIED, ROUND_OFF_AGREEMENT,
-};
-use mass_spring_solvers::forensics::gravity::Hypothesis;
-use mass_spring_solvers::forensics::liu_fit::{stop_under, THRESHOLD_FLOOR_J};
-use mass_spring_solvers::forensics::{
-    forensic_results, AdmmCandidate, ConfigurationId, Evidence, RowEvidence, NOISE_PEAK_J,
-};
-use mass_spring_solvers::metrics::STOP_THRESHOLD_J;
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::report::data::{
+use mass_spring_report::data::{
     gravity_csv, liu_grid_csv, reproduction_csv, GRAVITY_HEADER, LIU_GRID_HEADER,
     REPRODUCTION_HEADER,
+};
+use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
+    faithful_results, published_rows, reproduces, same_experiment, Measured, PublishedRow,
+};
+use mass_spring_solvers::studies::forensics::evidence::{
+    round_off_spread, Choice, ADMM_CANDIDATES_TRIED, ROUND_OFF_AGREEMENT,
+};
+use mass_spring_solvers::studies::forensics::gravity::Hypothesis;
+use mass_spring_solvers::studies::forensics::liu_fit::{stop_under, THRESHOLD_FLOOR_J};
+use mass_spring_solvers::studies::forensics::{
+    forensic_results, AdmmCandidate, ConfigurationId, Evidence, RowEvidence, NOISE_PEAK_J,
 };
 use std::collections::HashMap;
 

@@ -8,23 +8,26 @@
 //! significant digits and their round-off as bounds (`lock.rs`, `docs/snapshots.md`); review a
 //! change with `cargo insta review`.
 
-use mass_spring_solvers::admm::{default_omega, dual_update, z_minimisation, AdmmPd};
-use mass_spring_solvers::backward_euler::{converged_step, BackwardEuler, ConvergedStepOptions};
-use mass_spring_solvers::experiments::{
+use mass_spring_report::forensics::damping_scan;
+use mass_spring_report::format::sig4;
+use mass_spring_report::tables::explanations;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::admm::{default_omega, dual_update, z_minimisation, AdmmPd};
+use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
+use mass_spring_solvers::solvers::converged_stage::converged_step;
+use mass_spring_solvers::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use mass_spring_solvers::solvers::projective::{
+    finish_step, reduction_matrix, to_columns, GlobalSolve,
+};
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
     faithful_results, peak_tolerance, published_rows, Configuration, Measured, PublishedRow,
 };
-use mass_spring_solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
-use mass_spring_solvers::forensics::configurations::LIU_DAMPING_GRID;
-use mass_spring_solvers::forensics::{
+use mass_spring_solvers::studies::forensics::configurations::LIU_DAMPING_GRID;
+use mass_spring_solvers::studies::forensics::{
     forensic_results, AdmmCandidate, AdmmVariant, ConfigurationId, FixedNodes, LiuHypothesis,
     StartPoint, VariantAdmm, Weights,
 };
-use mass_spring_solvers::projective::{finish_step, reduction_matrix, to_columns, GlobalSolve};
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::report::forensics::damping_scan;
-use mass_spring_solvers::report::format::sig4;
-use mass_spring_solvers::report::tables::explanations;
-use mass_spring_solvers::scene::thesis_rope;
 use mass_spring_solvers::{MassSpringSystem, Result, State, TimeStepper, Vec3};
 
 use super::lock;
@@ -277,7 +280,7 @@ fn faithful_constructors_take_no_forensic_option() {
     let root = env!("CARGO_MANIFEST_DIR");
     for (file, words) in [
         (
-            "src/admm.rs",
+            "src/solvers/admm.rs",
             &[
                 "variant",
                 "carry_dual",
@@ -287,7 +290,7 @@ fn faithful_constructors_take_no_forensic_option() {
             ][..],
         ),
         (
-            "src/fast_mass_spring.rs",
+            "src/solvers/fast_mass_spring.rs",
             &["variant", "damping", "threshold"][..],
         ),
     ] {
@@ -402,7 +405,7 @@ fn liu_from_y_gives_the_admm_one_iteration_rows() {
 /// convention than to the f32 one (the tolerance cannot tell the two apart).
 #[test]
 fn table_6_dt_1e3_rows_are_marginal_and_fit_the_exact_convention() {
-    use mass_spring_solvers::experiments::{better_time_convention, TimeConvention};
+    use mass_spring_solvers::studies::experiments::{better_time_convention, TimeConvention};
     for iterations in [1, 20, 50] {
         let m = faithful_results()
             .rows
@@ -423,7 +426,7 @@ fn table_6_dt_1e3_rows_are_marginal_and_fit_the_exact_convention() {
 /// row's first peak is above the threshold, so its explanation quotes no first peak.
 #[test]
 fn explanations_start_from_our_run() {
-    use mass_spring_solvers::metrics::STOP_THRESHOLD_J;
+    use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
     let text = explanations(faithful_results(), Some(forensic_results()));
     let line_of = |dt: f64| {
         text.lines()

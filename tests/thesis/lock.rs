@@ -9,9 +9,9 @@
 //!   `NOISE_PEAK_J`, set by where a noise wiggle happened to be detected: `noise`;
 //! - peak counts, the time-limit flag, the rule's verdict and the evidence class: exactly.
 
-use mass_spring_solvers::experiments::Measured;
-use mass_spring_solvers::forensics::evidence::rests_on_noise_peak;
-use mass_spring_solvers::report::format::{energy, rest_error, sig4};
+use mass_spring_report::format::{energy, rest_error, sig4};
+use mass_spring_solvers::studies::experiments::Measured;
+use mass_spring_solvers::studies::forensics::evidence::rests_on_noise_peak;
 
 /// A rest-state error as the snapshots lock it.
 pub fn error(x: Option<f64>) -> String {

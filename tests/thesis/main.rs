@@ -3,8 +3,8 @@
 //! [`forensics::forensic_results`] and the benchmark on the rope), in one test binary so that
 //! the set is computed once per `make test` rather than once per binary.
 //!
-//! [`experiments::faithful_results`]: mass_spring_solvers::experiments::faithful_results
-//! [`forensics::forensic_results`]: mass_spring_solvers::forensics::forensic_results
+//! [`experiments::faithful_results`]: mass_spring_solvers::studies::experiments::faithful_results
+//! [`forensics::forensic_results`]: mass_spring_solvers::studies::forensics::forensic_results
 
 mod benchmark;
 mod evidence;

@@ -2,11 +2,11 @@
 //! Backward Euler references reproduce Table 1, and their rest states agree with the analytic
 //! catenary.
 
-use mass_spring_solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
-use mass_spring_solvers::catenary::ElasticChain;
-use mass_spring_solvers::experiments::{faithful_results, reproduces};
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::scene::thesis_rope;
+use mass_spring_solvers::model::catenary::ElasticChain;
+use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{faithful_results, reproduces};
 use mass_spring_solvers::Vec3;
 use nalgebra::{DMatrix, SymmetricEigen};
 

@@ -8,22 +8,20 @@
 //! from them. Snapshots live in `snapshots/`; review a change with `cargo insta review`, or
 //! accept it with `INSTA_UPDATE=always cargo test --test thesis`.
 
-use mass_spring_solvers::benchmark::Case;
-use mass_spring_solvers::experiments::{faithful_results, published_rows};
-use mass_spring_solvers::forensics::forensic_results;
-use mass_spring_solvers::report::benchmark::BenchmarkChapter;
-use mass_spring_solvers::report::beyond::BeyondChapter;
-use mass_spring_solvers::report::integrators::IntegratorsChapter;
-use mass_spring_solvers::report::output::OutputFile;
-use mass_spring_solvers::report::plot::Layout;
-use mass_spring_solvers::report::publish::write_report;
-use mass_spring_solvers::report::rest_state::Catenary;
-use mass_spring_solvers::report::runs::FigureRuns;
-use mass_spring_solvers::report::sheet::SheetChapter;
-use mass_spring_solvers::report::tutorial::TutorialChapter;
-use mass_spring_solvers::report::{
-    crate_root, figures, render, solvers_in, tables, ReportData, Sources,
-};
+use mass_spring_report::benchmark::BenchmarkChapter;
+use mass_spring_report::beyond::BeyondChapter;
+use mass_spring_report::integrators::IntegratorsChapter;
+use mass_spring_report::output::OutputFile;
+use mass_spring_report::plot::Layout;
+use mass_spring_report::publish::write_report;
+use mass_spring_report::rest_state::Catenary;
+use mass_spring_report::runs::FigureRuns;
+use mass_spring_report::sheet::SheetChapter;
+use mass_spring_report::tutorial::TutorialChapter;
+use mass_spring_report::{crate_root, figures, render, solvers_in, tables, ReportData, Sources};
+use mass_spring_solvers::studies::benchmark::Case;
+use mass_spring_solvers::studies::experiments::{faithful_results, published_rows};
+use mass_spring_solvers::studies::forensics::forensic_results;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -278,7 +276,7 @@ fn results_csv_has_the_56_rows_in_the_thesis_columns() {
     let csv = file("data/results.csv");
     let mut lines = csv.lines();
     let header = lines.next().unwrap();
-    let published_header = mass_spring_solvers::experiments::PUBLISHED_CSV
+    let published_header = mass_spring_solvers::studies::experiments::PUBLISHED_CSV
         .lines()
         .next()
         .unwrap();

@@ -3,7 +3,7 @@
 //!
 //! Run with `cargo test --test thesis tables_liu_admm -- --nocapture` to see the measured tables.
 
-use mass_spring_solvers::experiments::{faithful_results, Measured};
+use mass_spring_solvers::studies::experiments::{faithful_results, Measured};
 
 fn label(m: &Measured) -> String {
     let p = &m.published;

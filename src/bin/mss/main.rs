@@ -7,80 +7,42 @@
 //! Exit status: 0 on success, 2 for bad input (an option or a scene file out of range, a path
 //! that cannot be written), 1 for a run that failed (diverged, or a step that failed).
 
-mod args;
+mod cli;
+mod failure;
 mod output;
 mod scene;
+mod settings;
 
-use args::{check_work, list_solvers, settings, Cli};
 use clap::Parser;
-use mass_spring_solvers::backward_euler::{
+use cli::{scene_name, Cli};
+use failure::Failure;
+use mass_spring_solvers::error::{shown, Error};
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::integrators::time_stepper::{simulate, simulate_into, Run, RunOptions};
+use mass_spring_solvers::platform::output_file::OutputFile;
+use mass_spring_solvers::solvers::backward_euler::{
     BackwardEuler, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS,
 };
-use mass_spring_solvers::budget::DOPRI_EVALUATIONS;
-use mass_spring_solvers::error::{shown, Error};
-use mass_spring_solvers::experiments::reproduces;
-use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::output_file::OutputFile;
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::solver::{simulate, simulate_into, Run, RunOptions};
+use mass_spring_solvers::solvers::budget::DOPRI_EVALUATIONS;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::reproduces;
 use output::{
     published_row, reference_summary, write_text, CsvRecorder, PublishedSummary, Report,
     RunSummary, SceneSummary, StopSummary,
 };
-use scene::{build_scene, build_stepper, scene_name};
+use scene::{build_scene, build_stepper};
+use settings::{check_work, list_solvers, settings};
 use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// Why `mss` stops: the message and the exit status.
-#[derive(Debug)]
-pub(crate) struct Failure {
-    pub(crate) status: u8,
-    pub(crate) message: String,
-}
-
-impl Failure {
-    /// Bad input: an option, a scene file or an output path.
-    pub(crate) fn input(message: impl Into<String>) -> Self {
-        Self {
-            status: 2,
-            message: message.into(),
-        }
-    }
-
-    /// A run that failed, or output that could not be written.
-    pub(crate) fn run(message: impl Into<String>) -> Self {
-        Self {
-            status: 1,
-            message: message.into(),
-        }
-    }
-
-    pub(crate) fn with_context(self, context: &str) -> Self {
-        Self {
-            message: format!("{context}: {}", self.message),
-            ..self
-        }
-    }
-}
-
-impl From<Error> for Failure {
-    fn from(e: Error) -> Self {
-        match e {
-            Error::InvalidParameter { .. } | Error::Input(_) => Failure::input(e.to_string()),
-            Error::StepFailed { .. } | Error::Diverged { .. } | Error::NotConverged { .. } => {
-                Failure::run(e.to_string())
-            }
-        }
-    }
-}
-
 fn run(cli: &Cli) -> Result<(), Failure> {
     let mut settings = settings(cli)?;
     let scene = scene_name(cli);
     let model = build_scene(cli, &settings)?;
-    settings.spec.params.adaptive_attempts = check_work(cli, &settings, &model)?;
+    settings.spec.params.adaptive_attempts =
+        check_work(cli, &settings, model.system(), model.drag())?;
     let mut summary = SceneSummary::new(scene.clone(), model.system());
     let published = published_row(cli, &settings, model.system());
     let reference_system = if cli.compare_reference {

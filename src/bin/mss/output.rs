@@ -1,16 +1,17 @@
 //! What a run prints (text or JSON) and the CSV series it writes as it goes.
 
-use crate::args::{Cli, SceneArg, Settings};
-use mass_spring_solvers::experiments::{published_rows, PublishedRow};
-use mass_spring_solvers::metrics::{
+use crate::cli::{Cli, SceneArg};
+use crate::settings::Settings;
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+use mass_spring_solvers::integrators::time_stepper::{Recorder, Run};
+use mass_spring_solvers::model::metrics::{
     rest_error_l2, rest_error_max, rest_error_sum, Peak, StoppingRule,
 };
-use mass_spring_solvers::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::output_file::OutputFile;
-use mass_spring_solvers::registry::SolverId;
-use mass_spring_solvers::scene::THESIS_GRAVITY;
-use mass_spring_solvers::solver::{Recorder, Run};
-use mass_spring_solvers::system::{MassSpringSystem, State};
+use mass_spring_solvers::model::scene::THESIS_GRAVITY;
+use mass_spring_solvers::model::system::{MassSpringSystem, State};
+use mass_spring_solvers::platform::output_file::OutputFile;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
 use serde::Serialize;
 use std::io::Write;
 
@@ -262,7 +263,7 @@ pub(crate) fn reference_summary(run: &Run, reference: &Run) -> ReferenceSummary 
         period_rel_error: run
             .half_period_thesis()
             .zip(reference.half_period_thesis())
-            .map(|(t, t_ref)| mass_spring_solvers::metrics::relative_period_error(t, t_ref)),
+            .map(|(t, t_ref)| mass_spring_solvers::model::metrics::relative_period_error(t, t_ref)),
         rest_error_sum_m: rest_error_sum(x, x_ref),
         rest_error_l2_m: rest_error_l2(x, x_ref),
         rest_error_max_m: rest_error_max(x, x_ref),

@@ -1,23 +1,21 @@
 //! The scene of a run and its time stepper.
 
-use crate::args::{
-    check, check_memory, check_range, Cli, SceneArg, Settings, DEFAULT_ROPE_STIFFNESS,
-    MAX_ROPE_NODES, MAX_SHEET_SIDE,
-};
+use crate::cli::{Cli, SceneArg, DEFAULT_ROPE_STIFFNESS, MAX_ROPE_NODES, MAX_SHEET_SIDE};
+use crate::failure::Failure;
 use crate::output::{AppliedForces, GroundSummary};
-use crate::Failure;
-use mass_spring_solvers::budget::Shape;
+use crate::settings::{check, check_memory, check_range, Settings};
 use mass_spring_solvers::error::{shown, Error};
-use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
-use mass_spring_solvers::particles::ParticleSystem;
-use mass_spring_solvers::registry::{Builder, SolverSpec};
-use mass_spring_solvers::scene::{
+use mass_spring_solvers::integrators::time_stepper::TimeStepper;
+use mass_spring_solvers::model::scene::{
     check_geometry, RopeParams, SheetParams, MIN_START_LENGTH_RATIO, SHEET_NODES_PER_SIDE,
     THESIS_GRAVITY, THESIS_NODES,
 };
-use mass_spring_solvers::scene_file::{self, SceneFile, LIMITS};
-use mass_spring_solvers::solver::TimeStepper;
-use mass_spring_solvers::system::{MassSpringSystem, Vec3};
+use mass_spring_solvers::model::system::{MassSpringSystem, Vec3};
+use mass_spring_solvers::particles::scene_file::{self, SceneFile, LIMITS};
+use mass_spring_solvers::particles::scenes::{ClothDropParams, ClothParams, PendulumParams};
+use mass_spring_solvers::particles::ParticleSystem;
+use mass_spring_solvers::solvers::budget::Shape;
+use mass_spring_solvers::solvers::registry::{Builder, SolverSpec};
 
 /// What a scene is made of: a plain mass-spring system (every method runs it), a scene file
 /// (which may ask for the tutorial's forces) or a tutorial particle system (drag and ground:
@@ -73,13 +71,6 @@ impl Model {
             Model::File(file) => file.particle_system()?,
             Model::Particles(particles) => particles,
         })
-    }
-}
-
-pub(crate) fn scene_name(cli: &Cli) -> String {
-    match &cli.scene_file {
-        Some(path) => format!("scene file {}", path.display()),
-        None => cli.scene.id(),
     }
 }
 

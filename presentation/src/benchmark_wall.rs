@@ -1,0 +1,604 @@
+//! The benchmark's costs in wall time: every dynamics configuration of [`mass_spring_solvers::studies::benchmark`]
+//! timed on one core by `make timing` (`presentation/src/bin/timing/`), written to
+//! `report/timing/benchmark_wall.csv` with the machine that measured it in
+//! `report/timing/machine.csv`, and read back by `make report` (which never writes
+//! `report/timing/`): where the wall time and the counted flops rank the solvers differently,
+//! and how far apart a flop of one solver and a flop of another are in wall time.
+//!
+//! The rankings are at matched accuracy, as the benchmark's verdicts are: at each relative
+//! physical error of [`DYNAMICS_LEVELS`], each solver's cheapest configuration that reaches it
+//! by each cost, the solvers ranked by both, Kendall's τ between the two rankings, and the
+//! pairs the two costs order differently by more than a tie ([`TIE`]) in both.
+
+use crate::benchmark::{doing_nothing, front_series, of_case, FAMILIES};
+use crate::chapter_figure::ChapterFigure;
+use crate::format::{short, sig, MarkdownTable};
+use crate::plot::{Axis, Chart, Panel, FULL_WIDTH_MM};
+use mass_spring_solvers::error::{Error, Result};
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration, BASELINES};
+use mass_spring_solvers::studies::benchmark::verdicts::{DYNAMICS_LEVELS, TIE};
+use mass_spring_solvers::studies::benchmark::Case;
+use mass_spring_solvers::studies::beyond::kendall_tau;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The timed configurations, in the output directory of `make timing`.
+pub const WALL_CSV: &str = "benchmark_wall.csv";
+
+/// The machine and commit of the measurement, beside it.
+pub const MACHINE_CSV: &str = "machine.csv";
+
+/// A configuration whose batch means spread by more than this (largest over least, less 1)
+/// is flagged.
+pub const WALL_SPREAD_FLAG: f64 = 0.2;
+
+/// One timed configuration: its key columns as `benchmark.csv` names them, its times, and the
+/// flops and relative physical error the benchmark counted and measured for it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WallRow {
+    pub scene: String,
+    pub stiffness_n_per_m: f64,
+    pub solver: String,
+    pub iterations: usize,
+    /// A minimizing solver's optimization integrator, as in `benchmark.csv` (empty in files
+    /// measured before the benchmark ran integrators: Backward Euler, the thesis's scheme).
+    #[serde(default)]
+    pub integrator: String,
+    pub stopping: String,
+    pub dt_s: f64,
+    /// One run over the case's window (the solver built, then every step), the least of the
+    /// batch means, s.
+    pub wall_s: f64,
+    /// The same in the thread's CPU time, s.
+    pub cpu_s: f64,
+    /// The largest batch mean over the least, less 1 (wall time).
+    pub wall_spread: f64,
+    /// Whether `wall_spread` exceeds [`WALL_SPREAD_FLAG`].
+    pub flagged: bool,
+    /// Floating-point operations of the run, as the benchmark counts them.
+    pub flops: f64,
+    /// Its RMS physical error over the exact motion's RMS amplitude.
+    pub physical_rel: f64,
+}
+
+/// Wall and CPU time of one run: the least batch mean of each, and the wall time's spread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunTime {
+    pub wall_s: f64,
+    pub cpu_s: f64,
+    pub wall_spread: f64,
+}
+
+impl WallRow {
+    /// The row of a configuration.
+    pub fn new(
+        configuration: &Configuration,
+        time: RunTime,
+        flops: f64,
+        physical_rel: f64,
+    ) -> Self {
+        // Every field of the configuration is a key column: a new dimension of the benchmark
+        // does not compile here until it has one.
+        let Configuration { case, spec, dt_s } = *configuration;
+        Self {
+            scene: case.scene.id().into(),
+            stiffness_n_per_m: case.stiffness,
+            solver: spec.id.id().into(),
+            iterations: spec.iterations,
+            integrator: if spec.id.is_minimizing() {
+                spec.params.integrator.key().into()
+            } else {
+                String::new()
+            },
+            stopping: spec.stopping.id(),
+            dt_s,
+            wall_s: time.wall_s,
+            cpu_s: time.cpu_s,
+            wall_spread: time.wall_spread,
+            flagged: time.wall_spread > WALL_SPREAD_FLAG,
+            flops,
+            physical_rel,
+        }
+    }
+
+    /// Its case.
+    pub fn case(&self) -> Option<Case> {
+        Case::ALL.into_iter().find(|&c| of(self, c))
+    }
+
+    /// Whether it is `benchmark.csv`'s row `row`: the same key columns.
+    pub fn is(&self, row: &mass_spring_solvers::studies::benchmark::rows::Row) -> bool {
+        let integrator = self.integrator == row.integrator
+            || (self.integrator.is_empty() && row.thesis_scheme());
+        (&self.scene, self.stiffness_n_per_m, &self.solver)
+            == (&row.scene, row.stiffness_n_per_m, &row.solver)
+            && (self.iterations, &self.stopping, self.dt_s)
+                == (row.iterations, &row.stopping, row.dt_s)
+            && integrator
+    }
+}
+
+/// Who measured: the commit, the machine and when.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Machine {
+    pub commit: String,
+    /// Whether the working tree had changes outside `report/timing/`.
+    pub uncommitted_changes: bool,
+    pub cpu: String,
+    pub cores: usize,
+    pub toolchain: String,
+    /// `2026-12-01 20:57:14 UTC`.
+    pub measured_utc: String,
+    /// The load averages over 1, 5 and 15 minutes before and after the run.
+    pub load_before: String,
+    pub load_after: String,
+    pub run_time_s: f64,
+}
+
+/// A measurement: its rows and its machine.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WallTiming {
+    pub rows: Vec<WallRow>,
+    pub machine: Machine,
+}
+
+/// Reads every record of a CSV strictly (a header, no ragged rows), naming the file on error.
+fn read_csv<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>> {
+    let bad = |e: &dyn std::fmt::Display| Error::Input(format!("{}: {e}", path.display()));
+    let mut reader = csv::Reader::from_path(path).map_err(|e| bad(&e))?;
+    reader
+        .deserialize()
+        .collect::<std::result::Result<Vec<T>, _>>()
+        .map_err(|e| bad(&e))
+}
+
+impl WallTiming {
+    /// The measurement in `dir` (`report/timing/`), None if it has no [`WALL_CSV`]; an error
+    /// naming the file, the record and the field if it is malformed or its machine is missing.
+    pub fn load(dir: &Path) -> Result<Option<Self>> {
+        let path = dir.join(WALL_CSV);
+        if !path.exists() {
+            return Ok(None);
+        }
+        let rows: Vec<WallRow> = read_csv(&path)?;
+        for (i, r) in rows.iter().enumerate() {
+            let positive = [
+                ("wall_s", r.wall_s),
+                ("cpu_s", r.cpu_s),
+                ("flops", r.flops),
+                ("physical_rel", r.physical_rel),
+            ];
+            for (field, value) in positive {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(Error::invalid(
+                        format!("{} record {} {field}", path.display(), i + 1),
+                        value,
+                        "a positive finite number",
+                    ));
+                }
+            }
+        }
+        let machine_path = dir.join(MACHINE_CSV);
+        let mut machines: Vec<Machine> = read_csv(&machine_path)?;
+        if machines.len() != 1 {
+            return Err(Error::Input(format!(
+                "{}: {} records, expected one",
+                machine_path.display(),
+                machines.len()
+            )));
+        }
+        Ok(Some(Self {
+            rows,
+            machine: machines.remove(0),
+        }))
+    }
+
+    /// The cases it holds, in [`Case::ALL`]'s order.
+    pub fn cases(&self) -> Vec<Case> {
+        Case::ALL
+            .into_iter()
+            .filter(|&c| self.rows.iter().any(|r| of(r, c)))
+            .collect()
+    }
+
+    /// `commit 273194d (with uncommitted changes) on AMD EPYC, 2 cores, 2026-12-01 20:57:14 UTC`.
+    pub fn provenance(&self) -> String {
+        let m = &self.machine;
+        format!(
+            "commit `{}`{} on {}, {} cores, {}",
+            m.commit.get(..12).unwrap_or(&m.commit),
+            if m.uncommitted_changes {
+                " (with uncommitted changes)"
+            } else {
+                ""
+            },
+            m.cpu,
+            m.cores,
+            m.measured_utc
+        )
+    }
+}
+
+fn of(row: &WallRow, case: Case) -> bool {
+    of_case(&row.scene, row.stiffness_n_per_m, case)
+}
+
+fn rows_of<'a>(
+    rows: &'a [WallRow],
+    case: Case,
+    id: SolverId,
+) -> impl Iterator<Item = &'a WallRow> + 'a {
+    rows.iter()
+        .filter(move |r| of(r, case) && r.solver == id.id())
+}
+
+/// A solver's wall time per counted flop on a case: its wall time over its flops, each summed
+/// over its configurations, ns.
+pub fn ns_per_flop(rows: &[WallRow], case: Case, id: SolverId) -> Option<f64> {
+    let (wall, flops) =
+        rows_of(rows, case, id).fold((0.0, 0.0), |(w, f), r| (w + r.wall_s, f + r.flops));
+    (flops > 0.0).then(|| wall / flops * 1e9)
+}
+
+/// The least and the largest of the solvers' [`ns_per_flop`] on a case.
+pub fn ns_per_flop_range(
+    rows: &[WallRow],
+    case: Case,
+) -> Option<((SolverId, f64), (SolverId, f64))> {
+    let all: Vec<(SolverId, f64)> = solvers()
+        .into_iter()
+        .filter_map(|id| ns_per_flop(rows, case, id).map(|n| (id, n)))
+        .collect();
+    let least = all.iter().copied().min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let largest = all.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1))?;
+    Some((least, largest))
+}
+
+/// The two costs of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cost {
+    Wall,
+    Flops,
+}
+
+impl Cost {
+    pub fn of(self, row: &WallRow) -> f64 {
+        match self {
+            Cost::Wall => row.wall_s,
+            Cost::Flops => row.flops,
+        }
+    }
+}
+
+/// The solvers that reach a relative physical error of `level` on `case`, each by its cheapest
+/// configuration by `cost` that reaches it, cheapest first (equal costs in the benchmark's
+/// order of solvers).
+pub fn ranking(rows: &[WallRow], case: Case, cost: Cost, level: f64) -> Vec<(SolverId, f64)> {
+    let mut ranked: Vec<(SolverId, f64)> = solvers()
+        .into_iter()
+        .filter_map(|id| {
+            rows_of(rows, case, id)
+                .filter(|r| r.physical_rel <= level)
+                .map(|r| cost.of(r))
+                .min_by(f64::total_cmp)
+                .map(|c| (id, c))
+        })
+        .collect();
+    ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
+    ranked
+}
+
+/// The two rankings of a case at one level, and where they differ.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Comparison {
+    pub case: Case,
+    pub level: f64,
+    pub by_flops: Vec<(SolverId, f64)>,
+    pub by_wall: Vec<(SolverId, f64)>,
+    /// Kendall's τ between the two rankings; None for fewer than two solvers.
+    pub tau: Option<f64>,
+    /// The pairs (a, b) that flops rank a before b and wall time b before a, each cost by
+    /// more than a tie: a's flops under b's by more than [`TIE`], b's wall time under a's by
+    /// more than [`TIE`].
+    pub reversed: Vec<(SolverId, SolverId)>,
+}
+
+/// The comparison of the two costs on `case` at `level`.
+pub fn compare(rows: &[WallRow], case: Case, level: f64) -> Comparison {
+    let by_flops = ranking(rows, case, Cost::Flops, level);
+    let by_wall = ranking(rows, case, Cost::Wall, level);
+    let ids = |r: &[(SolverId, f64)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
+    let cost = |r: &[(SolverId, f64)], id: SolverId| r.iter().find(|x| x.0 == id).map(|x| x.1);
+    let mut reversed = Vec::new();
+    for &(a, fa) in &by_flops {
+        for &(b, fb) in &by_flops {
+            let (Some(wa), Some(wb)) = (cost(&by_wall, a), cost(&by_wall, b)) else {
+                continue;
+            };
+            if fa * (1.0 + TIE) < fb && wb * (1.0 + TIE) < wa {
+                reversed.push((a, b));
+            }
+        }
+    }
+    Comparison {
+        case,
+        level,
+        tau: kendall_tau(&ids(&by_flops), &ids(&by_wall)),
+        by_flops,
+        by_wall,
+        reversed,
+    }
+}
+
+/// Every comparison: the cases in order, each at every level of [`DYNAMICS_LEVELS`].
+pub fn comparisons(timing: &WallTiming) -> Vec<Comparison> {
+    timing
+        .cases()
+        .into_iter()
+        .flat_map(|case| DYNAMICS_LEVELS.map(|level| compare(&timing.rows, case, level)))
+        .collect()
+}
+
+fn name(id: SolverId) -> &'static str {
+    id.info().display_name
+}
+
+/// The wall time per flop of every solver on every case, with each case's largest over least.
+pub fn ns_per_flop_table(timing: &WallTiming) -> MarkdownTable {
+    let cases = timing.cases();
+    let mut header = vec!["solver".to_string()];
+    header.extend(
+        cases
+            .iter()
+            .map(|c| format!(">{} (ns per flop)", c.label())),
+    );
+    let mut t = MarkdownTable::new(&header);
+    for id in solvers() {
+        let mut row = vec![name(id).to_string()];
+        row.extend(
+            cases
+                .iter()
+                .map(|&c| ns_per_flop(&timing.rows, c, id).map_or("–".into(), |n| sig(n, 2))),
+        );
+        t.row(row);
+    }
+    let mut row = vec!["largest / least".to_string()];
+    row.extend(cases.iter().map(|&c| {
+        ns_per_flop_range(&timing.rows, c).map_or("–".into(), |(lo, hi)| sig(hi.1 / lo.1, 2))
+    }));
+    t.row(row);
+    t
+}
+
+/// One line per case and level: the solvers that reach it, τ between the two rankings and the
+/// pairs they order differently.
+pub fn rankings_table(timing: &WallTiming) -> MarkdownTable {
+    let mut t = MarkdownTable::new(&[
+        "case",
+        ">relative physical error",
+        ">solvers reaching it",
+        ">Kendall τ (flops, wall)",
+        "cheapest by flops",
+        "cheapest by wall time",
+        "ordered the other way by wall time, beyond ties",
+    ]);
+    for c in comparisons(timing) {
+        let first = |r: &[(SolverId, f64)]| r.first().map_or("–", |x| name(x.0));
+        let reversed: Vec<String> = c
+            .reversed
+            .iter()
+            .map(|(a, b)| format!("{} < {}", name(*a), name(*b)))
+            .collect();
+        t.row(vec![
+            c.case.label(),
+            format!("{} %", short(100.0 * c.level)),
+            c.by_flops.len().to_string(),
+            c.tau.map_or("–".into(), |t| format!("{t:.2}")),
+            first(&c.by_flops).into(),
+            first(&c.by_wall).into(),
+            if reversed.is_empty() {
+                "none".into()
+            } else {
+                format!("{}: {}", reversed.len(), reversed.join(", "))
+            },
+        ]);
+    }
+    t
+}
+
+/// What both files say of the two costs: the spread of the wall time per flop across solvers,
+/// its table, and the rankings at matched accuracy.
+pub fn costs_compared(timing: &WallTiming) -> String {
+    let ranges: Vec<String> = timing
+        .cases()
+        .into_iter()
+        .filter_map(|c| {
+            let (lo, hi) = ns_per_flop_range(&timing.rows, c)?;
+            Some(format!(
+                "{}: {} ns ({}) to {} ns ({}), a factor {}",
+                c.label(),
+                sig(lo.1, 2),
+                name(lo.0),
+                sig(hi.1, 2),
+                name(hi.0),
+                sig(hi.1 / lo.1, 2)
+            ))
+        })
+        .collect();
+    let mut md = format!(
+        "**A flop is not a flop.** Each solver's wall time per counted flop on a case (its wall \
+         time over its flops, each summed over its configurations there) spreads across the \
+         solvers: {}.\n\n",
+        ranges.join("; ")
+    );
+    md += &ns_per_flop_table(timing).render();
+    md += &format!(
+        "\n**Where the two costs rank the solvers differently.** At each relative physical error, \
+         each solver's cheapest configuration that reaches it by each cost (the two may be \
+         different configurations), the solvers ranked by both; a pair is ordered the other way \
+         when it is, in both costs, by more than a tie ({} %; `a < b`: `a` is cheaper in flops, \
+         `b` in wall time).\n\n",
+        short(100.0 * TIE)
+    );
+    md += &rankings_table(timing).render();
+    md
+}
+
+/// Section 12's subsection `### {label} Costs in wall time`: who measured and where, then
+/// [`costs_compared`]; or, without a measurement, that there is none.
+pub fn section(
+    label: &str,
+    timing: Option<&WallTiming>,
+    benchmark: &[mass_spring_solvers::studies::benchmark::rows::Row],
+) -> String {
+    let mut md = format!("### {label} Costs in wall time\n\n");
+    let Some(timing) = timing else {
+        md += &format!(
+            "This clone has no `timing/{WALL_CSV}`: run `make timing` (under ten minutes) to time \
+             every configuration of this benchmark; `make report` then reads it.\n\n"
+        );
+        return md;
+    };
+    let dynamics: Vec<&mass_spring_solvers::studies::benchmark::rows::Row> =
+        benchmark.iter().filter(|r| r.kind == "dynamics").collect();
+    let current = timing
+        .rows
+        .iter()
+        .filter(|w| {
+            dynamics
+                .iter()
+                .any(|r| w.is(r) && r.flops.is_some_and(|f| (f - w.flops).abs() <= 1e-9 * f))
+        })
+        .count();
+    md += &format!(
+        "Measured by `make timing` at {} ([`timing/TIMING.md`](timing/TIMING.md), data \
+         [`timing/{WALL_CSV}`](timing/{WALL_CSV}), the machine in \
+         [`timing/{MACHINE_CSV}`](timing/{MACHINE_CSV})): each dynamics configuration of the \
+         benchmark at fixed iteration counts that finishes its window, built and run over it on one core, its wall time \
+         the least of the means of repeated batches. Of its {} timed configurations, {current} \
+         are configurations of this report's benchmark with the same counted flops{}.\n\n",
+        timing.provenance(),
+        timing.rows.len(),
+        if current == timing.rows.len() {
+            ""
+        } else {
+            " (the others were measured on a benchmark since changed: run `make timing` again)"
+        }
+    );
+    md += &summary(timing);
+    md += &costs_compared(timing);
+    md += "\n";
+    md
+}
+
+/// A τ from this up reads as two rankings that nearly agree.
+pub const AGREEING_TAU: f64 = 0.8;
+
+/// The comparisons in one sentence: the range of τ where at least three solvers reach a level,
+/// and the pairs ordered the other way in all.
+pub fn summary(timing: &WallTiming) -> String {
+    let all = comparisons(timing);
+    let taus: Vec<f64> = all
+        .iter()
+        .filter(|c| c.by_flops.len() >= 3)
+        .filter_map(|c| c.tau)
+        .collect();
+    let reversed: usize = all.iter().map(|c| c.reversed.len()).sum();
+    let (Some(lo), Some(hi)) = (
+        taus.iter().copied().reduce(f64::min),
+        taus.iter().copied().reduce(f64::max),
+    ) else {
+        return String::new();
+    };
+    let reading = if lo >= AGREEING_TAU {
+        format!(
+            "τ ≥ {AGREEING_TAU} everywhere: at matched accuracy the flops rank the solvers \
+             nearly as the wall time does, their flops differing by more than their wall time \
+             per flop"
+        )
+    } else {
+        "the wall time reorders the solvers the flops rank".to_string()
+    };
+    format!(
+        "Where at least three solvers reach a level ({} of the {} cells of case and level), \
+         Kendall's τ between the flop ranking and the wall-time ranking is {lo:.2} to {hi:.2}, \
+         and {reversed} pairs of solvers in all are ordered the other way beyond ties; {reading}.\n\n",
+        taus.len(),
+        all.len()
+    )
+}
+
+/// The rows that no cheaper row beats in `error`, cheapest first by `cost` (a work-precision
+/// front).
+pub fn pareto_front_by<'a, T>(
+    rows: impl IntoIterator<Item = &'a T>,
+    cost: impl Fn(&T) -> f64,
+    error: impl Fn(&T) -> f64,
+) -> Vec<&'a T> {
+    let mut sorted: Vec<&T> = rows.into_iter().collect();
+    sorted.sort_by(|a, b| {
+        cost(a)
+            .total_cmp(&cost(b))
+            .then(error(a).total_cmp(&error(b)))
+    });
+    let mut front: Vec<&T> = Vec::new();
+    for r in sorted {
+        if front.last().is_none_or(|best| error(r) < error(best)) {
+            front.push(r);
+        }
+    }
+    front
+}
+
+/// The file stems of the wall-time figures, in [`Case::ALL`]'s order.
+const STEMS: [&str; 4] = [
+    "benchmark_wall_rope_k1e3",
+    "benchmark_wall_rope_k1e6",
+    "benchmark_wall_sheet_k1e3",
+    "benchmark_wall_sheet_k1e6",
+];
+
+/// The wall-time figure's file stem of a case.
+pub fn stem(case: Case) -> &'static str {
+    STEMS[Case::ALL
+        .iter()
+        .position(|&c| c == case)
+        .expect("a case of the benchmark")]
+}
+
+/// The work-precision figure of a case in wall time: the report's figure of section 12 with the
+/// wall time of a run for its flops (three panels by family, the baselines and doing nothing on
+/// each, every solver's front in wall time).
+pub fn figure(rows: &[WallRow], case: Case) -> Result<ChapterFigure> {
+    let panels: Vec<Panel> = FAMILIES
+        .iter()
+        .map(|(family, ids)| {
+            let mut panel = Panel::new(
+                Axis::log("wall time of a run (s)"),
+                Axis::log("physical error / exact amplitude"),
+            );
+            panel.heading = (*family).into();
+            let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
+            for &id in ids.iter().chain(BASELINES.iter()) {
+                let front =
+                    pareto_front_by(rows_of(rows, case, id), |r| r.wall_s, |r| r.physical_rel);
+                if front.is_empty() {
+                    continue;
+                }
+                lo = lo.min(front[0].wall_s);
+                hi = hi.max(front[front.len() - 1].wall_s);
+                let points = front.iter().map(|r| (r.wall_s, r.physical_rel)).collect();
+                panel.series.push(front_series(id, points));
+            }
+            if lo.is_finite() {
+                panel.series.push(doing_nothing(lo, hi));
+            }
+            panel
+        })
+        .collect();
+    // Two columns: the families' names do not fit three abreast.
+    let mut chart = Chart::new(FULL_WIDTH_MM, 170.0, panels);
+    chart.columns = 2;
+    ChapterFigure::new(stem(case), &chart, String::new())
+}

@@ -1,0 +1,242 @@
+//! `make report`: runs every experiment the thesis's tables and figures need (once, in
+//! parallel), then the forensic configurations of the rows run, reads the committed wall-time
+//! measurement of `make timing` (`report/timing/benchmark_wall.csv`, if any; never written
+//! here), and replaces `report/`
+//! atomically: `REPORT.md`, `figures/*.svg`, `data/*.csv`, `MANIFEST` and the git-ignored
+//! `run-info.md`; what the previous report did not write is carried over (see
+//! [`mass_spring_report::publish`]). The thesis's experiments, their forensics and
+//! the figure runs run on one thread, the chapters beyond the thesis beside them on another
+//! (each phase's pool uses every core). Each phase runs through
+//! [`Phases::run`](mass_spring_report::output::Phases::run), which prints one line with
+//! its wall and CPU time (and its budget, if it has one) to stderr and records them for
+//! `run-info.md`; a live counter shows too when stderr is a terminal.
+
+use clap::Parser;
+use mass_spring_report::benchmark::BenchmarkChapter;
+use mass_spring_report::benchmark_wall::WallTiming;
+use mass_spring_report::beyond::BeyondChapter;
+use mass_spring_report::integrators::IntegratorsChapter;
+use mass_spring_report::output::{process_cpu_time, OutputFile, Phases, RunInfo};
+use mass_spring_report::publish::{fixture, ReportTarget};
+use mass_spring_report::rest_state::Catenary;
+use mass_spring_report::runs::FigureRuns;
+use mass_spring_report::sheet::SheetChapter;
+use mass_spring_report::tutorial::TutorialChapter;
+use mass_spring_report::{crate_root, render, repository_containing, ReportData, Sources};
+use mass_spring_solvers::error::Failure;
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{
+    published_rows, run_all, Configuration, PublishedRow,
+};
+use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
+use mass_spring_solvers::Error;
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+/// The budget of the chapter beyond the thesis: its convergence curves and acceleration
+/// counts (the chapters beyond the thesis together: at most 45 s on 2 cores).
+const BEYOND_BUDGET: Duration = Duration::from_secs(10);
+
+/// The budget of the sheet chapter's exact equilibria.
+const SHEET_BUDGET: Duration = Duration::from_secs(2);
+
+/// The budget of the benchmark (the rest of the 45 s of the chapters beyond the thesis).
+const BENCHMARK_BUDGET: Duration = Duration::from_secs(33);
+
+/// The budget of the optimization-integrators chapter (issue 23: at most 10 s on 2 cores).
+const INTEGRATORS_BUDGET: Duration = Duration::from_secs(10);
+
+/// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
+const FIXTURE_FILES: usize = 400;
+
+/// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) and the tutorial's chapter
+/// into `report/`.
+///
+/// The output directory is replaced as a whole and atomically; it must be new (in an existing
+/// directory), empty, or a report this program wrote (its MANIFEST is the one report writes),
+/// and neither a mount point nor holding one. Files in it that the report did not write are
+/// kept. One run at a time per directory (a lock file beside it).
+///
+/// Exit status: 0 success; 1 the run failed; 2 bad input (an option, or an output directory
+/// refused before anything runs, and then nothing was changed).
+#[derive(Parser, Debug)]
+#[command(version)]
+struct Args {
+    /// Output directory [default: report/ of the repository holding the current directory]
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Run only the rows of these tables (comma-separated, 1-7) for a quick partial report;
+    /// the report then says which solvers were not run. Default: all 56 rows.
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u8).range(1..=7))]
+    tables: Vec<u8>,
+    /// Tests only: write a synthetic report whose files name TAG instead of running anything.
+    #[arg(long, value_name = "TAG", hide = true)]
+    fixture: Option<String>,
+}
+
+/// `label: done/total` on one stderr line, only when stderr is a terminal.
+fn progress(label: &'static str) -> impl Fn(usize, usize) + Sync {
+    let show = std::io::stderr().is_terminal();
+    move |done, total| {
+        if show {
+            let mut err = std::io::stderr().lock();
+            let _ = write!(err, "\r{label}: {done}/{total}");
+            if done == total {
+                let _ = writeln!(err);
+            }
+        }
+    }
+}
+
+fn run(args: Args) -> Result<String, Failure> {
+    let start = Instant::now();
+    let root = crate_root();
+    let out = match args.out {
+        Some(out) => out,
+        None => {
+            let cwd = std::env::current_dir()
+                .map_err(|e| Error::Input(format!("reading the current directory: {e}")))?;
+            repository_containing(&cwd)
+                .ok_or_else(|| {
+                    Failure::Input(Error::Input(format!(
+                        "{} is not inside the mass-spring-solvers repository: give --out DIR",
+                        cwd.display()
+                    )))
+                })?
+                .join("report")
+        }
+    };
+    let target = ReportTarget::open(&out).map_err(Failure::Input)?;
+    let out = target.dir().to_path_buf();
+    for note in target.notes() {
+        eprintln!("report: {note}");
+    }
+    if let Some(tag) = args.fixture {
+        let files = fixture(&tag, FIXTURE_FILES);
+        target.publish(&files)?;
+        return Ok(format!("wrote the {tag} fixture to {}", out.display()));
+    }
+    let rows: Vec<PublishedRow> = published_rows()
+        .iter()
+        .filter(|r| args.tables.is_empty() || args.tables.contains(&r.table) || r.table == 1)
+        .cloned()
+        .collect();
+    // Read the sources first, so that a missing region marker fails before the long runs.
+    let solvers: Vec<SolverId> = SolverId::THESIS_TABLES
+        .into_iter()
+        .filter(|s| rows.iter().any(|r| r.solver == *s))
+        .collect();
+    let sources = Sources::read(&root, &solvers)?;
+    // The committed wall-time measurement of `make timing`, read (never written) before the
+    // long runs, from the repository and not from the output directory: the report depends on
+    // nothing of this machine's.
+    let wall = WallTiming::load(&root.join("report/timing")).map_err(Failure::Input)?;
+    // The chapters beyond the thesis need nothing of its runs: they run beside them, on a
+    // thread of their own, so that while one group's pool waits for its longest job (the
+    // forensic bisection's rounds, the benchmark's exact motions) the other has the cores.
+    let (thesis, beyond_thesis) = std::thread::scope(|scope| {
+        let beyond_thesis = scope.spawn(|| {
+            let mut phases = Phases::default();
+            let tutorial = phases.run("the tutorial's chapter", None, TutorialChapter::compute)?;
+            let beyond = phases.run(
+                "beyond the thesis: newer solvers (parallel)",
+                Some(BEYOND_BUDGET),
+                || BeyondChapter::compute(&progress("beyond the thesis")),
+            )?;
+            let sheet = phases.run(
+                "the sheet's exact equilibria",
+                Some(SHEET_BUDGET),
+                SheetChapter::compute,
+            )?;
+            let benchmark = phases.run(
+                "the benchmark: work and precision (parallel)",
+                Some(BENCHMARK_BUDGET),
+                || BenchmarkChapter::compute(&progress("the benchmark")),
+            )?;
+            let integrators = phases.run(
+                "optimization integrators (parallel)",
+                Some(INTEGRATORS_BUDGET),
+                || IntegratorsChapter::compute(&progress("optimization integrators")),
+            )?;
+            Ok::<_, Error>((phases, tutorial, beyond, sheet, benchmark, integrators))
+        });
+        let thesis = (|| {
+            let mut phases = Phases::default();
+            let results = phases.run(
+                format!("{} thesis experiments (parallel)", rows.len()),
+                None,
+                || run_all(&rows, &Configuration::faithful(), &progress("experiments")),
+            )?;
+            let forensics = phases.run(
+                "forensic configurations and gravity mismatch (parallel)",
+                None,
+                || Forensics::compute(&results, &progress("forensic configurations")),
+            )?;
+            let (runs, catenary) = phases.run("figure runs, sheet and catenary", None, || {
+                Ok::<_, Error>((
+                    FigureRuns::compute(&results, &progress("figure runs"))?,
+                    Catenary::compute()?,
+                ))
+            })?;
+            Ok::<_, Error>((phases, results, forensics, runs, catenary))
+        })();
+        let beyond_thesis = beyond_thesis
+            .join()
+            .expect("the chapters beyond the thesis do not panic");
+        (thesis, beyond_thesis)
+    });
+    let (mut phases, results, forensics, runs, catenary) = thesis?;
+    let (beyond_phases, tutorial, beyond, sheet, mut benchmark, integrators) = beyond_thesis?;
+    phases.extend(beyond_phases);
+    benchmark.wall = wall;
+    let data = ReportData {
+        results,
+        forensics: Some(forensics),
+        runs,
+        catenary,
+        tutorial,
+        beyond,
+        sheet,
+        benchmark,
+        integrators,
+        sources,
+    };
+    let mut files = phases.run("rendering (Markdown, SVG, CSV)", None, || render(&data))?;
+    let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
+    let classes = data.forensics.as_ref().map_or(String::new(), |f| {
+        let counts: Vec<String> = Evidence::ALL
+            .iter()
+            .zip(f.counts(None))
+            .map(|(e, n)| format!("{n} {}", e.id()))
+            .collect();
+        format!("; evidence: {}", counts.join(", "))
+    });
+    let info = RunInfo {
+        phases: phases.into_phases(),
+        rows_run: data.results.rows.len(),
+        wall: start.elapsed(),
+        cpu: process_cpu_time(),
+    };
+    files.push(OutputFile::text("run-info.md", info.render(&root)));
+    target.publish(&files)?;
+    Ok(format!(
+        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced by the faithful configuration{classes}",
+        files.len(),
+        out.display(),
+        start.elapsed().as_secs_f64(),
+        reproduced,
+        data.results.rows.len()
+    ))
+}
+
+fn main() -> ExitCode {
+    match run(Args::parse()) {
+        Ok(summary) => {
+            println!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(failure) => failure.exit("report"),
+    }
+}

@@ -1,0 +1,565 @@
+//! The report of `make report`: thesis chapter 4 re-done from our runs.
+//!
+//! [`ReportData`] gathers everything the report shows, computed once per process: the
+//! result set of the 56 experiments ([`mass_spring_solvers::studies::experiments`]), the forensic reproduction of
+//! every row ([`forensics`]), the recorded runs and the sheet
+//! of the figures ([`runs`]), the exact catenary ([`rest_state`]), the equation tags and the
+//! solvers' step functions read from `src/` ([`traceability`]) and the dependency versions
+//! ([`versions`]). [`render`] turns it into files (Markdown, SVG, CSV) without computing
+//! anything, so the same data always gives the same bytes; [`publish`] replaces the output
+//! directory with them atomically. What changes from run to run (commit, machine, timings)
+//! goes to `run-info.md` ([`output::RunInfo`]), which is git-ignored.
+
+pub mod benchmark;
+pub mod benchmark_tolerance;
+pub mod benchmark_wall;
+pub mod beyond;
+pub mod chapter_figure;
+pub mod data;
+pub mod errata;
+pub mod figures;
+pub mod forensics;
+pub mod format;
+pub mod inputs;
+pub mod integrators;
+pub mod navigation;
+pub mod output;
+pub mod plot;
+pub mod publish;
+pub mod rest_state;
+pub mod runs;
+pub mod schema;
+pub mod sheet;
+pub mod style;
+pub mod tables;
+pub mod traceability;
+pub mod tutorial;
+pub mod versions;
+
+pub use chapter_figure::{chapter_figure_files, figure_files, ChapterFigure, ChapterFigures};
+pub use inputs::{crate_root, repository_containing, solvers_in, ReportData, Sources};
+
+use crate::format::{short, sig, MarkdownTable};
+use crate::output::OutputFile;
+use mass_spring_solvers::error::Result;
+use mass_spring_solvers::model::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
+use mass_spring_solvers::model::scene::{
+    THESIS_ANCHOR_LEFT, THESIS_ANCHOR_RIGHT, THESIS_GRAVITY, THESIS_NODES, THESIS_NODE_MASS,
+    THESIS_REST_LENGTH,
+};
+use mass_spring_solvers::solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
+use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::{published_rows, ResultSet, HALF_PERIOD_TOLERANCE};
+use mass_spring_solvers::studies::forensics::Evidence;
+
+/// The report's files: `REPORT.md`, `figures/*.svg`, `data/*.csv` (not `run-info.md`).
+pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
+    let figures = figures::all(data)?;
+    let tutorial_figures = data.tutorial.figures()?;
+    let beyond_figures = data.beyond.figures()?;
+    let sheet_figures = data.sheet.figures()?;
+    let work_precision_figures = data.benchmark.figures()?;
+    let integrators_figures = data.integrators.figures()?;
+    let chapters = ChapterFigures {
+        tutorial: &tutorial_figures,
+        beyond: &beyond_figures,
+        sheet: &sheet_figures,
+        work_precision: &work_precision_figures,
+        integrators: &integrators_figures,
+    };
+    let mut files = vec![OutputFile::text(
+        "REPORT.md",
+        markdown(data, &figures, &chapters),
+    )];
+    files.extend(data.sheet.files(&sheet_figures));
+    files.extend(data.benchmark.files(&work_precision_figures));
+    files.extend(data.tutorial.files(&tutorial_figures));
+    files.extend(data.beyond.files(&beyond_figures));
+    files.extend(data.integrators.files(&integrators_figures));
+    for f in &figures {
+        files.extend(figure_files(&f.stem, &f.svg, &f.csv));
+    }
+    files.push(OutputFile::text(
+        "data/results.csv",
+        data::results_csv(&data.results),
+    ));
+    files.push(OutputFile::text(
+        "data/table1.csv",
+        data::table1_csv(&data.results),
+    ));
+    if let Some(csv) = data::catenary_csv(&data.catenary) {
+        files.push(OutputFile::text("data/catenary.csv", csv));
+    }
+    if let Some(f) = &data.forensics {
+        files.push(OutputFile::text(
+            "data/reproduction.csv",
+            data::reproduction_csv(f),
+        ));
+        files.push(OutputFile::text(
+            "data/configurations.csv",
+            data::configurations_csv(f),
+        ));
+        files.push(OutputFile::text(
+            "data/gravity-mismatch.csv",
+            data::gravity_csv(f),
+        ));
+        files.push(OutputFile::text("data/liu_grid.csv", data::liu_grid_csv(f)));
+    }
+    Ok(files)
+}
+
+fn figure_md(figures: &[figures::Figure], key: &str) -> String {
+    figures
+        .iter()
+        .find(|f| f.key == key)
+        .map(|f| {
+            format!(
+                "![Figure {key}](figures/{stem}.svg)\n\n*{caption}* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
+                stem = f.stem,
+                caption = f.caption
+            )
+        })
+        .unwrap_or_default()
+}
+
+fn table_md(results: &ResultSet, table: u8) -> String {
+    let mut s = tables::render_table(results, table);
+    if (1..=7).contains(&table) || (10..=12).contains(&table) {
+        let t = tables::tally(results, table);
+        s += &format!(
+            "\nReproduced: {} of {} rows run ({} published).\n",
+            t.reproduced, t.run, t.rows
+        );
+    }
+    s + "\n"
+}
+
+fn scene_table() -> MarkdownTable {
+    let v = |a: [f64; 3]| format!("({}, {}) m", short(a[0]), short(a[1]));
+    let mut t = MarkdownTable::new(&["parameter", "value", "source"]);
+    let rows = [
+        (
+            "nodes / springs",
+            format!("{THESIS_NODES} / {}", THESIS_NODES - 1),
+            "§3.1",
+        ),
+        (
+            "mass per node",
+            format!("{} kg", short(THESIS_NODE_MASS)),
+            "§3.1",
+        ),
+        (
+            "fixed nodes",
+            format!(
+                "0 at {}, {} at {}",
+                v(THESIS_ANCHOR_LEFT),
+                THESIS_NODES - 1,
+                v(THESIS_ANCHOR_RIGHT)
+            ),
+            "fitted to Table 1",
+        ),
+        (
+            "rest length",
+            format!(
+                "{} m, the initial spacing (taut start, zero tension)",
+                short(THESIS_REST_LENGTH)
+            ),
+            "fitted",
+        ),
+        (
+            "initial state",
+            "straight on y = 0, at rest".into(),
+            "fitted",
+        ),
+        (
+            "gravity",
+            format!("{} m/s² along -y", short(THESIS_GRAVITY)),
+            "fitted",
+        ),
+        ("stiffness", "1e3 and 1e6 N/m".into(), "§4.3"),
+        (
+            "reference",
+            format!(
+                "Backward Euler, dt = {} s, {REFERENCE_NEWTON_ITERATIONS} Newton iterations",
+                short(REFERENCE_DT)
+            ),
+            "§4.3, Table 1",
+        ),
+        (
+            "stopping rule",
+            format!(
+                "first kinetic-energy peak below {} J (counted); at most {} s simulated",
+                short(STOP_THRESHOLD_J),
+                short(MAX_SIMULATED_TIME_S)
+            ),
+            "§4.2",
+        ),
+    ];
+    for (a, b, c) in rows {
+        t.row(vec![a.into(), b, c.into()]);
+    }
+    t
+}
+
+/// The relative physical error of the benchmark's line in the findings.
+const FINDINGS_LEVEL: f64 = 0.01;
+
+/// The report's opening: what was reproduced, the answer to the thesis's question, and the main
+/// finding of each chapter beyond it, each pointing to its section (linked by
+/// [`navigation::linkify`]).
+fn findings(data: &ReportData) -> String {
+    let r = &data.results;
+    let mut md = String::from("**Findings**\n\n");
+    let reproduced = r.rows.iter().filter(|m| m.reproduces()).count();
+    if let Some(f) = &data.forensics {
+        let counts = f.counts(None);
+        let observations = f.observation_counts();
+        let n = |e: Evidence| counts[e as usize];
+        md += &format!(
+            "- **Reproduction.** The equations as printed, on the scene and measurement conventions of \
+             `docs/thesis-scene.md`, reproduce {reproduced} of the thesis's {} published rows (section 5). \
+             One written rule of evidence (section 6) says how strongly: of those {reproduced}, {} are \
+             faithful and {} an interpretation (they rest on a time convention, the scene fitted on Table 1 \
+             or the gravity, whose other reading fails them); {} more are fitted (Liu 2013's, by a damping \
+             and a threshold fitted on them), {} selected (ADMM's, by a start chosen from {} candidates), \
+             {} noise-limited and {} unexplained. Merging the {} twin pairs, the {} observations split {}.\n",
+            r.rows.len(),
+            n(Evidence::Faithful),
+            n(Evidence::Interpretation),
+            n(Evidence::Fitted),
+            n(Evidence::Selected),
+            mass_spring_solvers::studies::forensics::evidence::ADMM_CANDIDATES_TRIED,
+            n(Evidence::NoiseLimited),
+            n(Evidence::Unexplained),
+            f.twins.pairs.len(),
+            observations.iter().sum::<usize>(),
+            Evidence::ALL
+                .iter()
+                .zip(observations)
+                .filter(|(_, c)| *c > 0)
+                .map(|(e, c)| format!("{c} {}", e.id()))
+                .collect::<Vec<_>>()
+                .join(", "),
+        );
+    } else {
+        md += &format!(
+            "- **Reproduction.** {reproduced} of the {} rows run are reproduced (section 5).\n",
+            r.rows.len()
+        );
+    }
+    let verdicts = data.benchmark.verdicts();
+    if !verdicts.is_empty() {
+        md += &format!(
+            "- **The thesis's question** (section 12.6), decided on its rope at matched cost: {}.\n",
+            verdicts
+                .iter()
+                .map(|(c, v)| format!("{} — **{}**", c.label(), v.id()))
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
+    let accelerations: Vec<String> = data
+        .beyond
+        .acceleration
+        .iter()
+        .filter_map(|a| {
+            Some(format!(
+                "{} {} fewer than {}",
+                a.solver.info().display_name,
+                a.ratio_label()?,
+                a.base.info().display_name
+            ))
+        })
+        .collect();
+    if !accelerations.is_empty() {
+        md += &format!(
+            "- **Newer solvers** (section 10): from one start, the iterations to converge one stiff step to \
+             1e-6 m (in brackets the range from starts one unit in the last place apart, where it moves): {}.\n",
+            accelerations.join(", ")
+        );
+    }
+    let taus: Vec<f64> = data
+        .benchmark
+        .rankings()
+        .iter()
+        .filter_map(|c| c.tau)
+        .collect();
+    if let Some((mean, lo, hi)) = benchmark::mean_with_interval(&taus) {
+        md += &format!(
+            "- **The sheet** (section 11): the solvers' ranking by physical error on the rope and on the \
+             sheet agree with Kendall τ = {mean:.2} (95 % bootstrap interval {lo:.2} to {hi:.2}, {} \
+             cells).\n",
+            taus.len()
+        );
+    }
+    let slopes: Vec<String> = data
+        .benchmark
+        .cases()
+        .into_iter()
+        .filter(|c| c.scene == mass_spring_solvers::studies::beyond::GridScene::Rope)
+        .filter_map(|c| {
+            let (slope, lo, hi) = data
+                .benchmark
+                .smallest_decade_slope(c, SolverId::BackwardEuler)?;
+            Some(format!(
+                "{} over dt {}-{} s at k = {:e} N/m",
+                sig(slope, 2),
+                short(lo),
+                short(hi),
+                c.stiffness
+            ))
+        })
+        .collect();
+    let cheapest: Vec<String> = data
+        .benchmark
+        .cases()
+        .into_iter()
+        .filter(|c| c.scene == mass_spring_solvers::studies::beyond::GridScene::Rope)
+        .filter_map(|c| {
+            let r = data.benchmark.cheapest_overall(c, FINDINGS_LEVEL)?;
+            let id: SolverId = r.solver.parse().ok()?;
+            Some(format!(
+                "{} at k = {:e} N/m (dt = {} s, {} flops)",
+                id.info().display_name,
+                c.stiffness,
+                short(r.dt_s),
+                sig(r.flops?, 2)
+            ))
+        })
+        .collect();
+    let tolerance = benchmark_tolerance::Summary::of(&data.benchmark.rows);
+    if !slopes.is_empty() {
+        md += &format!(
+            "- **The benchmark** (section 12): one window, one error per node against the exact motion, for \
+             every solver; the errors converge (Backward Euler's at order {}); the cheapest configuration \
+             of any solver to {} % relative physical error on the rope: {}; asked for a solver error, \
+             {} of the {} tolerance points whose steps all met their residual end within {:.0} × it \
+             (section 12.8).\n",
+            slopes.join(" and "),
+            short(100.0 * FINDINGS_LEVEL),
+            if cheapest.is_empty() {
+                "none reaches it".to_string()
+            } else {
+                cheapest.join("; ")
+            },
+            tolerance.within,
+            tolerance.uncapped,
+            benchmark_tolerance::WITHIN,
+        );
+    }
+    md
+}
+
+fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFigures) -> String {
+    let r = &data.results;
+    let mut md = String::new();
+    md += "# Solvers de Elasticidad y Restricciones en Simulación — chapter 4 regenerated\n\n";
+    md += "This report re-does chapter 4 of the thesis (C. Peñalva Carbonell, URJC 2020) from this crate's \
+           runs: every published number beside ours, every figure redrawn from our runs, and for every \
+           equation the code that implements it. It is generated by `make report` (`cargo run --bin report`); \
+           the same inputs give byte-identical files. When and where it ran is in `run-info.md` \
+           (git-ignored).\n\n";
+    let run = r.rows.len();
+    if run < published_rows().len() {
+        let missing: Vec<&str> = SolverId::THESIS_TABLES
+            .into_iter()
+            .filter(|s| !solvers_in(r).contains(s))
+            .map(|s| s.display_name())
+            .collect();
+        md += &format!(
+            "> **Partial report:** {run} of {} experiments were run; not run: {}. Their cells read `–` and \
+             their status `{}`.\n\n",
+            published_rows().len(),
+            missing.join(", "),
+            tables::NOT_RUN
+        );
+    }
+    md += &findings(data);
+    md += "\nEach solver has one name throughout, listed with its code id and its paper in appendix B.\n\n";
+    // The contents come from the body's headings, and every reference is linked at the end.
+    let head = md;
+    let mut md = String::new();
+    md += "## 1. Mass-spring systems (§2.1)\n\n";
+    md += "A mass-spring system is a set of point masses joined by springs; Figure 1 redraws the \
+           thesis's example, a cloth, from this crate's sheet.\n\n";
+    md += &figure_md(figures, "1");
+
+    md += "## 2. The test scene (§3.1-3.3)\n\n";
+    md += "The thesis states the rope's topology and masses but not its geometry; the values below were fitted \
+           to Table 1 and checked against Tables 2 and 3 (`docs/thesis-scene.md`). Figure 2 sets the rest \
+           state of our reference beside the exact catenary (section 8 gives the distances), Figure 3 draws \
+           the rope's nodes and springs and Figure 4 the distance constraint that PBD and XPBD project.\n\n";
+    md += &scene_table().render();
+    md += "\n";
+    md += &figure_md(figures, "2");
+    md += &figure_md(figures, "3");
+    md += &figure_md(figures, "4");
+
+    md += "## 3. Measurements (§4.2)\n\n";
+    md += &format!(
+        "- **Kinetic energy** $KE = \\frac12\\sum m|v|^2$ per step, with each solver's own velocity.\n\
+         - **Peaks** (\"nº máx. E_k\"): samples with $KE_{{i-1}} < KE_i \\ge KE_{{i+1}}$; the run stops at the \
+         first peak below {} J, which is counted.\n\
+         - **T/2, thesis convention** (used for every comparison with published numbers): the time stamp of the \
+         last peak divided by the number of peaks, a peak stamped at the step that detects it, time accumulated \
+         in single precision as the thesis's code did (measurement convention 5 of `docs/thesis-scene.md`).\n\
+         - **T/2, exact convention** (shown beside it): the mean interval between consecutive peaks, each at its \
+         own sample, time in double precision.\n\
+         - **Relative T error**: $|T/2 - T/2_{{ref}}|/T/2_{{ref}}$ against our reference of the same stiffness.\n\
+         - **Error** (rest state): the distance between the final positions and those of our reference of the \
+         same stiffness, {} (the thesis's measure; the benchmark's errors of sections 10-13 are per node).\n\n\
+         **Reproduction rule** (one rule for tests, report and summaries): a row is reproduced ({}) when, under \
+         the thesis convention, |peaks − published| ≤ max(1, round(0.005 × published)) and |T/2 − published| ≤ \
+         {} % of published; otherwise {}. The rest-state error is checked only where the published error \
+         exceeds {}: ours/published within {}-{} ({} or {} after the ratio); smaller published errors are floors \
+         that depend on where a run stops inside its residual oscillation, compared but not asserted (\"floor\").\n\n",
+        short(STOP_THRESHOLD_J),
+        tables::summed_over_free_nodes(),
+        tables::PASS,
+        short(100.0 * HALF_PERIOD_TOLERANCE),
+        tables::FAIL,
+        short(tables::ERROR_CHECK_ABOVE),
+        short(tables::ERROR_RATIO_RANGE.0),
+        short(tables::ERROR_RATIO_RANGE.1),
+        tables::PASS,
+        tables::FAIL,
+    );
+    md += &tables::rounding_note();
+    md += " T/2 dev. is ours against published, relative; rest-state errors are in one scientific \
+           format (3 significant digits), published and ours. Each table's every column, with the exact \
+           convention's T/2 and the relative T errors, is in [`data/results.csv`](data/results.csv).\n\n";
+
+    md += "## 4. Results (§4.3)\n\n";
+    for table in 1..=7 {
+        md += &table_md(r, table);
+    }
+
+    md += "## 5. Reproduction summary\n\n";
+    md += &tables::summary(r).render();
+    md += "\nRows not reproduced, with the best explanation we have (the forensic findings are in \
+           `docs/thesis-scene.md`; a faithful implementation is the default and is not tuned to the published \
+           numbers):\n\n";
+    md += &tables::explanations(r, data.forensics.as_ref());
+    md += &format!(
+        "\nFigure {} (appendix A.1) sets ours against the published number for every row.\n\n",
+        figures::PARITY_FIGURE
+    );
+
+    md += "## 6. Forensic reproduction: how each published number arose\n\n";
+    match &data.forensics {
+        Some(f) => md += &forensics::section(f),
+        None => md += "Not computed for this report.\n\n",
+    }
+
+    md += "## 7. Conclusions revisited (§4.4)\n\n";
+    md += &table_md(r, 8);
+    md += "### 7.1 Statics\n\n";
+    md += &table_md(r, 9);
+    md += "Figure 5 (k = 1e3 N/m) and Figure 7 (k = 1e6 N/m) set each solver's rest-state error against \
+           Δt, published beside ours, and Figure 9 and Figure 10 the two Projective Dynamics methods alone, \
+           as the thesis does; Figure 6 and Figure 8 draw XPBD's rest state against Backward Euler's at the \
+           two stiffnesses.\n\n";
+    for n in 5..=10 {
+        md += &figure_md(figures, &n.to_string());
+    }
+    md += "### 7.2 Dynamics\n\n";
+    md += "Figure 11 shows how the kinetic energy of the reference peaks, which the peak count and T/2 \
+           measure, and Figure 12 the rope's motion over one period beside it. Figure 13 follows a node of \
+           the rope under Backward Euler and Fast m-s at Δt = 0.1 s; Figure 14 (the peaks, on a log axis) \
+           and Figure 15 (the kinetic energy itself, cut when Fast m-s comes to rest) set the three solvers \
+           at Δt = 0.01 s beside the reference.\n\n";
+    md += &figure_md(figures, "11");
+    md += &figure_md(figures, "12");
+    md += &table_md(r, 10);
+    md += &table_md(r, 11);
+    md += &figure_md(figures, "13");
+    md += &figure_md(figures, "14");
+    md += &figure_md(figures, "15");
+    md += &table_md(r, 12);
+
+    md += "## 8. Analytic catenary against the Newton rest state\n\n";
+    md += "The exact static equilibrium of the discrete elastic chain (every spring carries the same horizontal \
+           tension; solved to machine precision) against the final state of our Backward Euler reference, which \
+           stops at the first kinetic-energy peak below 0.001 J and so still moves a little: the expected residual \
+           amplitude is $\\sqrt{2E/M}\\,/\\,\\omega$ with $E$ the last peak's energy, $M$ the free mass and \
+           $\\omega = \\pi/(T/2)$.\n\n";
+    md += &rest_state::comparison(r, &data.catenary);
+    md += "\n";
+
+    md += &data.tutorial.section(9, chapters.tutorial);
+    md += &data.beyond.section(10, chapters.beyond, &data.benchmark);
+    md += &data.sheet.section(11, chapters.sheet, &data.benchmark);
+    md += &data.benchmark.section(12, chapters.work_precision);
+    md += &data.integrators.section(13, chapters.integrators);
+
+    md += "## 14. Errata\n\n";
+    md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
+           documentation says so.\n\n";
+    md += &errata::table().render();
+    md += "\n";
+
+    md += "## 15. Equation traceability\n\n";
+    md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
+           implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
+           others may be a definition or a derivation, with the reason given.\n\n";
+    let missing = traceability::missing(&data.sources.tags);
+    if !missing.is_empty() {
+        let list: Vec<String> = missing.iter().map(|n| n.to_string()).collect();
+        md += &format!(
+            "> **Missing:** equations {} have no code and are not listed.\n\n",
+            list.join(", ")
+        );
+    }
+    md += &traceability::table(&data.sources.tags).render();
+    md += "\n### 15.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+           `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
+    for (solver, quote) in &data.sources.quotes {
+        md += &format!(
+            "**{}** — [`{}`](../{}#L{})\n\n```rust\n{}\n```\n\n",
+            solver.display_name(),
+            quote.file,
+            quote.file,
+            quote.line,
+            quote.code
+        );
+    }
+
+    md += "### 15.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
+           implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
+           cannot mistake for a thesis equation. Built at report time from those tags. The column \
+           \"verified against\" says how each tag was checked (`docs/papers.md`): against the paper's text \
+           (Macklin 2019, Wang 2015, Chen 2024), against the authors' reference code that the tag's doc line \
+           names, or unverified, where the paper's body could not be read (the doc line then names the \
+           code checked, or says that none was found).\n\n";
+    md += &traceability::paper_table(&data.sources.paper_tags).render();
+    md += "\n";
+
+    md += "## 16. Data files\n\n";
+    md += "Every data file is a CSV written with `csv::Writer` and read back by a strict reader in \
+           `tests/csv_schema.rs` against the schema below (`report::schema`): column names are \
+           `name_unit` (`dt_s`, `x_m`, `stiffness_n_per_m`; no unit for a count, an identifier or a \
+           ratio), an empty field means none, numbers are the shortest decimal that reads back to the \
+           same double. `results.csv` and `table1.csv` keep the published table's column names.\n\n";
+    md += &schema::section_list();
+    md += "\n";
+
+    md += "## 17. Crate and dependency versions\n\n";
+    let v = &data.sources.versions;
+    md += &format!(
+        "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",
+        v.name, v.version, v.rust_version
+    );
+    md += &v.table().render();
+    if let Some(f) = &data.forensics {
+        md += "\n## Appendix A. The forensic details\n\n";
+        md += &forensics::appendix(f, r, &figure_md(figures, figures::PARITY_FIGURE));
+    }
+    md += "\n## Appendix B. Solver names\n\n";
+    md += "Each solver has one name in this report's text, tables and figures (the thesis's \
+           abbreviation of Table 8 for its own solvers), defined in the registry \
+           (`src/solvers/registry.rs`); the data files and `mss` use its code id.\n\n";
+    md += &tables::solver_glossary().render();
+
+    let document = format!("{head}{}\n{md}", navigation::contents(&md));
+    navigation::linkify(&navigation::number_figures(&document))
+}

@@ -1,0 +1,180 @@
+//! Liu 2013 (Algorithm 3) in lanes: [`crate::solvers::fast_mass_spring::FastMassSpring`]'s step at
+//! [`Lanes4`], four runs of the same rope topology and fixed nodes (any dt, stiffness, masses,
+//! iteration counts, and a first iterate of (a) or (b), [`FirstIterate`]).
+
+use super::{LaneSolver, WIDTH};
+use crate::integrators::first_iterate::inertia;
+use crate::integrators::time_stepper::TimeStepper;
+use crate::model::lanes::{load_points, load_values, read_points, select, Lanes4};
+use crate::model::system::State;
+use crate::solvers::fast_mass_spring::{
+    global_rhs, inertial_rhs, spring_directions, FastMassSpring, FirstIterate,
+};
+use crate::solvers::projective::{finish_step_of, to_columns, GlobalSolveLanes, SpringIncidence};
+use nalgebra::Vector3;
+use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
+
+/// Four Liu 2013 runs of one topology, one per lane.
+#[derive(Debug, Clone)]
+pub struct LiuLanes {
+    /// Whether each node is fixed (the same in every lane).
+    fixed: Vec<bool>,
+    dt: Lanes4,
+    masses: Vec<Lanes4>,
+    rest_lengths: Vec<Lanes4>,
+    /// $`J`$ of Eqs (26), (53), per lane.
+    j: SpringIncidence<Lanes4>,
+    /// $`A`$ (Algorithm 3 line 1.4), per lane.
+    a: GlobalSolveLanes<Lanes4>,
+    dt2_f_ext: Vec<Lanes4>,
+    /// Iterations per step of each lane's run (0: no run).
+    iterations: [usize; WIDTH],
+    /// Whether each lane's run starts at (b) $`x_n + dt\,v_n`$ rather than (a) $`x_n`$.
+    inertial: [bool; WIDTH],
+    x: Vec<Vector3<Lanes4>>,
+    v: Vec<Vector3<Lanes4>>,
+    /// The first iterate, per node.
+    first: Vec<Vector3<Lanes4>>,
+    // The step's buffers, as in the run alone (column-major, 3n; one d per spring).
+    x_n: Vec<Lanes4>,
+    b: Vec<Lanes4>,
+    iterate: Vec<Lanes4>,
+    d: Vec<Vector3<Lanes4>>,
+    scale: Vec<Lanes4>,
+    /// The iterate of the lanes whose iterations are done, kept while the others iterate.
+    done: Vec<Lanes4>,
+}
+
+impl LiuLanes {
+    /// Lanes for runs of `like`'s topology and fixed nodes, none loaded yet; None unless its
+    /// global solve is a tridiagonal one (a chain: the rope).
+    pub fn new(like: &FastMassSpring) -> Option<Self> {
+        let system = like.system();
+        let (n, s) = (system.len(), system.springs().len());
+        let zero = Lanes4::splat(0.0);
+        Some(Self {
+            fixed: system.nodes().iter().map(|node| node.fixed).collect(),
+            dt: zero,
+            masses: vec![zero; n],
+            rest_lengths: vec![zero; s],
+            j: SpringIncidence::lanes(like.incidence()),
+            a: GlobalSolveLanes::new(&like.own_step().a)?,
+            dt2_f_ext: vec![zero; 3 * n],
+            iterations: [0; WIDTH],
+            inertial: [false; WIDTH],
+            x: vec![Vector3::zeros(); n],
+            v: vec![Vector3::zeros(); n],
+            first: vec![Vector3::zeros(); n],
+            x_n: vec![zero; 3 * n],
+            b: vec![zero; 3 * n],
+            iterate: vec![zero; 3 * n],
+            d: vec![Vector3::zeros(); s],
+            scale: vec![zero; s],
+            done: vec![zero; 3 * n],
+        })
+    }
+
+    /// Per lane, whether `lane_holds` holds of its index.
+    fn mask(lane_holds: impl Fn(usize) -> bool) -> <Lanes4 as SimdValue>::SimdBool {
+        let ones = std::array::from_fn(|lane| if lane_holds(lane) { 1.0 } else { 0.0 });
+        Lanes4::from(ones).simd_gt(Lanes4::splat(0.0))
+    }
+}
+
+impl LaneSolver for LiuLanes {
+    type Run = FastMassSpring;
+
+    fn load(&mut self, lane: usize, run: &FastMassSpring, state: &State) {
+        let system = run.system();
+        assert!(
+            run.counts_iterations()
+                && matches!(
+                    run.first_iterate(),
+                    FirstIterate::Previous | FirstIterate::Inertial
+                )
+                && system
+                    .nodes()
+                    .iter()
+                    .map(|node| node.fixed)
+                    .eq(self.fixed.iter().copied()),
+            "a batch of Liu runs holds runs of one topology and fixed set that count their \
+             iterations and start at (a) or (b)"
+        );
+        self.dt.replace(lane, run.dt());
+        load_values(&mut self.masses, lane, run.masses());
+        load_values(&mut self.rest_lengths, lane, run.rest_lengths());
+        self.j.load_lane(lane, run.incidence());
+        let own = run.own_step();
+        self.a.load_lane(lane, &own.a);
+        load_values(&mut self.dt2_f_ext, lane, &own.dt2_f_ext);
+        load_points(&mut self.x, lane, &state.x);
+        load_points(&mut self.v, lane, &state.v);
+        self.iterations[lane] = run.iterations();
+        self.inertial[lane] = run.first_iterate() == FirstIterate::Inertial;
+    }
+
+    fn clear(&mut self, lane: usize) {
+        self.iterations[lane] = 0;
+    }
+
+    /// [`FastMassSpring`]'s step (Algorithm 3) in every lane; a lane whose iterations are done
+    /// keeps its iterate while the others iterate on.
+    fn step(&mut self) {
+        // 2.1 and the first iterate.
+        to_columns(&self.x, &mut self.x_n);
+        inertial_rhs(
+            &self.x,
+            &self.v,
+            &self.masses,
+            self.dt,
+            &self.dt2_f_ext,
+            &mut self.b,
+        );
+        let inertial = Self::mask(|lane| self.inertial[lane]);
+        for (first, ((&x, &v), &fixed)) in self
+            .first
+            .iter_mut()
+            .zip(self.x.iter().zip(&self.v).zip(&self.fixed))
+        {
+            *first = match fixed {
+                true => x,
+                false => select(inertial, inertia(x, v, self.dt), x),
+            };
+        }
+        to_columns(&self.first, &mut self.iterate);
+        // 2.2-2.8.
+        let dt2 = self.dt * self.dt;
+        let most = self.iterations.iter().copied().max().unwrap_or(0);
+        for iteration in 0..most {
+            let finished = Self::mask(|lane| self.iterations[lane] <= iteration);
+            if finished.any() {
+                self.done.copy_from_slice(&self.iterate);
+            }
+            spring_directions(
+                &self.j,
+                &self.iterate,
+                &self.rest_lengths,
+                &mut self.d,
+                &mut self.scale,
+            );
+            global_rhs(&self.j, &self.b, &self.d, dt2, &mut self.iterate);
+            self.a.solve(&mut self.iterate, &self.x_n);
+            if finished.any() {
+                for (x, &done) in self.iterate.iter_mut().zip(&self.done) {
+                    *x = done.select(finished, *x);
+                }
+            }
+        }
+        // Erratum: Algorithm 3 omits the velocity update.
+        finish_step_of(&mut self.x, &mut self.v, &self.iterate, self.dt);
+    }
+
+    fn read(&self, lane: usize, state: &mut State) {
+        read_points(&self.x, lane, &mut state.x);
+        read_points(&self.v, lane, &mut state.v);
+    }
+
+    fn write_velocities(&mut self, lane: usize, state: &State) {
+        load_points(&mut self.v, lane, &state.v);
+    }
+}

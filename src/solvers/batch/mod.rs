@@ -1,0 +1,244 @@
+//! Batched runs (issue 26, item 2): independent runs of one solver stepped together, one per
+//! lane of a [`crate::model::lanes::Lanes4`] vector, each giving the bits of its run alone ([`crate::model::lanes`]).
+//!
+//! The step is the solver's own, generic over the lane type ([`crate::solvers::xpbd::Coefficients`]);
+//! what a batch adds is the bookkeeping: which run is in which lane, and [`simulate_batch`],
+//! which watches every lane's run as [`crate::integrators::time_stepper::simulate`] watches one
+//! ([`crate::integrators::time_stepper::Watch`]) and hands a lane whose run has stopped the next run waiting, so
+//! that runs of different lengths do not stall the batch.
+
+pub mod liu;
+pub mod xpbd;
+
+use crate::error::Result;
+use crate::integrators::time_stepper::{InMemory, Run, RunOptions, TimeStepper, Watch};
+use crate::model::system::State;
+
+/// Lanes in a batch.
+pub const WIDTH: usize = 4;
+
+/// Several runs of one solver in the lanes of a [`crate::model::lanes::Lanes4`] vector.
+pub trait LaneSolver {
+    /// The single run a lane holds.
+    type Run: TimeStepper + Clone;
+    /// Puts `run`, at `state`, in lane `lane`; the lane's previous run is dropped.
+    fn load(&mut self, lane: usize, run: &Self::Run, state: &State);
+    /// Leaves lane `lane` without a run: its arithmetic goes on, unread, until it is loaded.
+    fn clear(&mut self, lane: usize);
+    /// Advances every lane by one of its run's steps.
+    fn step(&mut self);
+    /// Lane `lane`'s state.
+    fn read(&self, lane: usize, state: &mut State);
+    /// Sets lane `lane`'s velocities (after the run loop damped them).
+    fn write_velocities(&mut self, lane: usize, state: &State);
+}
+
+/// A run in a lane.
+struct InLane<'a, R> {
+    /// Its index in the batch's runs.
+    index: usize,
+    solver: &'a R,
+    watch: Watch<'a>,
+    memory: InMemory,
+    state: State,
+}
+
+/// Runs every `(solver, start, options)` of `runs`, [`WIDTH`] at a time in the lanes of
+/// `lanes`, and returns each one's outcome as [`crate::integrators::time_stepper::simulate`] would give it, in the
+/// order of `runs`. A lane whose run stops takes the next run waiting; the last run left goes
+/// on alone.
+pub fn simulate_batch<'a, L: LaneSolver>(
+    lanes: &mut L,
+    runs: &'a [(L::Run, State, RunOptions)],
+) -> Vec<Result<Run>> {
+    let mut outcomes: Vec<Option<Result<Run>>> = (0..runs.len()).map(|_| None).collect();
+    let mut waiting = runs.iter().enumerate();
+    let mut in_lane: Vec<Option<InLane<'a, L::Run>>> = (0..WIDTH)
+        .map(|lane| fill(lanes, lane, &mut waiting, &mut outcomes))
+        .collect();
+    loop {
+        let busy: Vec<usize> = (0..WIDTH).filter(|&l| in_lane[l].is_some()).collect();
+        match busy[..] {
+            [] => break,
+            // The batch shrinks to its last run, which goes on alone (its step is the lanes'
+            // at `f64`) instead of at the cost of a full batch.
+            [last] if waiting.len() == 0 => {
+                let mut run = in_lane[last].take().expect("a busy lane");
+                let outcome =
+                    run.watch
+                        .run_to_end(&mut run.solver.clone(), run.state, &mut run.memory);
+                outcomes[run.index] = Some(outcome.map(|r| run.memory.into_run(r)));
+                break;
+            }
+            _ => {}
+        }
+        lanes.step();
+        for lane in busy {
+            let run = in_lane[lane].as_mut().expect("a busy lane");
+            lanes.read(lane, &mut run.state);
+            let outcome =
+                run.watch
+                    .after_step(run.solver.system(), &mut run.state, &mut run.memory);
+            if outcome.is_ok() && run.watch.running() {
+                if run.watch.damps() {
+                    lanes.write_velocities(lane, &run.state);
+                }
+                continue;
+            }
+            let mut run = in_lane[lane].take().expect("a busy lane");
+            let finished = outcome.and_then(|()| run.watch.finish(run.state, &mut run.memory));
+            outcomes[run.index] = Some(finished.map(|r| run.memory.into_run(r)));
+            in_lane[lane] = fill(lanes, lane, &mut waiting, &mut outcomes);
+        }
+    }
+    outcomes
+        .into_iter()
+        .map(|o| o.expect("every run ran"))
+        .collect()
+}
+
+/// The next run of `waiting` that starts without error, put in lane `lane` (the runs that
+/// stop before their first step get their outcome); None, and the lane cleared, when none is
+/// left.
+fn fill<'a, L: LaneSolver>(
+    lanes: &mut L,
+    lane: usize,
+    waiting: &mut impl Iterator<Item = (usize, &'a (L::Run, State, RunOptions))>,
+    outcomes: &mut [Option<Result<Run>>],
+) -> Option<InLane<'a, L::Run>> {
+    for (index, (solver, state, options)) in waiting {
+        let mut memory = InMemory::new(solver.dt());
+        match Watch::start(solver, state, options, &mut memory) {
+            Ok(watch) if watch.running() => {
+                lanes.load(lane, solver, state);
+                return Some(InLane {
+                    index,
+                    solver,
+                    watch,
+                    memory,
+                    state: state.clone(),
+                });
+            }
+            Ok(watch) => {
+                let run = watch.finish(state.clone(), &mut memory);
+                outcomes[index] = Some(run.map(|run| memory.into_run(run)));
+            }
+            Err(e) => outcomes[index] = Some(Err(e)),
+        }
+    }
+    lanes.clear(lane);
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::liu::LiuLanes;
+    use super::xpbd::XpbdLanes;
+    use super::*;
+    use crate::integrators::time_stepper::simulate;
+    use crate::model::metrics::StoppingRule;
+    use crate::model::scene::thesis_rope;
+    use crate::solvers::xpbd::Xpbd;
+
+    /// Every bit a run's outcome holds: steps, the stop, the peaks and the final state.
+    fn bits(run: &Run) -> Vec<u64> {
+        let mut bits = vec![run.steps, run.hit_time_limit.into(), run.dt.to_bits()];
+        for p in &run.peaks {
+            bits.extend([p.sample, p.energy.to_bits(), p.time_thesis.to_bits()]);
+            bits.push(p.time_exact.to_bits());
+        }
+        for point in run.final_state.x.iter().chain(&run.final_state.v) {
+            bits.extend(point.iter().map(|c| c.to_bits()));
+        }
+        bits
+    }
+
+    /// The options of a run stopped at `max_time` s or below a peak of `threshold` J, with
+    /// velocity damping `damping` 1/s.
+    fn options(damping: f64, max_time: f64, threshold: f64) -> RunOptions {
+        RunOptions {
+            stop: StoppingRule {
+                threshold,
+                max_time,
+                ..StoppingRule::default()
+            },
+            velocity_damping: damping,
+            ..RunOptions::default()
+        }
+    }
+
+    /// Asserts that every run of `runs` gives the same bits in the batch `lanes` as alone.
+    fn assert_lanes_are_runs_alone<L: LaneSolver>(
+        lanes: &mut L,
+        runs: &[(L::Run, State, RunOptions)],
+    ) {
+        let batched = simulate_batch(lanes, runs);
+        for ((solver, state, options), batched) in runs.iter().zip(batched) {
+            let alone = simulate(&mut solver.clone(), state.clone(), options).unwrap();
+            let batched = batched.unwrap();
+            assert_eq!(bits(&batched), bits(&alone), "{}", alone.solver);
+            assert_eq!(batched.solver, alone.solver);
+        }
+    }
+
+    /// Each lane of a batch gives its run's bits alone, with a different stiffness, dt,
+    /// iteration count, damping and stopping time per lane, more runs than lanes (a lane whose
+    /// run stops takes the next) and a run stopped by its first peak. Fails if the step's
+    /// arithmetic differs between `f64` and the lanes: with Eq 18 as a fused multiply-add
+    /// (`(-alpha_tilde).mul_add(lambda, -c) * inverse_denominator`, fused at `f64`, not in the
+    /// default build's lanes) the final states differ in their last bits.
+    #[test]
+    fn every_lane_is_its_run_alone_bit_for_bit() {
+        let runs: Vec<(Xpbd, State, RunOptions)> = [
+            // (k N/m, dt s, iterations, damping 1/s, max time s, threshold J)
+            (1e3, 1e-2, 50, 0.0, 3.0, 1e-4),
+            (1e4, 5e-3, 20, 0.0, 2.0, 1e-4),
+            (1e3, 1e-3, 7, 0.5, 1.0, 1e-4),
+            (1e4, 1e-2, 33, 0.0, 4.0, 1e9),
+            (1e3, 2e-3, 1, 0.0, 1.5, 1e-4),
+            (1e4, 1e-2, 70, 2.0, 2.5, 1e-4),
+        ]
+        .into_iter()
+        .map(|(k, dt, iterations, damping, max_time, threshold)| {
+            let system = thesis_rope(k).unwrap();
+            let solver = Xpbd::new(&system, dt, iterations).unwrap();
+            let options = options(damping, max_time, threshold);
+            (solver, system.initial_state(), options)
+        })
+        .collect();
+        assert_lanes_are_runs_alone(&mut XpbdLanes::new(&runs[0].0), &runs);
+    }
+
+    /// The same for Liu 2013 (Algorithm 3): every lane's run alone, with a different stiffness,
+    /// dt, iteration count, first iterate ((a) and (b)), damping and stopping time per lane.
+    /// Fails if the lanes' arithmetic differs from the run's: with the tridiagonal substitution's
+    /// $`x_i = y_i/d_i - L_{i+1,i}x_{i+1}`$ as a fused multiply-add at `f64`
+    /// (`(-l).simd_mul_add(x, *b * inv)`, fused at `f64` only), the final states differ in
+    /// their last bits.
+    #[test]
+    fn every_liu_lane_is_its_run_alone_bit_for_bit() {
+        use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+        use FirstIterate::{Inertial, Previous};
+        let runs: Vec<(FastMassSpring, State, RunOptions)> = [
+            // (k N/m, dt s, iterations, first iterate, damping 1/s, max time s, threshold J)
+            (1e3, 1e-2, 30, Previous, 0.0, 3.0, 1e-4),
+            (1e4, 5e-3, 70, Inertial, 0.0, 2.0, 1e-4),
+            (1e3, 1e-3, 7, Previous, 0.5, 1.0, 1e-4),
+            (1e4, 1e-2, 30, Inertial, 0.0, 4.0, 1e9),
+            (1e3, 2e-3, 1, Inertial, 0.0, 1.5, 1e-4),
+            (1e4, 1e-2, 30, Previous, 2.0, 2.5, 1e-4),
+        ]
+        .into_iter()
+        .map(|(k, dt, iterations, first, damping, max_time, threshold)| {
+            let system = thesis_rope(k).unwrap();
+            let solver = FastMassSpring::new(&system, dt, iterations)
+                .unwrap()
+                .with_first_iterate(first);
+            let options = options(damping, max_time, threshold);
+            (solver, system.initial_state(), options)
+        })
+        .collect();
+        let mut lanes = LiuLanes::new(&runs[0].0).expect("the rope's solve is tridiagonal");
+        assert_lanes_are_runs_alone(&mut lanes, &runs);
+    }
+}

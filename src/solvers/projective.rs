@@ -1,0 +1,416 @@
+//! What the two Projective-Dynamics solvers share (thesis §2.3, §3.4-3.5): the matrices of
+//! Eqs 24-26 and 52-54 for any spring graph, the projection of the local steps, and the global
+//! solve of Liu 2013 (Algorithm 3) and ADMM ⊇ PD (Algorithm 4), factored once per scene and
+//! time step.
+//!
+//! Both methods minimise Eq (20) by alternating a local step per spring with a linear solve
+//! whose matrix does not depend on the positions:
+//! ```math
+//! A = M + dt^2 \sum_i w_i\,D_i^\top D_i,
+//! ```
+//! with $`w_i = k_i`$ Liu's $`M + dt^2 L`$ (Algorithm 3 line 1.4) and with $`w_i = \omega_i^2`$
+//! ADMM's $`M + dt^2 D^\top W^\top W D`$ (Algorithm 4 line 1.5). Here $`D_i = (e_{a_i} -
+//! e_{b_i})^\top`$ is spring $`i`$'s row of the reduction matrix (Eq 54; Eq 25 writes the same
+//! incidence vector as a column).
+//!
+//! Every matrix acts per coordinate ($`L = \hat L \otimes I`$, Eq 25), so the n×n matrix is
+//! factored and the three coordinates are solved together as three right-hand sides. The
+//! solvers therefore keep positions column-major: all x-coordinates, then all y, then all z
+//! ([`to_columns`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
+//! [`ConstrainedSystem`] in the precomputation; each solve then carries their positions.
+
+use crate::error::{require_non_negative, require_positive, Error, Result};
+use crate::model::boundary::{fixed_node_unknowns, impose_on_rhs, ConstrainedSystem};
+use crate::model::lanes::Lane;
+use crate::model::linear::{Factorization, SymmetricMatrix, TwistedTridiagonal};
+use crate::model::system::{MassSpringSystem, State, Vec3};
+use nalgebra::Vector3;
+
+/// Spring-node incidence of a spring graph, stored per spring (never as a dense matrix).
+///
+/// As an s×n matrix (s springs, n nodes) its row $`i`$ is $`w_i\,(e_{a_i} - e_{b_i})^\top`$, so
+/// that row $`i`$ applied to the positions is $`w_i\,(x_{a_i} - x_{b_i})`$. With unit weights it
+/// is the reduction matrix $`D`$ of Eq (54); with $`w_i = k_i`$ it is the transpose of the
+/// incidence matrix $`J`$ of Eqs (26), (53). The weights are per lane in a batch of runs
+/// ([`crate::model::lanes`]); the ends are shared.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpringIncidence<T = f64> {
+    nodes: usize,
+    ends: Vec<(usize, usize)>,
+    weights: Vec<T>,
+}
+
+impl SpringIncidence {
+    fn new(system: &MassSpringSystem, weights: Vec<f64>) -> Self {
+        Self {
+            nodes: system.len(),
+            ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
+            weights,
+        }
+    }
+
+    /// The weight $`w_i`$ of spring `i`.
+    pub fn weight(&self, i: usize) -> f64 {
+        self.weights[i]
+    }
+
+    /// Entry (`spring`, `node`) of the s×n matrix: $`D_{ij}`$ of Eq (54), $`J_{ji}`$ of Eq (53).
+    pub fn entry(&self, spring: usize, node: usize) -> f64 {
+        let (a, b) = self.ends[spring];
+        if node == a {
+            self.weights[spring]
+        } else if node == b {
+            -self.weights[spring]
+        } else {
+            0.0
+        }
+    }
+}
+
+impl<T: Lane> SpringIncidence<T> {
+    /// The same spring graph with every weight zero, in lanes to be loaded
+    /// ([`Self::load_lane`]).
+    pub fn lanes(like: &SpringIncidence) -> Self {
+        Self {
+            nodes: like.nodes,
+            ends: like.ends.clone(),
+            weights: vec![T::splat(0.0); like.ends.len()],
+        }
+    }
+
+    /// Sets lane `lane` of every weight to `from`'s, which must have the same ends.
+    pub fn load_lane(&mut self, lane: usize, from: &SpringIncidence) {
+        assert!(
+            from.ends == self.ends && from.nodes == self.nodes,
+            "the lanes of a batch share one spring graph"
+        );
+        crate::model::lanes::load_values(&mut self.weights, lane, &from.weights);
+    }
+
+    /// Number of springs s (rows).
+    pub fn springs(&self) -> usize {
+        self.ends.len()
+    }
+
+    /// Number of nodes n (columns).
+    pub fn nodes(&self) -> usize {
+        self.nodes
+    }
+
+    /// The nodes $`(a_i, b_i)`$ of spring `i`.
+    pub fn ends(&self, i: usize) -> (usize, usize) {
+        self.ends[i]
+    }
+
+    /// Row `i` applied to column-major positions `x` (length 3n): $`w_i\,(x_{a_i} - x_{b_i})`$
+    /// ($`D_i x`$ for the reduction matrix).
+    #[inline]
+    pub fn apply_row(&self, i: usize, x: &[T]) -> Vector3<T> {
+        self.difference(i, x) * self.weights[i]
+    }
+
+    /// The unweighted difference $`x_{a_i} - x_{b_i}`$ of spring `i`'s ends in column-major
+    /// positions `x` ($`x_1 - x_2`$ of Eqs 21-28).
+    #[inline]
+    pub fn difference(&self, i: usize, x: &[T]) -> Vector3<T> {
+        let (a, b) = self.ends[i];
+        let [x, y, z] = coordinates(x, self.nodes);
+        Vector3::new(x[a] - x[b], y[a] - y[b], z[a] - z[b])
+    }
+
+    /// Adds row `i` transposed times `value` to the column-major `out` (length 3n):
+    /// $`out_{a_i} \mathrel{+}= w_i\,value`$, $`out_{b_i} \mathrel{-}= w_i\,value`$ (column $`i`$
+    /// of $`J`$ times $`d_i`$; $`D_i^\top`$ times a per-spring vector).
+    #[inline]
+    pub fn add_row_transposed(&self, i: usize, value: Vector3<T>, out: &mut [T]) {
+        let (a, b) = self.ends[i];
+        let v = value * self.weights[i];
+        for (out, &v) in coordinates_mut(out, self.nodes).into_iter().zip(v.iter()) {
+            out[a] += v;
+            out[b] -= v;
+        }
+    }
+}
+
+/// The three coordinate columns (x, y, z) of column-major positions over `n` nodes.
+#[inline]
+fn coordinates<T>(columns: &[T], n: usize) -> [&[T]; 3] {
+    [&columns[..n], &columns[n..2 * n], &columns[2 * n..3 * n]]
+}
+
+/// [`coordinates`], mutable.
+#[inline]
+fn coordinates_mut<T>(columns: &mut [T], n: usize) -> [&mut [T]; 3] {
+    let (x, rest) = columns.split_at_mut(n);
+    let (y, rest) = rest.split_at_mut(n);
+    [x, y, &mut rest[..n]]
+}
+
+/// The n×n pattern of the spring graph: a diagonal entry per node, two entries per spring.
+fn spring_graph_pattern(system: &MassSpringSystem) -> SymmetricMatrix {
+    let edges: Vec<_> = system.springs().iter().map(|s| (s.a, s.b)).collect();
+    SymmetricMatrix::from_node_graph(system.len(), 1, &edges)
+}
+
+fn add_mass(matrix: &mut SymmetricMatrix, system: &MassSpringSystem) {
+    for (i, node) in system.nodes().iter().enumerate() {
+        matrix.add(i, i, node.mass);
+    }
+}
+
+fn add_weighted_laplacian(
+    matrix: &mut SymmetricMatrix,
+    system: &MassSpringSystem,
+    weights: &[f64],
+    scale: f64,
+) {
+    for (s, &w) in system.springs().iter().zip(weights) {
+        let w = scale * w;
+        matrix.add(s.a, s.a, w);
+        matrix.add(s.b, s.b, w);
+        matrix.add(s.a, s.b, -w);
+        matrix.add(s.b, s.a, -w);
+    }
+}
+
+fn check_weights(system: &MassSpringSystem, weights: &[f64]) -> Result<()> {
+    if weights.len() != system.springs().len() {
+        return Err(Error::invalid(
+            "weights.len()",
+            weights.len(),
+            &format!("one weight per spring ({})", system.springs().len()),
+        ));
+    }
+    for (j, &w) in weights.iter().enumerate() {
+        require_non_negative(format!("weights[{j}]"), w)?;
+    }
+    Ok(())
+}
+
+/// Eq. (24): $`M = \mathrm{diag}(m_1, \dots, m_n) \otimes I`$, stored per coordinate (n×n).
+pub fn mass_matrix(system: &MassSpringSystem) -> SymmetricMatrix {
+    let mut m = spring_graph_pattern(system);
+    add_mass(&mut m, system);
+    m
+}
+
+/// Eqs. (25), (52): $`L = \left(\sum_i k_i D_i D_i^\top\right) \otimes I`$, the
+/// stiffness-weighted Laplacian of the spring graph, stored per coordinate (n×n). For the
+/// thesis rope it is $`k\,\mathrm{tridiag}(-1, 2, -1)`$ with 1 at both ends (Eq 52).
+pub fn stiffness_laplacian(system: &MassSpringSystem) -> SymmetricMatrix {
+    let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+    weighted_laplacian(system, &k).expect("a validated system has one stiffness >= 0 per spring")
+}
+
+/// Algorithm 4 line 1.4: $`D^\top W^\top W D = \sum_i w_i\,D_i^\top D_i`$ for per-spring weights
+/// $`w_i = \omega_i^2`$ (n×n per coordinate); with $`w_i = k_i`$ this is $`L`$ of Eq (25).
+pub fn weighted_laplacian(system: &MassSpringSystem, weights: &[f64]) -> Result<SymmetricMatrix> {
+    check_weights(system, weights)?;
+    let mut l = spring_graph_pattern(system);
+    add_weighted_laplacian(&mut l, system, weights, 1.0);
+    Ok(l)
+}
+
+/// Eqs. (26), (53): $`J = \left(\sum_i k_i D_i S_i^\top\right) \otimes I`$, the n×s
+/// stiffness-weighted incidence matrix (per coordinate), stored as its transpose: column $`i`$
+/// of $`J`$ is $`k_i\,(e_{a_i} - e_{b_i})`$.
+pub fn incidence_matrix(system: &MassSpringSystem) -> SpringIncidence {
+    SpringIncidence::new(
+        system,
+        system.springs().iter().map(|s| s.stiffness).collect(),
+    )
+}
+
+/// Eq. (54): $`D`$, the s×n reduction matrix (per coordinate), unweighted: $`D_i x = x_{a_i} -
+/// x_{b_i}`$, so that $`D = J^\top`$ without the stiffness (§3.5).
+pub fn reduction_matrix(system: &MassSpringSystem) -> SpringIncidence {
+    SpringIncidence::new(system, vec![1.0; system.springs().len()])
+}
+
+/// Algorithm 3 line 1.4 and Algorithm 4 line 1.5: $`A = M + dt^2 \sum_i w_i D_i^\top D_i`$
+/// (n×n per coordinate), before the fixed nodes are imposed.
+pub fn system_matrix(
+    system: &MassSpringSystem,
+    dt: f64,
+    weights: &[f64],
+) -> Result<SymmetricMatrix> {
+    require_positive("dt", dt)?;
+    check_weights(system, weights)?;
+    let mut a = spring_graph_pattern(system);
+    add_mass(&mut a, system);
+    add_weighted_laplacian(&mut a, system, weights, dt * dt);
+    Ok(a)
+}
+
+/// Eqs. (28), (55): the projection of $`q`$ onto the sphere of radius $`l_0`$,
+/// $`l_0\,q/|q|`$ (Liu's spring direction $`d_i`$ with $`q = x_1 - x_2`$; ADMM's $`p_i`$ with
+/// $`q = D_i x + \bar u_i`$).
+///
+/// A zero $`q`$ has no direction (every point of the sphere is then a minimiser); the zero
+/// vector is returned, as [`crate::model::spring::constraint_gradient`] does, so that a degenerate
+/// spring pushes its nodes in no arbitrary direction instead of producing NaN.
+#[inline]
+pub fn project_on_sphere(q: Vec3, l0: f64) -> Vec3 {
+    q * sphere_scale(q.norm_squared(), l0)
+}
+
+/// Eqs. (28), (55): $`q_i \leftarrow l_{0,i}\,q_i/|q_i|`$ for every spring at once, with the
+/// arithmetic of [`project_on_sphere`]. A square root and a division per spring are most of a
+/// local step's cost; gathered in one loop over `scale` (scratch, one entry per spring) they
+/// run several at a time in SIMD registers.
+pub fn project_on_spheres<T: Lane>(q: &mut [Vector3<T>], l0: &[T], scale: &mut [T]) {
+    for (r, q) in scale.iter_mut().zip(q.iter()) {
+        *r = q.norm_squared();
+    }
+    for (r, &l0) in scale.iter_mut().zip(l0) {
+        *r = sphere_scale(*r, l0);
+    }
+    for (q, &r) in q.iter_mut().zip(scale.iter()) {
+        *q *= r;
+    }
+}
+
+/// $`l_0/|q|`$ from $`|q|^2`$, and 0 for $`q = 0`$: the factor that takes $`q`$ onto the sphere
+/// (per lane in a batch: both are computed and the lane's chosen).
+#[inline]
+fn sphere_scale<T: Lane>(length_squared: T, l0: T) -> T {
+    let zero = T::splat(0.0);
+    (l0 / length_squared.simd_sqrt()).select(length_squared.simd_gt(zero), zero)
+}
+
+/// The global step's linear system, prefactored: $`A`$ of [`system_matrix`] with the fixed
+/// nodes imposed by Eqs 43-47 and factored once (one per scene and time step).
+#[derive(Debug, Clone)]
+pub struct GlobalSolve {
+    nodes: usize,
+    solve: ConstrainedSystem,
+}
+
+impl GlobalSolve {
+    /// Builds and factors $`A = M + dt^2 \sum_i w_i D_i^\top D_i`$ for `system` (per-spring
+    /// `weights` >= 0, `dt` > 0).
+    pub fn new(system: &MassSpringSystem, dt: f64, weights: &[f64]) -> Result<Self> {
+        Self::with_node_weights(system, dt, weights, &[])
+    }
+
+    /// [`Self::new`] with per-node weights too (none, or one per node, >= 0):
+    /// $`A = M + dt^2 (\sum_i w_i D_i^\top D_i + \mathrm{diag}(w'))`$, for a block of ADMM's
+    /// $`g`$ on the nodes themselves (the damped ADMM's drag).
+    pub fn with_node_weights(
+        system: &MassSpringSystem,
+        dt: f64,
+        weights: &[f64],
+        node_weights: &[f64],
+    ) -> Result<Self> {
+        let mut a = system_matrix(system, dt, weights)?;
+        for (j, &w) in node_weights.iter().enumerate() {
+            require_non_negative(format!("node_weights[{j}]"), w)?;
+            a.add(j, j, dt * dt * w);
+        }
+        let fixed = fixed_node_unknowns(system, 1);
+        Ok(Self {
+            nodes: system.len(),
+            solve: ConstrainedSystem::for_three_columns(&mut a, &fixed)?,
+        })
+    }
+
+    /// Solves $`A x = b`$ for the three coordinates at once. `b` (column-major, length 3n) is
+    /// overwritten by $`x`$; the fixed nodes take their values from `x_bar` (same layout), so
+    /// that they come out bitwise equal to them (Eqs 45-47).
+    #[inline]
+    pub fn solve(&self, b: &mut [f64], x_bar: &[f64]) {
+        debug_assert_eq!(b.len(), 3 * self.nodes);
+        self.solve.solve(b, x_bar, 3);
+    }
+}
+
+/// [`GlobalSolve`] in lanes ([`crate::model::lanes`]): one prefactored $`A`$ per lane, of one chain's
+/// pattern (a tridiagonal $`A`$, the rope's) and one fixed set, solved by the same arithmetic
+/// as [`GlobalSolve::solve`] at `f64` (the imposition of Eqs 45-47 and the twisted
+/// substitution).
+#[derive(Debug, Clone)]
+pub struct GlobalSolveLanes<T> {
+    fixed: Vec<usize>,
+    /// $`(i, j, A_{ij})`$ of Eq (43)'s block $`A_2`$, per lane.
+    coupling: Vec<(usize, usize, T)>,
+    factor: TwistedTridiagonal<T>,
+}
+
+impl<T: Lane> GlobalSolveLanes<T> {
+    /// Lanes for solves of `like`'s pattern and fixed set, none loaded; None unless its
+    /// factorisation is tridiagonal.
+    pub fn new(like: &GlobalSolve) -> Option<Self> {
+        let Factorization::Tridiagonal(factor) = like.solve.factorization() else {
+            return None;
+        };
+        Some(Self {
+            fixed: like.solve.fixed().to_vec(),
+            coupling: like
+                .solve
+                .coupling()
+                .iter()
+                .map(|&(i, j, _)| (i, j, T::splat(0.0)))
+                .collect(),
+            factor: TwistedTridiagonal::lanes(factor),
+        })
+    }
+
+    /// Sets lane `lane` to `from`'s matrix, of the same pattern and fixed set.
+    pub fn load_lane(&mut self, lane: usize, from: &GlobalSolve) {
+        let Factorization::Tridiagonal(factor) = from.solve.factorization() else {
+            panic!("a batch of global solves holds tridiagonal ones");
+        };
+        assert_eq!(from.solve.fixed(), self.fixed, "one fixed set in a batch");
+        for (into, &(i, j, a_ij)) in self.coupling.iter_mut().zip(from.solve.coupling()) {
+            assert_eq!((into.0, into.1), (i, j), "one pattern in a batch");
+            into.2.replace(lane, a_ij);
+        }
+        self.factor.load_lane(lane, factor);
+    }
+
+    /// [`GlobalSolve::solve`] in every lane.
+    #[inline]
+    pub fn solve(&self, b: &mut [T], x_bar: &[T]) {
+        impose_on_rhs(&self.coupling, &self.fixed, b, x_bar, 3);
+        self.factor.solve_in_place(b, 3);
+    }
+}
+
+/// Copies positions into the column-major layout of the global solve (all x, all y, all z).
+pub fn to_columns<T: Lane>(x: &[Vector3<T>], columns: &mut [T]) {
+    let n = x.len();
+    for (i, p) in x.iter().enumerate() {
+        for c in 0..3 {
+            columns[c * n + i] = p[c];
+        }
+    }
+}
+
+/// Node `i` of column-major positions over `n` nodes.
+#[inline]
+pub fn node_of_columns<T: Lane>(columns: &[T], n: usize, i: usize) -> Vector3<T> {
+    Vector3::new(columns[i], columns[n + i], columns[2 * n + i])
+}
+
+/// The nodes of column-major positions, in order.
+pub fn nodes_of_columns(columns: &[f64]) -> impl Iterator<Item = Vec3> + '_ {
+    let n = columns.len() / 3;
+    (0..n).map(move |i| node_of_columns(columns, n, i))
+}
+
+/// Algorithm 4 line 2.11 (and the velocity update Algorithm 3 omits):
+/// $`v_{n+1} = (x_{n+1} - x_n)/dt`$, then $`x_n \leftarrow x_{n+1}`$, from the column-major
+/// solution `x_next`.
+pub fn finish_step(state: &mut State, x_next: &[f64], dt: f64) {
+    finish_step_of(&mut state.x, &mut state.v, x_next, dt);
+}
+
+/// [`finish_step`] for positions `x` and velocities `v` of any lane type.
+pub fn finish_step_of<T: Lane>(x: &mut [Vector3<T>], v: &mut [Vector3<T>], x_next: &[T], dt: T) {
+    let n = x.len();
+    for (i, (x, v)) in x.iter_mut().zip(v.iter_mut()).enumerate() {
+        let x_new = node_of_columns(x_next, n, i);
+        *v = (x_new - *x) / dt;
+        *x = x_new;
+    }
+}

@@ -1,0 +1,117 @@
+//! Statics ([`super`], item 6 of its specification): the cost for a solver to bring the rope
+//! to rest, by the thesis's own stopping rule, and how far from the exact equilibrium it rests.
+
+use super::sweep::{settings, solvers, Configuration};
+use crate::error::Result;
+use crate::integrators::time_stepper::{simulate, RunOptions};
+use crate::model::metrics::StoppingRule;
+use crate::model::system::Vec3;
+use crate::studies::beyond::GridScene;
+use crate::studies::work_precision::Case;
+use crate::studies::work_precision::{flops_per_step, flops_setup, logged_flops};
+
+/// The statics runs stop at the thesis's rule (the first kinetic-energy peak below 1e-3 J) or
+/// at this simulated time, s: long enough for every damped solver of the thesis's grid, not for
+/// the least damped ones at small steps (reported as not at rest).
+pub const STATICS_MAX_TIME_S: f64 = 20.0;
+
+/// The time steps of the statics runs, s: the thesis's two coarser ones (at its finest,
+/// 1e-3 s, no solver of the thesis rests within [`STATICS_MAX_TIME_S`] on the soft rope).
+pub const STATICS_DTS: [f64; 2] = [0.1, 0.01];
+
+/// The statics runs: the rope at both stiffnesses, every solver but the explicit baselines at
+/// every setting and time step of the thesis's grid.
+pub fn statics_configurations() -> Vec<Configuration> {
+    let mut out = Vec::new();
+    for case in Case::ALL.into_iter().filter(|c| c.scene == GridScene::Rope) {
+        for id in solvers()
+            .into_iter()
+            .filter(|id| !super::sweep::BASELINES.contains(id))
+        {
+            for spec in settings(id) {
+                for dt_s in STATICS_DTS {
+                    out.push(Configuration { case, spec, dt_s });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A statics run's outcome.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticsOutcome {
+    pub configuration: Configuration,
+    /// Whether the thesis's rule stopped it before [`STATICS_MAX_TIME_S`].
+    pub at_rest: bool,
+    /// When it stopped, s.
+    pub end_time_s: f64,
+    /// The RMS over the free nodes of the distance of its final state to the exact
+    /// equilibrium, m.
+    pub rest_error_rms_m: f64,
+    /// Floating-point operations to the stop.
+    pub flops: f64,
+    /// The thesis's peaks and T/2 (thesis convention), for a run the rule stopped.
+    pub peaks: usize,
+    pub half_period_s: Option<f64>,
+    /// Why the run stopped early (a divergence), if it did.
+    pub failure: Option<String>,
+}
+
+/// Runs a statics configuration against the exact `equilibrium` of its case.
+pub fn run_statics(configuration: &Configuration, equilibrium: &[Vec3]) -> Result<StaticsOutcome> {
+    let case = configuration.case;
+    let system = case.scene.system(case.stiffness)?;
+    let mut solver = configuration.spec.build(&system, configuration.dt_s)?;
+    let run = match simulate(
+        solver.as_mut(),
+        system.initial_state(),
+        &RunOptions {
+            stop: StoppingRule {
+                max_time: STATICS_MAX_TIME_S,
+                ..StoppingRule::default()
+            },
+            ..RunOptions::default()
+        },
+    ) {
+        Ok(run) => run,
+        Err(e) => {
+            return Ok(StaticsOutcome {
+                configuration: *configuration,
+                at_rest: false,
+                end_time_s: f64::NAN,
+                rest_error_rms_m: f64::NAN,
+                flops: f64::NAN,
+                peaks: 0,
+                half_period_s: None,
+                failure: Some(e.to_string()),
+            })
+        }
+    };
+    let spec = &configuration.spec;
+    let flops = match solver.iteration_log() {
+        Some(log) => logged_flops(spec, &system, log),
+        None => flops_setup(spec, &system) + run.steps as f64 * flops_per_step(spec, &system),
+    };
+    let free: Vec<usize> = (0..system.len())
+        .filter(|&i| !system.nodes()[i].fixed)
+        .collect();
+    let rest_error_rms_m = (free
+        .iter()
+        .map(|&i| (run.final_state.x[i] - equilibrium[i]).norm_squared())
+        .sum::<f64>()
+        / free.len() as f64)
+        .sqrt();
+    Ok(StaticsOutcome {
+        configuration: *configuration,
+        at_rest: !run.hit_time_limit,
+        end_time_s: run.end_time(),
+        rest_error_rms_m,
+        flops,
+        peaks: run.peak_count(),
+        half_period_s: (!run.hit_time_limit)
+            .then(|| run.half_period_thesis())
+            .flatten(),
+        failure: None,
+    })
+}

@@ -1,0 +1,170 @@
+//! The benchmark's configurations ([`super`], item 4 of its specification): every solver at
+//! its fixed iteration counts over time steps that reach the asymptotic regime, the explicit
+//! baselines beside them.
+
+use crate::integrators::optimization_integrator::OptimizationIntegrator;
+use crate::integrators::stopping::Stopping;
+use crate::solvers::registry::{SolverId, SolverSpec};
+use crate::studies::beyond::{grid_settings, GridScene};
+use crate::studies::work_precision::Case;
+
+/// One configuration: a solver with its settings at a time step, on a case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Configuration {
+    pub case: Case,
+    pub spec: SolverSpec,
+    pub dt_s: f64,
+}
+
+/// The time steps of the rope, s: from the thesis's coarsest down to where Backward Euler's
+/// physical error falls at its order (first) over at least a decade; the stiff rope's modes of
+/// 26-49 rad/s keep its error near doing nothing above 1e-3 s, so its sweep goes a step
+/// further.
+pub const ROPE_DTS: [f64; 11] = [
+    0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 5e-4, 2e-4, 1e-4, 5e-5,
+];
+
+/// The time steps of a case, s. The rope at k = 1e3 stops at 1e-4 s, where Backward Euler has
+/// fallen at its order for a decade; the sheet's stop at 1e-2 s, where its runs fit the budget
+/// of `make report` (a sheet step costs about a hundred rope steps: the soft sheet's runs at
+/// 5e-3 s alone took 19 s of one core, a third of the benchmark; the stiff sheet's exact
+/// motion alone is 170 000 RK4 steps).
+pub fn dts(case: Case) -> &'static [f64] {
+    match (case.scene, case.stiffness > 1e3) {
+        (GridScene::Rope, false) => &ROPE_DTS[..10],
+        (GridScene::Rope, true) => &ROPE_DTS,
+        (GridScene::Sheet, false) => &ROPE_DTS[..4],
+        (GridScene::Sheet, true) => &ROPE_DTS[..4],
+    }
+}
+
+/// The solvers of the benchmark: every solver of the grid of section 10 but the damped pair
+/// (at zero damping they are Backward Euler and ADMM-PD, and the exact motion is undamped),
+/// then the explicit baselines.
+pub fn solvers() -> Vec<SolverId> {
+    crate::studies::beyond::grid_solvers()
+        .into_iter()
+        .filter(|id| !matches!(id, SolverId::DampedBackwardEuler | SolverId::DampedAdmm))
+        .chain(BASELINES)
+        .collect()
+}
+
+/// The explicit baselines drawn on every diagram: the tutorial's RK4 and symplectic Euler.
+pub const BASELINES: [SolverId; 2] = [SolverId::Rk4, SolverId::SymplecticEuler];
+
+/// The settings of a solver in the benchmark: its grid settings (the thesis's counts for its
+/// four solvers), a single one for a baseline.
+pub fn settings(id: SolverId) -> Vec<SolverSpec> {
+    grid_settings(id).unwrap_or_else(|| vec![SolverSpec::new(id, 1)])
+}
+
+/// Below this time step only each solver's first setting runs (its fewest iterations): there
+/// a step from the inertial prediction has little left to solve, and the dearer settings would
+/// cost most of the budget to add points that lie on the same error.
+pub const FINE_DT_S: f64 = 1e-3;
+
+/// The time steps at which the solver error is measured (each needs its method's trajectory
+/// solved to round-off at that step): the thesis's three.
+pub const SOLVER_ERROR_DTS: [f64; 3] = [0.1, 0.01, 0.001];
+
+/// The optimization integrators the benchmark runs besides Backward Euler (the thesis's).
+pub const SECOND_ORDER: [OptimizationIntegrator; 3] = [
+    OptimizationIntegrator::ImplicitMidpoint,
+    OptimizationIntegrator::Bdf2,
+    OptimizationIntegrator::TrBdf2,
+];
+
+/// Every configuration of a case, solver by solver, setting by setting, time step by time
+/// step: every setting at the steps down to [`FINE_DT_S`], the first one below it; then, on
+/// the rope, every minimizing solver's first setting under each of [`SECOND_ORDER`] down to
+/// [`FINE_DT_S`], and Newton's (the reference's method) over every step of every case (on the
+/// sheet only Newton's: the other solvers under three more integrators would double the
+/// benchmark's budget).
+pub fn configurations(case: Case) -> Vec<Configuration> {
+    let mut out = Vec::new();
+    for id in solvers() {
+        for (k, spec) in settings(id).into_iter().enumerate() {
+            for &dt_s in dts(case) {
+                if k == 0 || dt_s >= FINE_DT_S {
+                    out.push(Configuration { case, spec, dt_s });
+                }
+            }
+        }
+    }
+    let minimizing = solvers().into_iter().filter(|id| {
+        id.is_minimizing() && (case.scene == GridScene::Rope || *id == SolverId::BackwardEuler)
+    });
+    for id in minimizing {
+        for integrator in SECOND_ORDER {
+            let mut spec = settings(id)[0];
+            spec.params.integrator = integrator;
+            for &dt_s in dts(case) {
+                if id == SolverId::BackwardEuler || dt_s >= FINE_DT_S {
+                    out.push(Configuration { case, spec, dt_s });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The solver errors the tolerance points aim at, m: the RMS per node, over the window, of
+/// the distance to the same method solved to round-off.
+pub const SOLVER_ERROR_TARGETS_M: [f64; 3] = [1e-4, 1e-6, 1e-8];
+
+/// The iteration cap of a tolerance point's steps.
+pub const TOLERANCE_CAP: usize = 200;
+
+/// The residual tolerance of each step, m, for a solver error of `target` m over `window`
+/// seconds at steps of `dt`: $`\varepsilon\,\Delta t / W`$, so that the steps' residuals,
+/// summed over the window's $`W/\Delta t`$ steps, stay within the target. A residual bounds
+/// its step's distance to the step solved exactly (for a minimizing solver the gradient over
+/// mass is $`(I + \tau^2 M^{-1}K)\,\delta x`$, with $`K \succeq 0`$ near the rope's taut
+/// states), and the errors of successive steps add at most, if the motion does not amplify
+/// them; a per-step tolerance of $`\varepsilon`$ itself would let a run of $`W/\Delta t`$
+/// steps drift that many times further (the test of `tests/thesis/benchmark.rs` shows it).
+pub fn step_residual_tolerance(target: f64, dt: f64, window: f64) -> f64 {
+    target * dt / window
+}
+
+/// The tolerance points of a case whose window is `window` s: every solver that stops at a
+/// tolerance, under the thesis's scheme, aiming at each of [`SOLVER_ERROR_TARGETS_M`] at the
+/// time steps where the solver error is measured ([`SOLVER_ERROR_DTS`]), each step stopping at
+/// its own residual ([`crate::integrators::stopping::Stopping::Residual`], [`step_residual_tolerance`]) or
+/// at [`TOLERANCE_CAP`] iterations; PBD on the rope only, where its converged trajectory is
+/// computed ([`super::truth::Converged::computed_on`]). None on the stiff sheet: tried there,
+/// 52 of its 60 points reached the cap in some step, and they cost 4.0e10 flops, twice every
+/// other tolerance point together.
+pub fn tolerance_configurations(case: Case, window: f64) -> Vec<Configuration> {
+    let mut out = Vec::new();
+    if case.scene == GridScene::Sheet && case.stiffness > 1e3 {
+        return out;
+    }
+    let solvers = solvers().into_iter().filter(|id| {
+        id.stops_at_tolerance() && (*id != SolverId::Pbd || case.scene == GridScene::Rope)
+    });
+    for id in solvers {
+        for target in SOLVER_ERROR_TARGETS_M {
+            for &dt_s in dts(case).iter().filter(|dt| SOLVER_ERROR_DTS.contains(dt)) {
+                let spec = SolverSpec {
+                    iterations: TOLERANCE_CAP,
+                    stopping: Stopping::Residual(step_residual_tolerance(target, dt_s, window)),
+                    ..settings(id)[0]
+                };
+                out.push(Configuration { case, spec, dt_s });
+            }
+        }
+    }
+    out
+}
+
+/// The solver error a configuration aims at, m, if it is a tolerance point of a case whose
+/// window is `window` s.
+pub fn solver_error_target(c: &Configuration, window: f64) -> Option<f64> {
+    let Stopping::Residual(tolerance) = c.spec.stopping else {
+        return None;
+    };
+    SOLVER_ERROR_TARGETS_M
+        .into_iter()
+        .find(|&t| step_residual_tolerance(t, c.dt_s, window) == tolerance)
+}
