@@ -18,7 +18,8 @@ use crate::studies::experiments::SolverChoice;
 
 /// The solver of a row whose runs go into batches: XPBD's, whichever the configuration (every
 /// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), and Liu's started at (a) or
-/// (b); None for a row run alone.
+/// (b) (the printed Liu for [`SolverChoice::Admm`] too, which a Liu row ignores); None for a
+/// row run alone.
 fn batched(row: &PublishedRow, configuration: &Configuration) -> Option<SolverId> {
     match (row.solver, configuration.solver) {
         (SolverId::Xpbd, _) => Some(SolverId::Xpbd),
