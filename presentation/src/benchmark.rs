@@ -2,6 +2,7 @@
 //! every view of [`mass_spring_solvers::studies::benchmark`]'s one result set, read from its rows (the content of
 //! `data/benchmark.csv` and `data/benchmark_truths.csv`) and from nothing else.
 
+use crate::benchmark_views::{of_case, BASELINE_GREY, FAMILIES};
 use crate::benchmark_wall::WallTiming;
 use crate::chapter_figure::ChapterFigure;
 use crate::data::CsvFile;
@@ -43,39 +44,6 @@ pub fn rows_csv<T: serde::Serialize>(rows: &[T]) -> String {
         .expect("every field is UTF-8")
 }
 
-/// Whether a row belongs to a case.
-pub fn of_case(row_scene: &str, row_stiffness: f64, case: Case) -> bool {
-    row_scene == case.scene.id() && row_stiffness == case.stiffness
-}
-
-/// The families of the work-precision figures' panels, each with the explicit baselines.
-pub const FAMILIES: [(&str, &[SolverId]); 3] = [
-    (
-        "the thesis's solvers",
-        &[
-            SolverId::BackwardEuler,
-            SolverId::Pbd,
-            SolverId::Xpbd,
-            SolverId::FastMassSpring,
-            SolverId::AdmmPd,
-        ],
-    ),
-    (
-        "accelerated Projective Dynamics",
-        &[
-            SolverId::ChebyshevLiu,
-            SolverId::ChebyshevAdmm,
-            SolverId::AndersonLiu,
-            SolverId::AndersonAdmm,
-            SolverId::Lbfgs,
-        ],
-    ),
-    (
-        "substeps and vertex descent",
-        &[SolverId::XpbdSubsteps, SolverId::Vbd],
-    ),
-];
-
 /// A curve of a work-precision panel: a front and how it is drawn.
 struct Curve<'a> {
     label: String,
@@ -92,9 +60,6 @@ const INTEGRATOR_COLOURS: [Rgb; 4] = [
     Rgb(230, 159, 0),
     Rgb(0, 158, 115),
 ];
-
-/// The grey of the explicit baselines and the do-nothing line.
-const BASELINE_GREY: Rgb = Rgb(115, 115, 115);
 
 /// The least-squares slope of $`\log_{10} e`$ against $`\log_{10}\Delta t`$ over `points`
 /// (dt, error).
@@ -530,31 +495,6 @@ pub struct ThesisCell {
     pub level: f64,
     pub winners: Vec<SolverId>,
     pub costs: Vec<(SolverId, Option<f64>)>,
-}
-
-/// A solver's front in a work-precision figure: its colour, line and marker, or for an
-/// explicit baseline grey crosses (RK4 dashed, symplectic Euler dotted).
-pub fn front_series(id: SolverId, points: Vec<(f64, f64)>) -> Series {
-    if BASELINES.contains(&id) {
-        Series::line(id.info().display_name, points, BASELINE_GREY)
-            .with_line(if id == SolverId::Rk4 {
-                Line::Dashed
-            } else {
-                Line::Dotted
-            })
-            .with_marker(Marker::Cross, false)
-    } else {
-        Series::line(id.info().display_name, points, colour(id, 0))
-            .with_line(solver_line(id))
-            .with_marker(family_marker(id), true)
-    }
-}
-
-/// The do-nothing line of a work-precision figure: relative error 1 from cost `lo` to `hi`.
-pub fn doing_nothing(lo: f64, hi: f64) -> Series {
-    Series::line("doing nothing", vec![(lo, 1.0), (hi, 1.0)], BASELINE_GREY)
-        .with_line(Line::Solid)
-        .with_weight(0.6)
 }
 
 fn first_setting(solver: SolverId) -> usize {

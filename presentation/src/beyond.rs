@@ -2,7 +2,7 @@
 //! rope ([`mass_spring_solvers::studies::beyond`]): the benchmark's view of the rope (section 12's protocol), and
 //! every solver's convergence toward the converged Backward Euler step.
 
-use crate::benchmark::FAMILIES;
+use crate::benchmark_views::FAMILIES;
 use crate::chapter_figure::ChapterFigure;
 use crate::data::CsvFile;
 use crate::format::{full, full_opt, short, sig, sig4, MarkdownTable};

@@ -12,6 +12,7 @@
 
 pub mod benchmark;
 pub mod benchmark_tolerance;
+pub mod benchmark_views;
 pub mod benchmark_wall;
 pub mod beyond;
 pub mod chapter_figure;

@@ -3,10 +3,6 @@
 //! the points each one draws. Geometry (the pendulum's frames, the falling cloth) is drawn
 //! to scale, with equal x and y scales.
 
-use super::studies::{
-    AdaptiveRun, AdaptiveStudy, ClothDropRun, ConvergenceSeries, DragFall, EnergyRun, Method,
-    PendulumRun, SpringPairRun, FORCE_DT, PAIR_DT, REFERENCE_TOLERANCE,
-};
 use crate::chapter_figure::ChapterFigure;
 use crate::data::CsvFile;
 use crate::format::{full, short, sig4};
@@ -18,6 +14,10 @@ use mass_spring_solvers::error::Result;
 use mass_spring_solvers::model::system::Vec3;
 use mass_spring_solvers::particles::Integrator;
 use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::tutorial::{
+    AdaptiveRun, AdaptiveStudy, ClothDropRun, ConvergenceSeries, DragFall, EnergyRun, Method,
+    PendulumRun, SpringPairRun, FORCE_DT, PAIR_DT, REFERENCE_TOLERANCE,
+};
 
 const BLACK: Rgb = Rgb(0, 0, 0);
 const GREY: Rgb = Rgb(120, 120, 120);

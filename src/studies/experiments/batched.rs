@@ -4,7 +4,7 @@
 //! one by one, as [`run_experiment`] runs them.
 
 use super::{expected_cost, pool, profile_label, run_experiment, setup, Configuration};
-use super::{run_parallel, PublishedRow};
+use super::{measure, published_rows, run_parallel, PublishedRow, Reference, ResultSet};
 use crate::error::Result;
 use crate::integrators::time_stepper::{Run, RunOptions};
 use crate::model::system::{MassSpringSystem, State};
@@ -15,6 +15,7 @@ use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::solvers::registry::SolverId;
 use crate::solvers::xpbd::Xpbd;
 use crate::studies::experiments::SolverChoice;
+use std::sync::OnceLock;
 
 /// The solver of a row whose runs go into batches: XPBD's, whichever the configuration (every
 /// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), and Liu's started at (a) or
@@ -143,4 +144,54 @@ fn run_batch<'a, L: LaneSolver>(
         .into_iter()
         .map(|p| p.and_then(|_| runs.next().expect("a run per prepared job")))
         .collect()
+}
+
+/// Runs every row (in parallel over the available cores, longest first, the batchable ones in
+/// batches: [`run_experiments`]) and measures the
+/// rest-state errors against the references. `progress(done, total)` is called after each.
+pub fn run_all(
+    rows: &[PublishedRow],
+    configuration: &Configuration,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<ResultSet> {
+    let jobs: Vec<(&PublishedRow, &Configuration)> =
+        rows.iter().map(|row| (row, configuration)).collect();
+    let runs = run_experiments(&jobs, progress)
+        .into_iter()
+        .collect::<Result<Vec<Run>>>()?;
+    let reference = |k: f64| {
+        rows.iter()
+            .position(|r| r.solver == SolverId::BackwardEuler && r.stiffness == k)
+            .map(|i| Reference {
+                final_positions: &runs[i].final_state.x,
+                half_period_thesis: runs[i].half_period_thesis(),
+            })
+    };
+    let measured = rows
+        .iter()
+        .zip(&runs)
+        .map(|(row, run)| {
+            let reference =
+                reference(row.stiffness).filter(|_| row.solver != SolverId::BackwardEuler);
+            measure(row, run, reference)
+        })
+        .collect();
+    Ok(ResultSet {
+        configuration: *configuration,
+        rows: measured,
+    })
+}
+
+/// The faithful result set of all 56 rows, computed once per process and shared by the tests
+/// of a test binary (the report binary calls [`run_all`] itself, to show progress and return
+/// errors).
+///
+/// # Panics
+/// If a faithful run fails: the tests treat that as a failure.
+pub fn faithful_results() -> &'static ResultSet {
+    static RESULTS: OnceLock<ResultSet> = OnceLock::new();
+    RESULTS.get_or_init(|| {
+        run_all(published_rows(), &Configuration::faithful(), &|_, _| {})
+            .expect("the faithful thesis experiments run without error")
+    })
 }

@@ -8,6 +8,8 @@
 //! live in [`crate::studies::forensics`]; here a [`Configuration`] only carries them to the run.
 
 pub mod batched;
+
+pub use batched::{faithful_results, run_all};
 pub mod pool;
 pub mod published;
 pub mod rule;
@@ -36,7 +38,6 @@ use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::solvers::registry::SolverId;
 use crate::solvers::registry::SolverSpec;
 use crate::studies::forensics::admm_variants::{AdmmVariant, VariantAdmm};
-use std::sync::OnceLock;
 
 /// How the solver of a row is built.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -266,56 +267,6 @@ pub fn expected_cost(row: &PublishedRow, configuration: &Configuration) -> f64 {
     published_cost(row)
         * (configuration.stop.max_time / duration).min(1.0)
         * row.solver.info().relative_cost
-}
-
-/// Runs every row (in parallel over the available cores, longest first, the batchable ones in
-/// batches: [`batched`]) and measures the
-/// rest-state errors against the references. `progress(done, total)` is called after each.
-pub fn run_all(
-    rows: &[PublishedRow],
-    configuration: &Configuration,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<ResultSet> {
-    let jobs: Vec<(&PublishedRow, &Configuration)> =
-        rows.iter().map(|row| (row, configuration)).collect();
-    let runs = batched::run_experiments(&jobs, progress)
-        .into_iter()
-        .collect::<Result<Vec<Run>>>()?;
-    let reference = |k: f64| {
-        rows.iter()
-            .position(|r| r.solver == SolverId::BackwardEuler && r.stiffness == k)
-            .map(|i| Reference {
-                final_positions: &runs[i].final_state.x,
-                half_period_thesis: runs[i].half_period_thesis(),
-            })
-    };
-    let measured = rows
-        .iter()
-        .zip(&runs)
-        .map(|(row, run)| {
-            let reference =
-                reference(row.stiffness).filter(|_| row.solver != SolverId::BackwardEuler);
-            measure(row, run, reference)
-        })
-        .collect();
-    Ok(ResultSet {
-        configuration: *configuration,
-        rows: measured,
-    })
-}
-
-/// The faithful result set of all 56 rows, computed once per process and shared by the tests
-/// of a test binary (the report binary calls [`run_all`] itself, to show progress and return
-/// errors).
-///
-/// # Panics
-/// If a faithful run fails: the tests treat that as a failure.
-pub fn faithful_results() -> &'static ResultSet {
-    static RESULTS: OnceLock<ResultSet> = OnceLock::new();
-    RESULTS.get_or_init(|| {
-        run_all(published_rows(), &Configuration::faithful(), &|_, _| {})
-            .expect("the faithful thesis experiments run without error")
-    })
 }
 
 #[cfg(test)]

@@ -12,7 +12,6 @@
 //! step does a square root and a division per spring, against their measured throughput.
 
 use crate::measure::{seconds, thread_cpu, time_batches, Time, BATCH_SECONDS, REPEATS};
-use mass_spring_report::benchmark::rows_csv;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::model::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
 use mass_spring_solvers::model::scene::SheetParams;
@@ -406,15 +405,6 @@ impl Scaling {
             2.0 * b.factor_bytes as f64 / b.read_bandwidth_bytes_per_s,
             p.springs as f64 * self.sqrt_div,
         ))
-    }
-
-    /// `scaling.csv`, `bandwidth.csv` and `scaling.svg`.
-    pub fn files(&self) -> Result<Vec<(String, String)>> {
-        Ok(vec![
-            ("scaling.csv".into(), rows_csv(&self.points)),
-            ("bandwidth.csv".into(), rows_csv(&self.bandwidth)),
-            ("scaling.svg".into(), crate::scaling_md::figure(self)?),
-        ])
     }
 }
 /// Read bandwidth of a buffer of `bytes`, B/s: the best of [`REPEATS`] batches of sums over it

@@ -6,6 +6,7 @@ use crate::scaling::{
     solvers, Point, Scaling, BYTES_PER_FACTOR_ENTRY, DT, ITERATIONS, NEWTON_ITERATIONS, SIDES,
     STIFFNESS,
 };
+use mass_spring_report::benchmark::rows_csv;
 use mass_spring_report::plot::{self, Axis, Chart, Entry, Line, Panel, Rgb, Series};
 use mass_spring_report::style::{colour, solver_line, solver_marker};
 use mass_spring_solvers::error::Result;
@@ -304,4 +305,13 @@ fn targets_md(study: &Scaling) -> String {
         );
     }
     md
+}
+
+/// The files of the scaling study: `scaling.csv`, `bandwidth.csv` and `scaling.svg`.
+pub fn files(study: &Scaling) -> Result<Vec<(String, String)>> {
+    Ok(vec![
+        ("scaling.csv".into(), rows_csv(&study.points)),
+        ("bandwidth.csv".into(), rows_csv(&study.bandwidth)),
+        ("scaling.svg".into(), figure(study)?),
+    ])
 }
