@@ -14,7 +14,6 @@
 //! figure test checks the layout (text sizes, overlaps, marks inside their axes) with the
 //! glyph-width bound of [`text_width`].
 
-
 mod axes;
 mod laid_out;
 mod layout;
