@@ -1,0 +1,315 @@
+//! Sparse symmetric matrices and their prefactored solve, shared by Backward Euler (one
+//! factorisation per Newton iteration) and by Liu 2013 and ADMM-PD (one factorisation per
+//! scene and time step, Algorithm 3 line 1.4 and Algorithm 4 line 1.5).
+//!
+//! Three factorisations sit behind [`Factorization`], chosen by the matrix's half-bandwidth:
+//! a twisted tridiagonal $`LDL^\top`$ for 1 (a chain with one unknown per node: Liu's and ADMM's
+//! per-coordinate matrix of the rope), a banded $`LDL^\top`$ up to
+//! [`BANDED_MAX_BANDWIDTH`] (5 for Backward Euler's 3n×3n matrix of the rope), and faer's
+//! sparse supernodal Cholesky with a fill-reducing ordering for everything else (a cloth).
+//! The pattern is analysed once; refactoring with new values reuses it. The solves of the
+//! rope are a few tens of nanoseconds of latency-bound arithmetic, made every iteration, so
+//! their loops are written for it (see each type); they allocate nothing.
+
+use crate::error::Result;
+
+mod banded;
+mod pivot;
+mod sparse;
+mod symmetric;
+mod tridiagonal;
+
+pub use banded::{BandedLdlt, BANDED_MAX_BANDWIDTH};
+pub use sparse::SparseCholesky;
+pub use symmetric::SymmetricMatrix;
+pub use tridiagonal::TwistedTridiagonal;
+
+/// A factorisation of a symmetric positive definite matrix ($`LDL^\top`$ or $`LL^\top`$),
+/// analysed once for its pattern.
+#[derive(Debug, Clone)]
+pub enum Factorization {
+    /// Half-bandwidth at most 1 (a chain with one unknown per node).
+    Tridiagonal(TwistedTridiagonal),
+    /// Dense band storage; no fill outside the band.
+    Banded(BandedLdlt),
+    /// faer's sparse Cholesky with its symbolic analysis kept for refactoring.
+    Sparse(SparseCholesky),
+}
+
+impl Factorization {
+    /// Analyses the pattern of `a` and factors it. Fails if `a` is not positive definite.
+    pub fn new(a: &SymmetricMatrix) -> Result<Self> {
+        match a.bandwidth() {
+            0 | 1 => TwistedTridiagonal::new(a).map(Self::Tridiagonal),
+            p if p <= BANDED_MAX_BANDWIDTH => BandedLdlt::new(a).map(Self::Banded),
+            _ => SparseCholesky::new(a).map(Self::Sparse),
+        }
+    }
+
+    /// [`Self::new`] for a matrix factored once and solved every iteration with three
+    /// right-hand sides (Liu's and ADMM's $`A`$): a sparse one takes the simplicial factor
+    /// ([`SparseCholesky::simplicial`]) whatever faer's heuristic says, for its faster
+    /// three-column solve.
+    pub fn for_three_columns(a: &SymmetricMatrix) -> Result<Self> {
+        match a.bandwidth() {
+            p if p <= BANDED_MAX_BANDWIDTH => Self::new(a),
+            _ => SparseCholesky::simplicial(a).map(Self::Sparse),
+        }
+    }
+
+    /// Factors new values with the same pattern as the matrix this was built from.
+    pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
+        match self {
+            Self::Tridiagonal(f) => f.refactor(a),
+            Self::Banded(f) => f.refactor(a),
+            Self::Sparse(f) => f.refactor(a),
+        }
+    }
+
+    /// Solves $`A x = b`$ in place for `ncols` right-hand sides stored one after another
+    /// (column-major, each of length n).
+    #[inline]
+    pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
+        match self {
+            Self::Tridiagonal(f) => f.solve_in_place(b, ncols),
+            Self::Banded(f) => f.solve_in_place(b, ncols),
+            Self::Sparse(f) => f.solve_in_place(b, ncols),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 1D chain Laplacian plus a diagonal, solved by both factorisations against a direct check.
+    fn chain(n: usize, block: usize) -> SymmetricMatrix {
+        let edges: Vec<_> = (0..n - 1).map(|i| (i, i + 1)).collect();
+        let mut a = SymmetricMatrix::from_node_graph(n, block, &edges);
+        for &(i, j) in &edges {
+            for c in 0..block {
+                let (p, q) = (i * block + c, j * block + c);
+                a.add(p, p, 2.0);
+                a.add(q, q, 2.0);
+                a.add(p, q, -2.0);
+                a.add(q, p, -2.0);
+            }
+        }
+        for i in 0..n * block {
+            a.add(i, i, 1.0 + i as f64 * 0.01);
+        }
+        a
+    }
+
+    /// Solves `ncols` right-hand sides with `f` and compares with the known solutions.
+    fn check_solve(a: &SymmetricMatrix, f: &Factorization, ncols: usize) {
+        let n = a.dim();
+        let x: Vec<f64> = (0..ncols * n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut b = vec![0.0; ncols * n];
+        for (x, b) in x.chunks_exact(n).zip(b.chunks_exact_mut(n)) {
+            a.mul_vec(x, b);
+        }
+        f.solve_in_place(&mut b, ncols);
+        for (xi, bi) in x.iter().zip(&b) {
+            assert!((xi - bi).abs() < 1e-12, "{xi} vs {bi}");
+        }
+    }
+
+    /// The pattern of `system`'s springs with `block` unknowns per node, made positive
+    /// definite by a dominant diagonal, and the factorisation [`Factorization::new`] picks.
+    fn factorization_of(
+        system: &crate::model::system::MassSpringSystem,
+        block: usize,
+    ) -> Factorization {
+        let edges: Vec<_> = system.springs().iter().map(|s| (s.a, s.b)).collect();
+        let mut a = SymmetricMatrix::from_node_graph(system.len(), block, &edges);
+        for &(i, j) in &edges {
+            for c in 0..block {
+                let (p, q) = (i * block + c, j * block + c);
+                a.add(p, p, 2.0);
+                a.add(q, q, 2.0);
+                a.add(p, q, -1.0);
+                a.add(q, p, -1.0);
+            }
+        }
+        for i in 0..a.dim() {
+            a.add(i, i, 1.0);
+        }
+        Factorization::new(&a).unwrap()
+    }
+
+    /// Determinism across CPUs: every solve of the rope and of the 10×10 sheet runs on this
+    /// crate's scalar factorisations, never on faer's run-time dispatched kernels.
+    #[test]
+    fn the_rope_and_the_sheet_never_reach_faer() {
+        use crate::model::scene::{thesis_rope, SheetParams, SheetSupport, SHEET_NODES_PER_SIDE};
+        let rope = thesis_rope(1e3).unwrap();
+        // Liu 2013 and ADMM-PD: one unknown per node; Backward Euler: three.
+        assert!(matches!(
+            factorization_of(&rope, 1),
+            Factorization::Tridiagonal(_)
+        ));
+        assert!(matches!(
+            factorization_of(&rope, 3),
+            Factorization::Banded(_)
+        ));
+        for support in [SheetSupport::FourCorners, SheetSupport::TwoCorners] {
+            let sheet = SheetParams::spec(SHEET_NODES_PER_SIDE, 1e3)
+                .with_support(support)
+                .build()
+                .unwrap();
+            for block in [1, 3] {
+                assert!(
+                    matches!(factorization_of(&sheet, block), Factorization::Banded(_)),
+                    "{SHEET_NODES_PER_SIDE}×{SHEET_NODES_PER_SIDE} sheet, {block} unknowns per node"
+                );
+            }
+        }
+        // Past the threshold, faer: a 15×15 sheet with three unknowns per node.
+        let wide = SheetParams::spec(15, 1e3).build().unwrap();
+        assert!(matches!(
+            factorization_of(&wide, 3),
+            Factorization::Sparse(_)
+        ));
+    }
+
+    #[test]
+    fn banded_and_sparse_solve_the_same_system() {
+        for block in [2, 3] {
+            let a = chain(40, block);
+            assert_eq!(a.bandwidth(), 2 * block - 1);
+            let banded = Factorization::new(&a).unwrap();
+            assert!(matches!(banded, Factorization::Banded(_)));
+            let sparse = Factorization::Sparse(SparseCholesky::new(&a).unwrap());
+            for ncols in 1..=3 {
+                check_solve(&a, &banded, ncols);
+                check_solve(&a, &sparse, ncols);
+            }
+        }
+    }
+
+    /// Called directly, the banded factorisation takes a bandwidth past the one
+    /// [`Factorization`] gives it (its scratch then lives on the heap).
+    #[test]
+    fn banded_solves_a_wide_band() {
+        let a = chain(30, 24);
+        assert!(a.bandwidth() > BANDED_MAX_BANDWIDTH);
+        let banded = Factorization::Banded(BandedLdlt::new(&a).unwrap());
+        let sparse = Factorization::new(&a).unwrap();
+        assert!(matches!(sparse, Factorization::Sparse(_)));
+        for ncols in 1..=3 {
+            check_solve(&a, &banded, ncols);
+            check_solve(&a, &sparse, ncols);
+        }
+    }
+
+    /// The sparse factor's own three-column solve (interleaved, on a simplicial factor with a
+    /// fill-reducing permutation) gives what faer's solve gives column by column, on a grid
+    /// whose ordering is not the identity.
+    #[test]
+    fn sparse_three_column_solve_matches_faer() {
+        let side = 30;
+        let mut edges = Vec::new();
+        for i in 0..side {
+            for j in 0..side {
+                let k = i * side + j;
+                if i + 1 < side {
+                    edges.push((k, k + side));
+                }
+                if j + 1 < side {
+                    edges.push((k, k + 1));
+                }
+                if i + 1 < side && j + 1 < side {
+                    edges.push((k, k + side + 1));
+                }
+            }
+        }
+        let mut a = SymmetricMatrix::from_node_graph(side * side, 1, &edges);
+        for &(p, q) in &edges {
+            let w = 1.0 + (p as f64 * 0.1).sin().abs();
+            a.add(p, p, w);
+            a.add(q, q, w);
+            a.add(p, q, -w);
+            a.add(q, p, -w);
+        }
+        for i in 0..a.dim() {
+            a.add(i, i, 0.01);
+        }
+        let f = SparseCholesky::new(&a).unwrap();
+        let columns = f.columns.as_ref().expect("a simplicial factor");
+        assert!(columns
+            .permutation
+            .iter()
+            .enumerate()
+            .any(|(i, &p)| p as usize != i));
+        let sparse = Factorization::Sparse(f.clone());
+        check_solve(&a, &sparse, 3);
+        let n = a.dim();
+        let b: Vec<f64> = (0..3 * n).map(|i| (i as f64 * 0.71).cos()).collect();
+        let mut together = b.clone();
+        f.solve_in_place(&mut together, 3);
+        for (c, column) in b.chunks_exact(n).enumerate() {
+            let mut alone = column.to_vec();
+            f.solve_in_place(&mut alone, 1);
+            for (x, y) in alone.iter().zip(&together[c * n..(c + 1) * n]) {
+                assert!((x - y).abs() <= 1e-10 * x.abs().max(1.0), "{x} vs {y}");
+            }
+        }
+    }
+
+    /// The twisted factorisation meets in the middle row: chains of every small length (odd,
+    /// even, one row) and a long one, against the banded and sparse solves of the same matrix.
+    #[test]
+    fn tridiagonal_solves_chains_of_any_length() {
+        for n in [1, 2, 3, 4, 5, 10, 41] {
+            let a = if n == 1 {
+                let mut a = SymmetricMatrix::from_node_graph(1, 1, &[]);
+                a.add(0, 0, 3.0);
+                a
+            } else {
+                chain(n, 1)
+            };
+            let twisted = Factorization::new(&a).unwrap();
+            assert!(matches!(twisted, Factorization::Tridiagonal(_)), "n = {n}");
+            let banded = Factorization::Banded(BandedLdlt::new(&a).unwrap());
+            let sparse = Factorization::Sparse(SparseCholesky::new(&a).unwrap());
+            for ncols in 1..=3 {
+                check_solve(&a, &twisted, ncols);
+                check_solve(&a, &banded, ncols);
+                check_solve(&a, &sparse, ncols);
+            }
+        }
+    }
+
+    /// A refactorisation takes the new values (the pattern's analysis is kept).
+    #[test]
+    fn refactoring_solves_the_new_matrix() {
+        for block in [1, 3] {
+            let mut a = chain(12, block);
+            let mut f = Factorization::new(&a).unwrap();
+            for i in 0..a.dim() {
+                a.add(i, i, 0.5 * i as f64);
+            }
+            a.add(1, 0, -0.25);
+            a.add(0, 1, -0.25);
+            f.refactor(&a).unwrap();
+            check_solve(&a, &f, 3);
+        }
+    }
+
+    #[test]
+    fn indefinite_matrix_is_reported_not_solved() {
+        for block in [1, 3] {
+            let mut a = chain(5, block);
+            a.add(2, 2, -100.0);
+            let err = Factorization::new(&a).unwrap_err();
+            assert!(err.to_string().contains("not positive definite"), "{err}");
+            assert!(BandedLdlt::new(&a).is_err());
+            assert!(SparseCholesky::new(&a).is_err());
+        }
+        // A pivot that is only reached from below (the twisted factorisation's other half).
+        let mut a = chain(6, 1);
+        a.add(5, 5, -100.0);
+        assert!(Factorization::new(&a).is_err());
+    }
+}

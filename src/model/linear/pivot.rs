@@ -1,0 +1,33 @@
+//! What the factorisations share: a pivot's reciprocal (or the error naming the row whose
+//! pivot is not positive) and the columns of a right-hand side.
+
+use crate::error::{Error, Result};
+
+/// Splits `b` into `C` right-hand sides of length `n`, stored one after another.
+#[inline]
+pub(super) fn columns<T, const C: usize>(b: &mut [T], n: usize) -> [&mut [T]; C] {
+    let mut columns = b.chunks_exact_mut(n);
+    std::array::from_fn(|_| columns.next().expect("C columns of length n"))
+}
+
+/// Rejects a pivot that is not positive and finite, and returns its inverse.
+#[inline]
+pub(super) fn inverse_pivot(row: usize, d: f64) -> Result<f64> {
+    if d.is_nan() || d <= 0.0 || d.is_infinite() {
+        Err(not_positive_definite(row, d))
+    } else {
+        Ok(1.0 / d)
+    }
+}
+
+pub(super) fn not_positive_definite(row: usize, pivot: f64) -> Error {
+    let at = if row == usize::MAX {
+        String::from("a pivot")
+    } else {
+        format!("row {row} (pivot {pivot:e})")
+    };
+    Error::NotConverged {
+        what: "Cholesky factorisation".into(),
+        detail: format!("the matrix is not positive definite at {at}"),
+    }
+}
