@@ -337,7 +337,7 @@ impl IntegratorsChapter {
         };
         md += &format!(
             "The positions of the rope at k = {:e} N/m at t = {} s from its start, every stage \
-             solved to round-off (Newton, `src/converged_stage.rs`), against the exact motion \
+             solved to round-off (Newton, `src/solvers/converged_stage.rs`), against the exact motion \
              (RK4 at {} of its stability limit), as the largest node distance, for h = {} s \
              (Figure I1). The least-squares slopes, against the targets the issue fixed before the run \
              (1 ± 0.1 for Backward Euler, 2 ± 0.1 for the others, \

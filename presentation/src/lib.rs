@@ -537,7 +537,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
 
     md += "## 16. Data files\n\n";
     md += "Every data file is a CSV written with `csv::Writer` and read back by a strict reader in \
-           `tests/csv_schema.rs` against the schema below (`report::schema`): column names are \
+           `presentation/tests/csv_schema.rs` against the schema below (`mass_spring_report::schema`): column names are \
            `name_unit` (`dt_s`, `x_m`, `stiffness_n_per_m`; no unit for a count, an identifier or a \
            ratio), an empty field means none, numbers are the shortest decimal that reads back to the \
            same double. `results.csv` and `table1.csv` keep the published table's column names.\n\n";

@@ -1,6 +1,6 @@
 //! The data files of the report, documented once: each file's columns with their units, from
 //! which the report's section on data files is generated and against which a test reads every
-//! file back with a strict CSV reader (`tests/csv_schema.rs`).
+//! file back with a strict CSV reader (`presentation/tests/csv_schema.rs`).
 //!
 //! Conventions: column names are lower-case `name_unit` (`dt_s`, `x_m`, `stiffness_n_per_m`,
 //! `energy_j`); a column without a unit is a count, an identifier or a ratio; an empty field

@@ -240,7 +240,7 @@ fn impl_target(header: &str) -> String {
     target[..end].rsplit("::").next().unwrap_or("").to_string()
 }
 
-/// The module path of a source file: `presentation/src/tables.rs` → `report::tables`.
+/// The module path of a source file: `src/model/spring.rs` → `model::spring`.
 fn module_of(file: &str) -> String {
     let path = file.trim_start_matches("src/").trim_end_matches(".rs");
     let path = path.trim_end_matches("/mod").trim_end_matches("lib");
