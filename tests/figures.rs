@@ -249,3 +249,21 @@ fn the_timing_figures_are_numbered_in_one_sequence_and_each_is_cited() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert_eq!(numbering::uncited(&md), Vec::<u32>::new());
 }
+
+/// An x tick label centred at the right end of the axes sticks out of the figure unless the
+/// layout widens the right margin (a `timing --quick` wall-time figure did, under load).
+#[test]
+fn an_x_tick_label_at_the_right_end_stays_inside_the_figure() {
+    // The axis ends at a labelled tick: "0.00020" is centred on the frame's right edge.
+    let mut p = Panel::new(
+        Axis::linear("wall time (s)").range(0.0, 2.0e-4),
+        Axis::log("error (m)"),
+    );
+    let points: Vec<(f64, f64)> = (1..=9)
+        .map(|i| (2.0e-5 * i as f64, 10f64.powi(-i)))
+        .collect();
+    p.series
+        .push(Series::line("run", points, Rgb(0, 0, 0)).with_marker(Marker::Circle, true));
+    let found = check(&Chart::new(COLUMN_WIDTH_MM, 60.0, vec![p]));
+    assert!(found.is_empty(), "{found:#?}");
+}

@@ -283,7 +283,7 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
         } else {
             TEXT_PT * 0.6
         };
-        let right = TEXT_PT * 1.2;
+        let mut right = TEXT_PT * 1.2;
         let bottom_axis = if panel.frame {
             TICK_PT + 2.0 + TEXT_PT * 1.1 + 3.0 + TITLE_PT * 1.1
         } else {
@@ -322,10 +322,31 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
             } else {
                 2.0
             };
-            if (needed - left).abs() < 0.5 {
+            // An x tick label centred near the frame's right end may stick out past the
+            // figure's edge (the cell's right margin plus the figure's outer one): widen the
+            // margin by what it would stick out.
+            let edge = cx + cell_w + outer;
+            let x_scale = Scale {
+                log: panel.x.log,
+                lo: xr.0,
+                hi: xr.1,
+                a: frame.x0,
+                b: frame.x1,
+            };
+            let overhang = if panel.frame {
+                ticks(xr.0, xr.1, panel.x.log)
+                    .iter()
+                    .filter(|t| t.2)
+                    .map(|t| x_scale.map(t.0) + text_width(&t.1, TEXT_PT) / 2.0 - edge)
+                    .fold(0.0, f64::max)
+            } else {
+                0.0
+            };
+            if (needed - left).abs() < 0.5 && overhang <= 0.0 {
                 break;
             }
             left = needed;
+            right += overhang.max(0.0);
         }
         let sx = Scale {
             log: panel.x.log,
