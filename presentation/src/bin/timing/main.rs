@@ -177,7 +177,7 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
     }
     if let Some(study) = &scaling {
         md += &scaling_md(study, cases.len() + 1);
-        files.extend(scaling_md::files(&study)?);
+        files.extend(scaling_md::files(study)?);
     }
     // The figures' anchors and every "Figure N" linked, as in REPORT.md.
     files.push(("TIMING.md".into(), navigation::linkify(&md)));
