@@ -41,7 +41,7 @@ pub(super) const TOLERANCE_GREY: crate::plot::Rgb = crate::plot::Rgb(120, 120, 1
 impl BeyondChapter {
     /// The chapter's figure: the convergence curves at [`CONVERGENCE_DT`],
     /// [`CONVERGENCE_STIFFNESS`], small multiples: a row per family of solvers
-    /// ([`b1_families`]), a column per start, the tolerance [`GAP_TOLERANCE`] drawn in each;
+    /// (`b1_families`), a column per start, the tolerance [`GAP_TOLERANCE`] drawn in each;
     /// curves that coincide are drawn once and named together.
     pub fn figures(&self) -> Result<Vec<ChapterFigure>> {
         let mut panels = Vec::new();

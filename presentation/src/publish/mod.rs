@@ -27,7 +27,7 @@
 //! directory whose `MANIFEST` is not the report's is refused likewise. Every refusal comes
 //! before anything is written, so its "nothing was changed" is true.
 //!
-//! Clean-up ([`remove_tree`]) never follows a symbolic link and never crosses into another file
+//! Clean-up (`files::remove_tree`) never follows a symbolic link and never crosses into another file
 //! system: what holds a mount point is left in place, with a message.
 
 mod files;
