@@ -2,7 +2,7 @@
 //! [`Lanes4`], four runs of the same rope topology and fixed nodes (any dt, stiffness, masses,
 //! iteration counts, and a first iterate of (a) or (b), [`FirstIterate`]).
 
-use super::{LaneSolver, WIDTH};
+use super::{iterate_lanes, lane_mask, LaneSolver, WIDTH};
 use crate::integrators::first_iterate::inertia;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, read_points, select, Lanes4};
@@ -12,7 +12,7 @@ use crate::solvers::fast_mass_spring::{
 };
 use crate::solvers::projective::{finish_step_of, to_columns, GlobalSolveLanes, SpringIncidence};
 use nalgebra::Vector3;
-use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
+use simba::simd::SimdValue;
 
 /// Four Liu 2013 runs of one topology, one per lane.
 #[derive(Debug, Clone)]
@@ -73,12 +73,6 @@ impl LiuLanes {
             done: vec![zero; 3 * n],
         })
     }
-
-    /// Per lane, whether `lane_holds` holds of its index.
-    fn mask(lane_holds: impl Fn(usize) -> bool) -> <Lanes4 as SimdValue>::SimdBool {
-        let ones = std::array::from_fn(|lane| if lane_holds(lane) { 1.0 } else { 0.0 });
-        Lanes4::from(ones).simd_gt(Lanes4::splat(0.0))
-    }
 }
 
 impl LaneSolver for LiuLanes {
@@ -130,7 +124,7 @@ impl LaneSolver for LiuLanes {
             &self.dt2_f_ext,
             &mut self.b,
         );
-        let inertial = Self::mask(|lane| self.inertial[lane]);
+        let inertial = lane_mask(|lane| self.inertial[lane]);
         for (first, ((&x, &v), &fixed)) in self
             .first
             .iter_mut()
@@ -144,27 +138,18 @@ impl LaneSolver for LiuLanes {
         to_columns(&self.first, &mut self.iterate);
         // 2.2-2.8.
         let dt2 = self.dt * self.dt;
-        let most = self.iterations.iter().copied().max().unwrap_or(0);
-        for iteration in 0..most {
-            let finished = Self::mask(|lane| self.iterations[lane] <= iteration);
-            if finished.any() {
-                self.done.copy_from_slice(&self.iterate);
-            }
-            spring_directions(
-                &self.j,
-                &self.iterate,
-                &self.rest_lengths,
-                &mut self.d,
-                &mut self.scale,
-            );
-            global_rhs(&self.j, &self.b, &self.d, dt2, &mut self.iterate);
-            self.a.solve(&mut self.iterate, &self.x_n);
-            if finished.any() {
-                for (x, &done) in self.iterate.iter_mut().zip(&self.done) {
-                    *x = done.select(finished, *x);
-                }
-            }
-        }
+        let (j, b, a, x_n) = (&self.j, &self.b, &self.a, &self.x_n);
+        let (rest_lengths, d, scale) = (&self.rest_lengths, &mut self.d, &mut self.scale);
+        iterate_lanes(
+            &self.iterations,
+            &mut self.iterate,
+            &mut self.done,
+            |iterate| {
+                spring_directions(j, iterate, rest_lengths, d, scale);
+                global_rhs(j, b, d, dt2, iterate);
+                a.solve(iterate, x_n);
+            },
+        );
         // Erratum: Algorithm 3 omits the velocity update.
         finish_step_of(&mut self.x, &mut self.v, &self.iterate, self.dt);
     }

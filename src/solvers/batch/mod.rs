@@ -12,7 +12,10 @@ pub mod xpbd;
 
 use crate::error::Result;
 use crate::integrators::time_stepper::{InMemory, Run, RunOptions, TimeStepper, Watch};
+use crate::model::lanes::{select, Lanes4};
 use crate::model::system::State;
+use nalgebra::Vector3;
+use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
 
 /// Lanes in a batch.
 pub const WIDTH: usize = 4;
@@ -31,6 +34,60 @@ pub trait LaneSolver {
     fn read(&self, lane: usize, state: &mut State);
     /// Sets lane `lane`'s velocities (after the run loop damped them).
     fn write_velocities(&mut self, lane: usize, state: &State);
+}
+
+/// Per lane, whether `lane_holds` holds of its index.
+pub fn lane_mask(lane_holds: impl Fn(usize) -> bool) -> <Lanes4 as SimdValue>::SimdBool {
+    let ones = std::array::from_fn(|lane| if lane_holds(lane) { 1.0 } else { 0.0 });
+    Lanes4::from(ones).simd_gt(Lanes4::splat(0.0))
+}
+
+/// A value of a step's iterate in lanes ([`Lanes4`] or a point of them), of which some lanes
+/// can be kept while the others change.
+pub trait Kept: Copy {
+    /// Per lane, `self` where `mask` holds and `other` elsewhere.
+    fn kept_where(self, mask: <Lanes4 as SimdValue>::SimdBool, other: Self) -> Self;
+}
+
+impl Kept for Lanes4 {
+    fn kept_where(self, mask: <Lanes4 as SimdValue>::SimdBool, other: Self) -> Self {
+        self.select(mask, other)
+    }
+}
+
+impl Kept for Vector3<Lanes4> {
+    fn kept_where(self, mask: <Lanes4 as SimdValue>::SimdBool, other: Self) -> Self {
+        select(mask, self, other)
+    }
+}
+
+/// The iterations of one step in lanes whose runs take `iterations` each: `iterate` is run on
+/// `values` as many times as the most any lane takes, and every lane ends with the values of
+/// its own count. Each lane's values are saved into `done` once, at the iteration its count
+/// is reached, and put back after the last (its further iterations change only its own lane,
+/// unread), so a batch with a short or empty lane costs no copy per iteration.
+pub fn iterate_lanes<V: Kept>(
+    iterations: &[usize; WIDTH],
+    values: &mut [V],
+    done: &mut [V],
+    mut iterate: impl FnMut(&mut [V]),
+) {
+    let most = iterations.iter().copied().max().unwrap_or(0);
+    for iteration in 0..most {
+        let reached = lane_mask(|lane| iterations[lane] == iteration);
+        if reached.any() {
+            for (done, &value) in done.iter_mut().zip(values.iter()) {
+                *done = value.kept_where(reached, *done);
+            }
+        }
+        iterate(values);
+    }
+    let short = lane_mask(|lane| iterations[lane] < most);
+    if short.any() {
+        for (value, &done) in values.iter_mut().zip(done.iter()) {
+            *value = done.kept_where(short, *value);
+        }
+    }
 }
 
 /// A run in a lane.

@@ -1,13 +1,13 @@
 //! XPBD (Algorithm 2) in lanes: [`crate::solvers::xpbd::Xpbd`]'s step at [`Lanes4`], four runs of the
 //! same rope topology (any dt, compliance, masses and iteration counts).
 
-use super::{LaneSolver, WIDTH};
+use super::{iterate_lanes, LaneSolver, WIDTH};
 use crate::integrators::time_stepper::TimeStepper;
-use crate::model::lanes::{load_points, load_values, read_points, select, Lanes4};
+use crate::model::lanes::{load_points, load_values, read_points, Lanes4};
 use crate::model::system::{Spring, State};
 use crate::solvers::xpbd::{Coefficients, Scratch, Xpbd};
 use nalgebra::Vector3;
-use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
+use simba::simd::SimdValue;
 
 /// Four XPBD runs of one topology, one per lane.
 #[derive(Debug, Clone)]
@@ -92,20 +92,10 @@ impl LaneSolver for XpbdLanes {
     fn step(&mut self) {
         let c = &self.coefficients;
         c.predict(&mut self.x, &self.v, &mut self.scratch);
-        let most = self.iterations.iter().copied().max().unwrap_or(0);
-        let counts = Lanes4::from(self.iterations.map(|count| count as f64));
-        for iteration in 0..most {
-            let finished = counts.simd_le(Lanes4::splat(iteration as f64));
-            if finished.any() {
-                self.done.copy_from_slice(&self.x);
-            }
-            c.sweep(&self.springs, &mut self.x, &mut self.scratch.lambda);
-            if finished.any() {
-                for (x, done) in self.x.iter_mut().zip(&self.done) {
-                    *x = select(finished, *done, *x);
-                }
-            }
-        }
+        let (springs, lambda) = (&self.springs, &mut self.scratch.lambda);
+        iterate_lanes(&self.iterations, &mut self.x, &mut self.done, |x| {
+            c.sweep(springs, x, lambda)
+        });
         c.velocities(&self.x, &mut self.v, &self.scratch);
     }
 
