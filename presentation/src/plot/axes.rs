@@ -20,6 +20,17 @@ pub(super) struct Scale {
 }
 
 impl Scale {
+    /// The x axis of `frame` over `range`, left to right.
+    pub(super) fn along_x(log: bool, range: (f64, f64), frame: &Rect) -> Self {
+        Self {
+            log,
+            lo: range.0,
+            hi: range.1,
+            a: frame.x0,
+            b: frame.x1,
+        }
+    }
+
     pub(super) fn t(&self, v: f64) -> f64 {
         if self.log {
             v.log10()

@@ -326,13 +326,7 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
             // figure's edge (the cell's right margin plus the figure's outer one): widen the
             // margin by what it would stick out.
             let edge = cx + cell_w + outer;
-            let x_scale = Scale {
-                log: panel.x.log,
-                lo: xr.0,
-                hi: xr.1,
-                a: frame.x0,
-                b: frame.x1,
-            };
+            let x_scale = Scale::along_x(panel.x.log, xr, &frame);
             let overhang = if panel.frame {
                 ticks(xr.0, xr.1, panel.x.log)
                     .iter()
@@ -348,13 +342,7 @@ pub fn layout(chart: &Chart) -> Result<Layout> {
             left = needed;
             right += overhang.max(0.0);
         }
-        let sx = Scale {
-            log: panel.x.log,
-            lo: xr.0,
-            hi: xr.1,
-            a: frame.x0,
-            b: frame.x1,
-        };
+        let sx = Scale::along_x(panel.x.log, xr, &frame);
         let sy = Scale {
             log: panel.y.log,
             lo: yr.0,
