@@ -35,11 +35,13 @@ use crate::integrators::first_iterate::{FirstIterate, StepStart};
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
 use crate::integrators::stopping::Convergence;
 use crate::integrators::time_stepper::TimeStepper;
+use crate::model::lanes::Lane;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::projective::{
     finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve,
     SpringIncidence,
 };
+use nalgebra::Vector3;
 
 /// The default weights $`\omega_i = \sqrt{k_i}`$ (§2.3.2, Eqs 37-38: $`A = WD`$, $`B = -W`$).
 pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {
@@ -52,26 +54,73 @@ pub fn default_omega(system: &MassSpringSystem) -> Vec<f64> {
 
 /// Eq. (56): $`z_i = \dfrac{k\,p_i + \omega_i^2\,(D_i x + \bar u_i)}{\omega_i^2 + k}`$, the
 /// minimiser of Eq (41) for Hooke's energy given the projection $`p_i`$ of Eq (55);
-/// $`\frac12(p_i + D_i x + \bar u_i)`$ when $`\omega_i^2 = k`$.
+/// $`\frac12(p_i + D_i x + \bar u_i)`$ when $`\omega_i^2 = k`$. For any lane type
+/// ([`crate::model::lanes`]).
 #[inline]
-pub fn z_update(p: Vec3, q: Vec3, k: f64, omega: f64) -> Vec3 {
+pub fn z_update<T: Lane>(p: Vector3<T>, q: Vector3<T>, k: T, omega: T) -> Vector3<T> {
     let omega2 = omega * omega;
-    (k * p + omega2 * q) / (omega2 + k)
+    (p * k + q * omega2) / (omega2 + k)
 }
 
 /// Eq. (41): $`z_i = \arg\min_{z_i} U_i(z_i) + \frac12|W_i(D_i x - z_i + \bar u_i)|^2`$ for
 /// $`U_i(z) = \frac12 k(|z| - l_0)^2`$, with $`q = D_i x + \bar u_i`$: the minimiser lies on $`q`$'s
 /// ray, so it is Eq (56) applied to the projection $`p_i = l_0\,q/|q|`$ of Eq (55).
 #[inline]
-pub fn z_minimisation(q: Vec3, l0: f64, k: f64, omega: f64) -> Vec3 {
+pub fn z_minimisation<T: Lane>(q: Vector3<T>, l0: T, k: T, omega: T) -> Vector3<T> {
     let p = project_on_sphere(q, l0);
     z_update(p, q, k, omega)
 }
 
 /// Eq. (42): $`\bar u_i \leftarrow \bar u_i + D_i x - z_i`$.
 #[inline]
-pub fn dual_update(u_bar: Vec3, d_x: Vec3, z: Vec3) -> Vec3 {
+pub fn dual_update<T: Lane>(u_bar: Vector3<T>, d_x: Vector3<T>, z: Vector3<T>) -> Vector3<T> {
     u_bar + d_x - z
+}
+
+/// Line 2.1 for a free node: $`\tilde x_i = x_i + dt\,v_i + dt^2 m_i^{-1} f_{ext,i}`$ (Eq 35),
+/// `pull` being the last term.
+#[inline]
+pub fn prediction<T: Lane>(x: Vector3<T>, v: Vector3<T>, dt: T, pull: Vector3<T>) -> Vector3<T> {
+    x + v * dt + pull
+}
+
+/// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$ (Eq 42),
+/// from the column-major iterate `x`; `springs` gives each spring's rest length and stiffness.
+pub fn local_step_of<T: Lane>(
+    d: &SpringIncidence<T>,
+    x: &[T],
+    springs: impl Iterator<Item = (T, T)>,
+    omega: &[T],
+    z: &mut [Vector3<T>],
+    u_bar: &mut [Vector3<T>],
+) {
+    for (i, (((z, u_bar), (l0, k)), &omega)) in z
+        .iter_mut()
+        .zip(u_bar.iter_mut())
+        .zip(springs)
+        .zip(omega)
+        .enumerate()
+    {
+        let d_x = d.apply_row(i, x);
+        *z = z_minimisation(d_x + *u_bar, l0, k, omega);
+        *u_bar = dual_update(*u_bar, d_x, *z);
+    }
+}
+
+/// Eq. (40)'s right-hand side $`M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$, formed in `x`
+/// (`dt2_omega2`: $`dt^2\omega_i^2`$ per spring).
+pub fn global_rhs_of<T: Lane>(
+    d: &SpringIncidence<T>,
+    m_x_tilde: &[T],
+    z: &[Vector3<T>],
+    u_bar: &[Vector3<T>],
+    dt2_omega2: &[T],
+    x: &mut [T],
+) {
+    x.copy_from_slice(m_x_tilde);
+    for (i, ((&z, &u_bar), &w)) in z.iter().zip(u_bar).zip(dt2_omega2).enumerate() {
+        d.add_row_transposed(i, (z - u_bar) * w, x);
+    }
 }
 
 /// The iteration of Algorithm 4 within one step (lines 2.1-2.10): its iterate, its auxiliary
@@ -122,6 +171,16 @@ impl AdmmIterate {
         &self.omega
     }
 
+    /// $`D`$ of Eq (54).
+    pub fn reduction(&self) -> &SpringIncidence {
+        &self.d
+    }
+
+    /// The global step's factors $`dt^2\omega_i^2`$.
+    pub fn dt2_omega2(&self) -> &[f64] {
+        &self.dt2_omega2
+    }
+
     /// The global step's factors $`dt^2\omega_i^2`$ for another time step `dt` (a stage's
     /// $`\tau`$).
     pub fn set_step(&mut self, dt: f64) {
@@ -140,7 +199,7 @@ impl AdmmIterate {
             let x = if node.fixed {
                 state.x[i]
             } else {
-                state.x[i] + dt * state.v[i] + dt * dt / node.mass * system.external_force(i)
+                prediction(state.x[i], state.v[i], dt, pull(system, dt, i))
             };
             for c in 0..3 {
                 self.x_tilde[c * n + i] = x[c];
@@ -169,17 +228,17 @@ impl AdmmIterate {
     /// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$
     /// (Eq 42), from the current iterate $`x`$.
     pub fn local_step(&mut self, system: &MassSpringSystem) {
-        for (i, ((z, u_bar), s)) in self
-            .z
-            .iter_mut()
-            .zip(self.u_bar.iter_mut())
-            .zip(system.springs())
-            .enumerate()
-        {
-            let d_x = self.d.apply_row(i, &self.x);
-            *z = z_minimisation(d_x + *u_bar, s.rest_length, s.stiffness, self.omega[i]);
-            *u_bar = dual_update(*u_bar, d_x, *z);
-        }
+        local_step_of(
+            &self.d,
+            &self.x,
+            system
+                .springs()
+                .iter()
+                .map(|s| (s.rest_length, s.stiffness)),
+            &self.omega,
+            &mut self.z,
+            &mut self.u_bar,
+        );
     }
 
     /// The combined residual after a global step from `x_before` to the iterate $`x^+`$, with
@@ -205,17 +264,20 @@ impl AdmmIterate {
     /// Eq. (40): $`(M + dt^2 D^\top W^\top W D)\,x = M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$;
     /// forms the right-hand side in $`x`$, for the prefactored solve of the step.
     pub fn global_rhs(&mut self) {
-        self.x.copy_from_slice(&self.m_x_tilde);
-        for (i, ((z, u_bar), &w)) in self
-            .z
-            .iter()
-            .zip(&self.u_bar)
-            .zip(&self.dt2_omega2)
-            .enumerate()
-        {
-            self.d.add_row_transposed(i, w * (z - u_bar), &mut self.x);
-        }
+        global_rhs_of(
+            &self.d,
+            &self.m_x_tilde,
+            &self.z,
+            &self.u_bar,
+            &self.dt2_omega2,
+            &mut self.x,
+        );
     }
+}
+
+/// $`dt^2 m_i^{-1} f_{ext,i}`$, the last term of node `i`'s prediction (Eq 35's $`\tilde x`$).
+pub fn pull(system: &MassSpringSystem, dt: f64, i: usize) -> Vec3 {
+    dt * dt / system.nodes()[i].mass * system.external_force(i)
 }
 
 /// ADMM-PD (Algorithm 4 as printed) with a fixed number of iterations per step.
@@ -271,9 +333,30 @@ impl AdmmPd {
         self.iterations
     }
 
+    /// Where each step starts.
+    pub fn first_iterate(&self) -> FirstIterate {
+        self.start.rule()
+    }
+
+    /// Whether each step runs its full count of iterations ([`crate::integrators::stopping::Stopping::Count`]),
+    /// as a batch of runs does ([`crate::solvers::batch`]).
+    pub fn counts_iterations(&self) -> bool {
+        self.convergence.stopping() == crate::integrators::stopping::Stopping::Count
+    }
+
     /// The weights $`\omega_i`$.
     pub fn omega(&self) -> &[f64] {
         self.iterate.omega()
+    }
+
+    /// The iteration's per-spring data ($`D`$, $`dt^2\omega_i^2`$) at the solver's own step.
+    pub fn iterate_data(&self) -> &AdmmIterate {
+        &self.iterate
+    }
+
+    /// $`A`$ of the solver's own step, prefactored (line 1.5).
+    pub fn own_step(&self) -> &GlobalSolve {
+        self.a.own()
     }
 
     /// Lines 2.4-2.7 at the current iterate: $`z`$ and $`\bar u`$ (Eqs 41-42).

@@ -250,7 +250,7 @@ pub fn system_matrix(
 /// vector is returned, as [`crate::model::spring::constraint_gradient`] does, so that a degenerate
 /// spring pushes its nodes in no arbitrary direction instead of producing NaN.
 #[inline]
-pub fn project_on_sphere(q: Vec3, l0: f64) -> Vec3 {
+pub fn project_on_sphere<T: Lane>(q: Vector3<T>, l0: T) -> Vector3<T> {
     q * sphere_scale(q.norm_squared(), l0)
 }
 

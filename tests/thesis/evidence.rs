@@ -9,7 +9,7 @@ use mass_spring_report::data::{
 use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
 use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::experiments::{
-    faithful_results, published_rows, reproduces, same_experiment, Measured, PublishedRow,
+    published_rows, reproduces, same_experiment, Measured, PublishedRow,
 };
 use mass_spring_solvers::studies::forensics::evidence::{
     round_off_spread, Choice, ADMM_CANDIDATES_TRIED, ROUND_OFF_AGREEMENT,
@@ -17,7 +17,8 @@ use mass_spring_solvers::studies::forensics::evidence::{
 use mass_spring_solvers::studies::forensics::gravity::Hypothesis;
 use mass_spring_solvers::studies::forensics::liu_fit::{stop_under, THRESHOLD_FLOOR_J};
 use mass_spring_solvers::studies::forensics::{
-    forensic_results, AdmmCandidate, ConfigurationId, Evidence, RowEvidence, NOISE_PEAK_J,
+    faithful_results, forensic_results, AdmmCandidate, ConfigurationId, Evidence, RowEvidence,
+    NOISE_PEAK_J,
 };
 use std::collections::HashMap;
 

@@ -21,12 +21,12 @@ use mass_spring_solvers::solvers::projective::{
 };
 use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::experiments::{
-    faithful_results, peak_tolerance, published_rows, Configuration, Measured, PublishedRow,
+    peak_tolerance, published_rows, Configuration, Measured, PublishedRow,
 };
 use mass_spring_solvers::studies::forensics::configurations::LIU_DAMPING_GRID;
 use mass_spring_solvers::studies::forensics::{
-    forensic_results, AdmmCandidate, AdmmVariant, ConfigurationId, FixedNodes, LiuHypothesis,
-    StartPoint, VariantAdmm, Weights,
+    faithful_results, forensic_results, AdmmCandidate, AdmmVariant, ConfigurationId, FixedNodes,
+    LiuHypothesis, StartPoint, VariantAdmm, Weights,
 };
 use mass_spring_solvers::{MassSpringSystem, Result, State, TimeStepper, Vec3};
 
@@ -146,6 +146,61 @@ fn faithful_admm_is_bit_identical_to_algorithm_4() {
         }
         assert!(a.kinetic_energy(&system) > 0.0, "the rope moved");
     }
+}
+
+/// A variant that departs from Algorithm 4 in its start only is `AdmmPd` at the first iterate
+/// `AdmmVariant::as_first_iterate` names, bit for bit (the batches of the forensic runs step
+/// `AdmmPd`); every other variant has none. Fails on a swapped mapping (x⁰ = x_n + dt·v_n
+/// read as the inertial prediction x̃: the first step differs).
+#[test]
+fn a_variant_of_another_start_is_admm_pd_at_that_first_iterate() {
+    let system = thesis_rope(1e3).unwrap();
+    for start in [
+        StartPoint::Prediction,
+        StartPoint::Inertial,
+        StartPoint::Previous,
+    ] {
+        let variant = AdmmVariant {
+            start,
+            ..AdmmVariant::PRINTED
+        };
+        let first = variant.as_first_iterate().expect("a start-only variant");
+        for (dt, iterations) in [(0.01, 20), (0.001, 50)] {
+            let mut pd = AdmmPd::new(&system, dt, iterations)
+                .unwrap()
+                .with_first_iterate(first);
+            let mut forensic = VariantAdmm::new(&system, dt, iterations, variant).unwrap();
+            let (mut a, mut b) = (system.initial_state(), system.initial_state());
+            for step in 0..300 {
+                pd.step(&mut a).unwrap();
+                forensic.step(&mut b).unwrap();
+                assert!(
+                    bits(&a) == bits(&b),
+                    "{start:?}, dt {dt}: step {step} differs"
+                );
+            }
+        }
+    }
+    let others = [
+        AdmmVariant {
+            carry_dual: true,
+            ..AdmmVariant::PRINTED
+        },
+        AdmmVariant {
+            weights: Weights::Stiffness,
+            ..AdmmVariant::PRINTED
+        },
+        AdmmVariant {
+            fixed_nodes: FixedNodes::Eliminated,
+            ..AdmmVariant::PRINTED
+        },
+        AdmmVariant {
+            start: StartPoint::Inertial,
+            stale_rhs: true,
+            ..AdmmVariant::PRINTED
+        },
+    ];
+    assert!(others.iter().all(|v| v.as_first_iterate().is_none()));
 }
 
 fn max_distance(a: &State, b: &State) -> f64 {
@@ -453,7 +508,7 @@ fn explanations_start_from_our_run() {
     assert!(!line_of(0.001).contains(&sig4(m.first_peak_energy.unwrap())));
 }
 
-/// The faithful configuration is the default of `run_all`'s result set.
+/// The faithful configuration is the default of the faithful result set.
 #[test]
 fn the_faithful_configuration_is_the_default() {
     assert_eq!(faithful_results().configuration, Configuration::faithful());

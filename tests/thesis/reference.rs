@@ -6,7 +6,8 @@ use mass_spring_solvers::model::catenary::ElasticChain;
 use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::solvers::backward_euler::{REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS};
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::studies::experiments::{faithful_results, reproduces};
+use mass_spring_solvers::studies::experiments::reproduces;
+use mass_spring_solvers::studies::forensics::faithful_results;
 use mass_spring_solvers::Vec3;
 use nalgebra::{DMatrix, SymmetricEigen};
 

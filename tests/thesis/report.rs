@@ -20,8 +20,8 @@ use mass_spring_report::sheet::SheetChapter;
 use mass_spring_report::tutorial::TutorialChapter;
 use mass_spring_report::{crate_root, figures, render, solvers_in, tables, ReportData, Sources};
 use mass_spring_solvers::studies::benchmark::Case;
-use mass_spring_solvers::studies::experiments::{faithful_results, published_rows};
-use mass_spring_solvers::studies::forensics::forensic_results;
+use mass_spring_solvers::studies::experiments::published_rows;
+use mass_spring_solvers::studies::forensics::{faithful_results, forensic_results};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 

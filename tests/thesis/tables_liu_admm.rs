@@ -3,7 +3,8 @@
 //!
 //! Run with `cargo test --test thesis tables_liu_admm -- --nocapture` to see the measured tables.
 
-use mass_spring_solvers::studies::experiments::{faithful_results, Measured};
+use mass_spring_solvers::studies::experiments::Measured;
+use mass_spring_solvers::studies::forensics::faithful_results;
 
 fn label(m: &Measured) -> String {
     let p = &m.published;

@@ -4,7 +4,8 @@
 //! Run with `cargo test --test thesis tables_xpbd -- --nocapture` to see the measured tables.
 
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::studies::experiments::{faithful_results, Measured, ResultSet};
+use mass_spring_solvers::studies::experiments::{Measured, ResultSet};
+use mass_spring_solvers::studies::forensics::faithful_results;
 
 /// Prints Tables 1-3 (the rows of the other tables are left out).
 fn print_tables(tables: &ResultSet) {

@@ -25,9 +25,7 @@ use mass_spring_report::tutorial::TutorialChapter;
 use mass_spring_report::{crate_root, render, repository_containing, ReportData, Sources};
 use mass_spring_solvers::error::Failure;
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::studies::experiments::{
-    published_rows, run_all, Configuration, PublishedRow,
-};
+use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
 use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
 use mass_spring_solvers::Error;
 use std::io::{IsTerminal, Write};
@@ -164,15 +162,15 @@ fn run(args: Args) -> Result<String, Failure> {
         });
         let thesis = (|| {
             let mut phases = Phases::default();
-            let results = phases.run(
-                format!("{} thesis experiments (parallel)", rows.len()),
+            // The faithful runs and the forensic ones in one phase: the first forensic batch
+            // shares the faithful runs' pool (Forensics::compute_with_faithful).
+            let (results, forensics) = phases.run(
+                format!(
+                    "{} thesis experiments, forensic configurations and gravity mismatch (parallel)",
+                    rows.len()
+                ),
                 None,
-                || run_all(&rows, &Configuration::faithful(), &progress("experiments")),
-            )?;
-            let forensics = phases.run(
-                "forensic configurations and gravity mismatch (parallel)",
-                None,
-                || Forensics::compute(&results, &progress("forensic configurations")),
+                || Forensics::compute_with_faithful(&rows, &progress("experiments and forensics")),
             )?;
             let (runs, catenary) = phases.run("figure runs, sheet and catenary", None, || {
                 Ok::<_, Error>((

@@ -1,13 +1,16 @@
 //! The experiments' runs with those of one solver in batches ([`crate::solvers::batch`]): the XPBD rows
-//! and the Liu 2013 rows of every configuration, [`WIDTH`] at a time in the lanes of a batch
-//! per solver and iteration count, each with the bits it has alone. The other solvers' rows run
-//! one by one, as [`run_experiment`] runs them.
+//! and the Liu 2013 rows of every configuration, and the ADMM-PD rows whose configuration is
+//! Algorithm 4 or departs from it in its first iterate only, [`WIDTH`] at a time in the lanes
+//! of a batch per solver and iteration count, each with the bits it has alone. The other rows
+//! run one by one, as [`run_experiment`] runs them.
 
 use super::{expected_cost, pool, profile_label, run_experiment, setup, Configuration};
-use super::{measure, published_rows, run_parallel, PublishedRow, Reference, ResultSet};
+use super::{measure, run_parallel, PublishedRow, Reference, ResultSet};
 use crate::error::Result;
 use crate::integrators::time_stepper::{Run, RunOptions};
 use crate::model::system::{MassSpringSystem, State};
+use crate::solvers::admm::AdmmPd;
+use crate::solvers::batch::admm::AdmmLanes;
 use crate::solvers::batch::liu::LiuLanes;
 use crate::solvers::batch::xpbd::XpbdLanes;
 use crate::solvers::batch::{simulate_batch, LaneSolver, WIDTH};
@@ -15,15 +18,20 @@ use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::solvers::registry::SolverId;
 use crate::solvers::xpbd::Xpbd;
 use crate::studies::experiments::SolverChoice;
-use std::sync::OnceLock;
 
 /// The solver of a row whose runs go into batches: XPBD's, whichever the configuration (every
-/// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), and Liu's started at (a) or
-/// (b) (the printed Liu for [`SolverChoice::Admm`] too, which a Liu row ignores); None for a
-/// row run alone.
+/// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), Liu's started at (a) or
+/// (b) (the printed Liu for [`SolverChoice::Admm`] too, which a Liu row ignores), and ADMM-PD's
+/// as printed or with another first iterate only
+/// ([`crate::studies::forensics::AdmmVariant::as_first_iterate`]); None for
+/// a row run alone.
 fn batched(row: &PublishedRow, configuration: &Configuration) -> Option<SolverId> {
     match (row.solver, configuration.solver) {
         (SolverId::Xpbd, _) => Some(SolverId::Xpbd),
+        (SolverId::AdmmPd, SolverChoice::Printed) => Some(SolverId::AdmmPd),
+        (SolverId::AdmmPd, SolverChoice::Admm(variant)) => {
+            variant.as_first_iterate().map(|_| SolverId::AdmmPd)
+        }
         (
             SolverId::FastMassSpring,
             SolverChoice::Printed
@@ -43,6 +51,24 @@ fn liu(
     let solver = FastMassSpring::new(system, row.dt_s, row.iterations)?;
     Ok(match configuration.solver {
         SolverChoice::LiuFirstIterate(first) => solver.with_first_iterate(first),
+        _ => solver,
+    })
+}
+
+/// The ADMM-PD solver of a row: Algorithm 4, at the configuration's first iterate (a variant
+/// that departs from it in its start only, bit for bit).
+fn admm(
+    system: &MassSpringSystem,
+    row: &PublishedRow,
+    configuration: &Configuration,
+) -> Result<AdmmPd> {
+    let solver = AdmmPd::new(system, row.dt_s, row.iterations)?;
+    Ok(match configuration.solver {
+        SolverChoice::Admm(variant) => solver.with_first_iterate(
+            variant
+                .as_first_iterate()
+                .expect("a batched ADMM variant departs from Algorithm 4 in its start only"),
+        ),
         _ => solver,
     })
 }
@@ -85,6 +111,9 @@ pub fn run_experiments(
                 ([i], _) => vec![run_experiment(jobs[*i].0, jobs[*i].1)],
                 (_, Some(SolverId::FastMassSpring)) => run_batch(batch, liu, |like| {
                     LiuLanes::new(like).expect("the thesis rope's global solve is tridiagonal")
+                }),
+                (_, Some(SolverId::AdmmPd)) => run_batch(batch, admm, |like| {
+                    AdmmLanes::new(like).expect("the thesis rope's global solve is tridiagonal")
                 }),
                 _ => run_batch(
                     batch,
@@ -147,8 +176,8 @@ fn run_batch<'a, L: LaneSolver>(
 }
 
 /// Runs every row (in parallel over the available cores, longest first, the batchable ones in
-/// batches: [`run_experiments`]) and measures the
-/// rest-state errors against the references. `progress(done, total)` is called after each.
+/// batches: [`run_experiments`]) and measures the rest-state errors against the references.
+/// `progress(done, total)` is called after each.
 pub fn run_all(
     rows: &[PublishedRow],
     configuration: &Configuration,
@@ -159,39 +188,34 @@ pub fn run_all(
     let runs = run_experiments(&jobs, progress)
         .into_iter()
         .collect::<Result<Vec<Run>>>()?;
-    let reference = |k: f64| {
-        rows.iter()
-            .position(|r| r.solver == SolverId::BackwardEuler && r.stiffness == k)
-            .map(|i| Reference {
-                final_positions: &runs[i].final_state.x,
-                half_period_thesis: runs[i].half_period_thesis(),
-            })
-    };
-    let measured = rows
-        .iter()
-        .zip(&runs)
-        .map(|(row, run)| {
-            let reference =
-                reference(row.stiffness).filter(|_| row.solver != SolverId::BackwardEuler);
-            measure(row, run, reference)
-        })
-        .collect();
-    Ok(ResultSet {
-        configuration: *configuration,
-        rows: measured,
-    })
+    Ok(ResultSet::measured(rows, configuration, &runs))
 }
 
-/// The faithful result set of all 56 rows, computed once per process and shared by the tests
-/// of a test binary (the report binary calls [`run_all`] itself, to show progress and return
-/// errors).
-///
-/// # Panics
-/// If a faithful run fails: the tests treat that as a failure.
-pub fn faithful_results() -> &'static ResultSet {
-    static RESULTS: OnceLock<ResultSet> = OnceLock::new();
-    RESULTS.get_or_init(|| {
-        run_all(published_rows(), &Configuration::faithful(), &|_, _| {})
-            .expect("the faithful thesis experiments run without error")
-    })
+impl ResultSet {
+    /// The result set of `rows` run under `configuration` (`runs`, in the rows' order): each
+    /// row's metrics, and a solver row's rest-state errors against the reference of its
+    /// stiffness.
+    pub fn measured(rows: &[PublishedRow], configuration: &Configuration, runs: &[Run]) -> Self {
+        let reference = |k: f64| {
+            rows.iter()
+                .position(|r| r.solver == SolverId::BackwardEuler && r.stiffness == k)
+                .map(|i| Reference {
+                    final_positions: &runs[i].final_state.x,
+                    half_period_thesis: runs[i].half_period_thesis(),
+                })
+        };
+        let measured = rows
+            .iter()
+            .zip(runs)
+            .map(|(row, run)| {
+                let reference =
+                    reference(row.stiffness).filter(|_| row.solver != SolverId::BackwardEuler);
+                measure(row, run, reference)
+            })
+            .collect();
+        ResultSet {
+            configuration: *configuration,
+            rows: measured,
+        }
+    }
 }

@@ -1,6 +1,5 @@
 //! The 56 experiments of thesis §4.3 (Tables 1-7): the published numbers ([`published`]),
-//! the reproduction rule ([`rule`]), how one row is run and measured, and one shared, lazily
-//! computed faithful result set per process.
+//! the reproduction rule ([`rule`]), and how one row is run and measured.
 //!
 //! Every run starts from the thesis rope at rest and uses [`crate::integrators::time_stepper::simulate`]; the
 //! rest-state error of a row is measured against the final state of the Backward Euler
@@ -9,7 +8,7 @@
 
 pub mod batched;
 
-pub use batched::{faithful_results, run_all};
+pub use batched::run_all;
 pub mod pool;
 pub mod published;
 pub mod rule;

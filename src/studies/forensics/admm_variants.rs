@@ -18,6 +18,7 @@
 //! (a test checks it).
 
 use crate::error::{require_positive, Error, Result};
+use crate::integrators::first_iterate::FirstIterate;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::boundary::EliminatedSystem;
 use crate::model::linear::Factorization;
@@ -96,6 +97,22 @@ impl AdmmVariant {
         fixed_nodes: FixedNodes::Imposed,
         stale_rhs: false,
     };
+
+    /// The first iterate that makes [`AdmmPd`](crate::solvers::admm::AdmmPd) this variant, bit
+    /// for bit, when it departs from Algorithm 4 in its start only (line 2.1's $`\tilde x`$ is
+    /// [`FirstIterate::InertialPrediction`]); None when it departs in anything else. A batch of
+    /// runs steps the printed solver ([`crate::solvers::batch::admm`]), not this module's.
+    pub fn as_first_iterate(&self) -> Option<FirstIterate> {
+        let start_only = AdmmVariant {
+            start: StartPoint::Prediction,
+            ..*self
+        } == AdmmVariant::PRINTED;
+        start_only.then_some(match self.start {
+            StartPoint::Prediction => FirstIterate::InertialPrediction,
+            StartPoint::Inertial => FirstIterate::Inertial,
+            StartPoint::Previous => FirstIterate::Previous,
+        })
+    }
 
     /// The departures from Algorithm 4, comma-separated; empty for the printed method.
     pub fn label(&self) -> String {

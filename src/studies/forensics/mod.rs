@@ -11,8 +11,9 @@
 //! - [`evidence`]: the rule of evidence and the class of each row;
 //! - [`gravity`]: the gravity-mismatch hypothesis of the error floors.
 //!
-//! [`Forensics::compute`] runs everything on the rows it concerns; [`forensic_results`] caches
-//! it once per process for the tests.
+//! [`Forensics::compute_with_faithful`] runs the faithful experiments and everything else on the
+//! rows it concerns; [`faithful_results`] and [`forensic_results`] cache it once per process
+//! for the tests.
 
 pub mod admm_variants;
 pub mod configurations;
@@ -35,7 +36,7 @@ use crate::solvers::registry::SolverId;
 use crate::studies::experiments::batched::run_experiments;
 use crate::studies::experiments::pool::spawn_charged;
 use crate::studies::experiments::{
-    faithful_results, measure, same_experiment, Configuration, Measured, PublishedRow, Reference,
+    measure, published_rows, same_experiment, Configuration, Measured, PublishedRow, Reference,
     ResultSet,
 };
 use evidence::{classify, run_of, select, Candidates, SceneReadings, Selection};
@@ -60,79 +61,82 @@ pub struct Forensics {
     pub gravity: GravityStudy,
 }
 
-/// Runs (row, configuration) jobs in parallel, identical jobs once, XPBD's in batches.
-fn run_unique(
-    jobs: &[(PublishedRow, Configuration)],
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Vec<Result<Run>> {
-    let mut unique: Vec<&(PublishedRow, Configuration)> = Vec::new();
-    let index: Vec<usize> = jobs
-        .iter()
-        .map(|job| {
-            unique
-                .iter()
-                .position(|u| same_experiment(&u.0, &job.0) && u.1 == job.1)
-                .unwrap_or_else(|| {
-                    unique.push(job);
-                    unique.len() - 1
-                })
-        })
-        .collect();
-    let unique: Vec<(&PublishedRow, &Configuration)> = unique.iter().map(|(r, c)| (r, c)).collect();
-    let runs = run_experiments(&unique, progress);
-    index.into_iter().map(|i| runs[i].clone()).collect()
+/// The outcomes of (row, configuration) jobs, each job run once however often it is asked for:
+/// the faithful runs, the forensic batches and the gravity study share one, so that a job run in
+/// an earlier pool is not run again.
+#[derive(Default)]
+pub struct RunMemo {
+    jobs: Vec<(PublishedRow, Configuration)>,
+    outcomes: Vec<Result<Run>>,
 }
 
-fn reference_of(faithful: &ResultSet, k: f64) -> Reference<'_> {
-    let m = faithful.reference(k);
-    Reference {
-        final_positions: &m.final_positions,
-        half_period_thesis: m.half_period_thesis,
+impl RunMemo {
+    /// The outcome of every job of `jobs`, in order: those not run before are run first
+    /// (in parallel, the batchable ones in batches: [`run_experiments`]), identical jobs once.
+    pub fn run(
+        &mut self,
+        jobs: &[(PublishedRow, Configuration)],
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Vec<Result<Run>> {
+        let known = self.jobs.len();
+        let index: Vec<usize> = jobs
+            .iter()
+            .map(|job| {
+                self.jobs
+                    .iter()
+                    .position(|u| same_experiment(&u.0, &job.0) && u.1 == job.1)
+                    .unwrap_or_else(|| {
+                        self.jobs.push(job.clone());
+                        self.jobs.len() - 1
+                    })
+            })
+            .collect();
+        let new: Vec<(&PublishedRow, &Configuration)> =
+            self.jobs[known..].iter().map(|(r, c)| (r, c)).collect();
+        let outcomes = run_experiments(&new, progress);
+        self.outcomes.extend(outcomes);
+        index
+            .into_iter()
+            .map(|i| self.outcomes[i].clone())
+            .collect()
     }
 }
 
-impl Forensics {
-    /// Runs every named configuration on the rows of `faithful` it concerns, fits the Liu
-    /// hypothesis and locates its intervals, selects each row's configuration, runs it at
-    /// 9.8 m/s² (the gravity study and the other reading of the gravity), then classifies
-    /// every row.
-    pub fn compute(faithful: &ResultSet, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
-        let rows: Vec<&PublishedRow> = faithful.rows.iter().map(|m| &m.published).collect();
-        let liu_rows: Vec<&PublishedRow> = rows
-            .iter()
-            .copied()
-            .filter(|r| r.solver == SolverId::FastMassSpring)
-            .collect();
-        let measure_against = |row: &PublishedRow, run: &Run| {
-            measure(row, run, Some(reference_of(faithful, row.stiffness)))
-        };
-        let faithful_row = |row: &PublishedRow| -> &Measured {
-            faithful
-                .rows
-                .iter()
-                .find(|m| same_experiment(&m.published, row))
-                .expect("the faithful set holds the row")
-        };
+/// The jobs of the first forensic batch, in the order [`Forensics::compute_with`] reads their
+/// outcomes: the named configurations on the rows each concerns, the grid's points without the
+/// exemption on the Liu rows, and Liu started at y on the ADMM one-iteration rows. They need
+/// nothing of the faithful runs but their rows.
+struct FirstBatch {
+    named: Vec<ConfigurationId>,
+    unexempt: Vec<LiuHypothesis>,
+    liu_rows: Vec<PublishedRow>,
+    admm_one_iteration: Vec<PublishedRow>,
+    jobs: Vec<(PublishedRow, Configuration)>,
+}
 
-        // Batch 1: the named configurations, the grid without the exemption, Liu as ADMM.
+impl FirstBatch {
+    fn of(rows: &[&PublishedRow]) -> Self {
+        let liu_rows: Vec<PublishedRow> = rows
+            .iter()
+            .filter(|r| r.solver == SolverId::FastMassSpring)
+            .map(|r| (*r).clone())
+            .collect();
         let named: Vec<ConfigurationId> = std::iter::once(ConfigurationId::LiuStartInertial)
             .chain(AdmmCandidate::ALL.into_iter().map(ConfigurationId::Admm))
             .collect();
-        let grid = LiuHypothesis::grid();
         let mut jobs: Vec<(PublishedRow, Configuration)> = Vec::new();
         for id in &named {
             for row in rows.iter().filter(|r| id.concerns(r)) {
                 jobs.push(((*row).clone(), id.configuration(row)));
             }
         }
-        let unexempt: Vec<LiuHypothesis> = grid
-            .iter()
-            .copied()
+        let unexempt: Vec<LiuHypothesis> = LiuHypothesis::grid()
+            .into_iter()
             .filter(|h| !h.exempt_first_peak && *h != LiuHypothesis::PRINTED)
             .collect();
         for h in &unexempt {
             for row in &liu_rows {
-                jobs.push(((*row).clone(), ConfigurationId::Liu(*h).configuration(row)));
+                jobs.push((row.clone(), ConfigurationId::Liu(*h).configuration(row)));
             }
         }
         let admm_one_iteration: Vec<PublishedRow> = rows
@@ -149,7 +153,121 @@ impl Forensics {
                 ConfigurationId::LiuStartInertial.configuration(row),
             ));
         }
-        let mut outcomes = run_unique(&jobs, progress).into_iter();
+        Self {
+            named,
+            unexempt,
+            liu_rows,
+            admm_one_iteration,
+            jobs,
+        }
+    }
+}
+
+/// The gravity study's run of `row` under `configuration`: at [`MISMATCHED_GRAVITY`], the
+/// reference rows' reference gravity and the other rows' solver gravity.
+fn at_mismatched_gravity(row: &PublishedRow, mut configuration: Configuration) -> Configuration {
+    if row.solver == SolverId::BackwardEuler {
+        configuration.reference_gravity = MISMATCHED_GRAVITY;
+    } else {
+        configuration.gravity = MISMATCHED_GRAVITY;
+    }
+    configuration
+}
+
+/// The gravity study's runs started with the faithful runs, before the selection they depend
+/// on: the faithful configuration at 9.8 m/s² of the Backward Euler, XPBD and ADMM rows. The
+/// first two have no other candidate, so their selection is the faithful configuration; an
+/// ADMM row whose selection is another candidate runs that one in the third batch, and its
+/// early run goes unused. A scheduling choice: every outcome is the one the third batch would
+/// compute, and the runs share the first pool's lanes and cores with the faithful runs of the
+/// same solvers (the k = 1e3 N/m, dt = 1e-3 s runs at both gravities, the longest of all, side
+/// by side).
+fn early_gravity_jobs(rows: &[&PublishedRow]) -> Vec<(PublishedRow, Configuration)> {
+    rows.iter()
+        .filter(|r| {
+            matches!(
+                r.solver,
+                SolverId::BackwardEuler | SolverId::Xpbd | SolverId::AdmmPd
+            )
+        })
+        .map(|r| {
+            let faithful = ConfigurationId::Faithful.configuration(r);
+            ((*r).clone(), at_mismatched_gravity(r, faithful))
+        })
+        .collect()
+}
+
+fn reference_of(faithful: &ResultSet, k: f64) -> Reference<'_> {
+    let m = faithful.reference(k);
+    Reference {
+        final_positions: &m.final_positions,
+        half_period_thesis: m.half_period_thesis,
+    }
+}
+
+impl Forensics {
+    /// The faithful result set of `rows` and the forensics on it ([`Self::compute_with`]). The
+    /// faithful runs go into one pool with every forensic run that needs nothing of their
+    /// outcomes (the first forensic batch and the early gravity runs of
+    /// [`early_gravity_jobs`]), so that runs of one solver share the lanes of its batches and
+    /// the cores do not wait at a barrier between the faithful runs and the forensic ones.
+    pub fn compute_with_faithful(
+        rows: &[PublishedRow],
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<(ResultSet, Self)> {
+        let faithful = Configuration::faithful();
+        let refs: Vec<&PublishedRow> = rows.iter().collect();
+        let mut jobs: Vec<(PublishedRow, Configuration)> =
+            rows.iter().map(|row| (row.clone(), faithful)).collect();
+        jobs.extend(FirstBatch::of(&refs).jobs);
+        jobs.extend(early_gravity_jobs(&refs));
+        let mut memo = RunMemo::default();
+        let runs = memo
+            .run(&jobs, progress)
+            .into_iter()
+            .take(rows.len())
+            .collect::<Result<Vec<Run>>>()?;
+        let results = ResultSet::measured(rows, &faithful, &runs);
+        let forensics = Self::compute_with(&results, &mut memo, progress)?;
+        Ok((results, forensics))
+    }
+
+    /// [`Self::compute_with`] with nothing run before.
+    pub fn compute(faithful: &ResultSet, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
+        Self::compute_with(faithful, &mut RunMemo::default(), progress)
+    }
+
+    /// Runs every named configuration on the rows of `faithful` it concerns, fits the Liu
+    /// hypothesis and locates its intervals, selects each row's configuration, runs it at
+    /// 9.8 m/s² (the gravity study and the other reading of the gravity), then classifies
+    /// every row; a job `memo` holds is not run again.
+    pub fn compute_with(
+        faithful: &ResultSet,
+        memo: &mut RunMemo,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Self> {
+        let rows: Vec<&PublishedRow> = faithful.rows.iter().map(|m| &m.published).collect();
+        let measure_against = |row: &PublishedRow, run: &Run| {
+            measure(row, run, Some(reference_of(faithful, row.stiffness)))
+        };
+        let faithful_row = |row: &PublishedRow| -> &Measured {
+            faithful
+                .rows
+                .iter()
+                .find(|m| same_experiment(&m.published, row))
+                .expect("the faithful set holds the row")
+        };
+
+        // Batch 1: the named configurations, the grid without the exemption, Liu as ADMM.
+        let FirstBatch {
+            named,
+            unexempt,
+            liu_rows,
+            admm_one_iteration,
+            jobs,
+        } = FirstBatch::of(&rows);
+        let grid = LiuHypothesis::grid();
+        let mut outcomes = memo.run(&jobs, progress).into_iter();
 
         let mut runs: Vec<ConfigurationRun> = Vec::new();
         for id in &named {
@@ -227,7 +345,7 @@ impl Forensics {
             }
             exempt_points.push((*h, base_rows));
         }
-        let mut outcomes = run_unique(&jobs, progress).into_iter();
+        let mut outcomes = memo.run(&jobs, progress).into_iter();
         for (h, base_rows) in exempt_points {
             let mut point = GridPoint {
                 hypothesis: h,
@@ -278,24 +396,21 @@ impl Forensics {
 
         // Batch 3: the gravity study, each row under its selected configuration at 9.8 m/s²
         // (the reference rows: the reference at 9.8).
-        let mut jobs = Vec::new();
-        for s in &selections {
-            let row = &s.measured.published;
-            let mut c = s.configuration.configuration(row);
-            if row.solver == SolverId::BackwardEuler {
-                c.reference_gravity = MISMATCHED_GRAVITY;
-            } else {
-                c.gravity = MISMATCHED_GRAVITY;
-            }
-            jobs.push((row.clone(), c));
-        }
+        let jobs: Vec<(PublishedRow, Configuration)> = selections
+            .iter()
+            .map(|s| {
+                let row = &s.measured.published;
+                let c = at_mismatched_gravity(row, s.configuration.configuration(row));
+                (row.clone(), c)
+            })
+            .collect();
         // The Liu intervals' sequential bisection runs beside the gravity batch (it needs only
         // the fitted point): the two share the cores instead of waiting for each other.
         let (liu, outcomes) = std::thread::scope(|scope| {
             let intervals = spawn_charged(scope, || {
                 fit_intervals(points, in_sample, &twins, &measure_against, &|_, _| {})
             });
-            let outcomes = run_unique(&jobs, progress);
+            let outcomes = memo.run(&jobs, progress);
             (
                 intervals.join().expect("the interval runs do not panic"),
                 outcomes,
@@ -463,6 +578,7 @@ fn fit_intervals(
         .collect();
     let mut probes = Vec::new();
     let mut threshold_runs: Vec<(PublishedRow, Vec<crate::model::metrics::Peak>)> = Vec::new();
+    let mut memo = RunMemo::default();
     for round in 0..liu_fit::DAMPING_BISECTIONS {
         let mut jobs: Vec<(PublishedRow, Configuration)> = Vec::new();
         for (bracket, rows) in sides.iter().flatten() {
@@ -481,7 +597,7 @@ fn fit_intervals(
                 ));
             }
         }
-        let mut outcomes = run_unique(&jobs, progress).into_iter();
+        let mut outcomes = memo.run(&jobs, progress).into_iter();
         for (bracket, rows) in sides.iter_mut().flatten() {
             let mut probe = liu_fit::DampingProbe {
                 damping: bracket.midpoint(),
@@ -531,15 +647,32 @@ fn fit_intervals(
     })
 }
 
-/// The forensic results of all 56 rows, computed once per process from
-/// [`faithful_results`].
+/// The faithful result set and the forensics of all 56 rows, computed once per process
+/// ([`Forensics::compute_with_faithful`]) and shared by the tests of a test binary (the report
+/// binary computes them itself, to show progress and return errors).
 ///
 /// # Panics
-/// If a run fails, as [`faithful_results`].
-pub fn forensic_results() -> &'static Forensics {
-    static FORENSICS: OnceLock<Forensics> = OnceLock::new();
-    FORENSICS.get_or_init(|| {
-        Forensics::compute(faithful_results(), &|_, _| {})
-            .expect("the forensic configurations run without error")
+/// If a faithful or forensic run fails: the tests treat that as a failure.
+fn thesis_results() -> &'static (ResultSet, Forensics) {
+    static THESIS: OnceLock<(ResultSet, Forensics)> = OnceLock::new();
+    THESIS.get_or_init(|| {
+        Forensics::compute_with_faithful(published_rows(), &|_, _| {})
+            .expect("the faithful experiments and the forensic configurations run without error")
     })
+}
+
+/// The faithful result set of all 56 rows ([`thesis_results`]).
+///
+/// # Panics
+/// As [`thesis_results`].
+pub fn faithful_results() -> &'static ResultSet {
+    &thesis_results().0
+}
+
+/// The forensic results of all 56 rows ([`thesis_results`]).
+///
+/// # Panics
+/// As [`thesis_results`].
+pub fn forensic_results() -> &'static Forensics {
+    &thesis_results().1
 }
