@@ -241,10 +241,12 @@ mod tests {
 
     /// Each lane of a batch gives its run's bits alone, with a different stiffness, dt,
     /// iteration count, damping and stopping time per lane, more runs than lanes (a lane whose
-    /// run stops takes the next) and a run stopped by its first peak. Fails if the step's
-    /// arithmetic differs between `f64` and the lanes: with Eq 18 as a fused multiply-add
-    /// (`(-alpha_tilde).mul_add(lambda, -c) * inverse_denominator`, fused at `f64`, not in the
-    /// default build's lanes) the final states differ in their last bits.
+    /// run stops takes the next) and a run stopped by its first peak. Fails if a lane's
+    /// positions are not kept once its iterations are done (the put-back of [`iterate_lanes`]
+    /// skipped). It failed too with Eq 18 as a fused multiply-add
+    /// (`(-alpha_tilde).mul_add(lambda, -c) * inverse_denominator`) in a build without FMA
+    /// (fused at `f64`, not in the lanes); in the host-CPU build (`.cargo/config.toml`) the
+    /// lanes fuse as well, so that variant no longer tells them apart.
     #[test]
     fn every_lane_is_its_run_alone_bit_for_bit() {
         let runs: Vec<(Xpbd, State, RunOptions)> = [
@@ -269,10 +271,10 @@ mod tests {
 
     /// The same for Liu 2013 (Algorithm 3): every lane's run alone, with a different stiffness,
     /// dt, iteration count, first iterate ((a) and (b)), damping and stopping time per lane.
-    /// Fails if the lanes' arithmetic differs from the run's: with the tridiagonal substitution's
-    /// $`x_i = y_i/d_i - L_{i+1,i}x_{i+1}`$ as a fused multiply-add at `f64`
-    /// (`(-l).simd_mul_add(x, *b * inv)`, fused at `f64` only), the final states differ in
-    /// their last bits.
+    /// Fails with the put-back of [`iterate_lanes`] skipped, as the XPBD test. It failed too with
+    /// the tridiagonal substitution's $`x_i = y_i/d_i - L_{i+1,i}x_{i+1}`$ as a fused
+    /// multiply-add (`(-l).simd_mul_add(x, *b * inv)`) in a build without FMA (fused at `f64`
+    /// only); the host-CPU build fuses in the lanes too.
     #[test]
     fn every_liu_lane_is_its_run_alone_bit_for_bit() {
         use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
@@ -303,8 +305,8 @@ mod tests {
     /// The same for ADMM-PD (Algorithm 4): every lane's run alone, with a different stiffness,
     /// dt, iteration count, first iterate ((a), (b) and line 2.1's x̃), damping and stopping
     /// time per lane. Fails if the lanes' step departs from the run's: with line 2.2's reset of
-    /// $`\bar u`$ left out of the lanes' step (the dual carried across steps), the first run's
-    /// final state differs. (A dependent pull $`dt^2 g`$ in place of $`dt^2 m^{-1} f_{ext}`$ does
+    /// $`\bar u`$ left out of the lanes' step (the dual carried across steps), or with the
+    /// put-back of [`iterate_lanes`] skipped. (A dependent pull $`dt^2 g`$ in place of $`dt^2 m^{-1} f_{ext}`$ does
     /// not fail it: on the thesis rope, m = 1 kg, the two round alike.)
     #[test]
     fn every_admm_lane_is_its_run_alone_bit_for_bit() {

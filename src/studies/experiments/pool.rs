@@ -94,7 +94,7 @@ pub fn profiled<R>(
 /// Runs `run` on every job in parallel over the available cores, the jobs of highest `cost`
 /// first (so the long ones do not start last); `progress(done, total)` is called after each.
 /// The outcomes come back in the jobs' order.
-pub fn run_parallel<J: Sync, R: Send>(
+pub fn run_parallel<J: Sync + std::fmt::Debug, R: Send>(
     jobs: &[J],
     cost: impl Fn(&J) -> f64,
     run: impl Fn(&J) -> R + Sync,
@@ -115,7 +115,7 @@ pub fn run_parallel<J: Sync, R: Send>(
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&i) = order.get(k) else { break };
                 let outcome = profiled(
-                    || format!("{} job {i} of {}", std::any::type_name::<J>(), jobs.len()),
+                    || format!("job {i} of {}: {:?}", jobs.len(), jobs[i]),
                     |_| String::new(),
                     || run(&jobs[i]),
                 );
