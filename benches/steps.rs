@@ -18,6 +18,7 @@ use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::particles::scenes::ClothParams;
 use mass_spring_solvers::solvers::admm::AdmmPd;
 use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
+use mass_spring_solvers::solvers::batch::admm::AdmmLanes;
 use mass_spring_solvers::solvers::batch::liu::LiuLanes;
 use mass_spring_solvers::solvers::batch::xpbd::XpbdLanes;
 use mass_spring_solvers::solvers::batch::{LaneSolver, WIDTH};
@@ -92,34 +93,44 @@ fn rope_step(bencher: divan::Bencher, case: RopeCase) {
     bench_step(bencher, solver, &start);
 }
 
-/// One step of four XPBD runs of the rope in the lanes of a batch (`batch::xpbd`), each from
-/// the same moving state: per run, a quarter of it. Per iteration: as `rope_step`'s.
-#[divan::bench(args = [1, 20, 50])]
-fn rope_step_xpbd_lanes(bencher: divan::Bencher, iterations: usize) {
-    let (system, start) = rope();
-    let solver = Xpbd::new(&system, DT, iterations).unwrap();
-    let mut lanes = XpbdLanes::new(&solver);
+/// One step of [`WIDTH`] runs of `solver` in `lanes`, each from `start`: per run, a
+/// [`WIDTH`]th of it. Per iteration: as `rope_step`'s.
+fn bench_lanes<L: LaneSolver + Clone>(
+    bencher: divan::Bencher,
+    mut lanes: L,
+    solver: &L::Run,
+    start: &State,
+) {
     for lane in 0..WIDTH {
-        lanes.load(lane, &solver, &start);
+        lanes.load(lane, solver, start);
     }
     bencher
         .with_inputs(|| lanes.clone())
         .bench_local_refs(|lanes| lanes.step());
 }
 
-/// One step of four Liu 2013 runs of the rope in the lanes of a batch (`batch::liu`), each
-/// from the same moving state: per run, a quarter of it. Per iteration: as `rope_step`'s.
+/// Four XPBD runs of the rope in the lanes of a batch (`batch::xpbd`), from a moving state.
+#[divan::bench(args = [1, 20, 50])]
+fn rope_step_xpbd_lanes(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = Xpbd::new(&system, DT, iterations).unwrap();
+    bench_lanes(bencher, XpbdLanes::new(&solver), &solver, &start);
+}
+
+/// Four Liu 2013 runs of the rope in the lanes of a batch (`batch::liu`).
 #[divan::bench(args = [1, 30, 70])]
 fn rope_step_liu_lanes(bencher: divan::Bencher, iterations: usize) {
     let (system, start) = rope();
     let solver = FastMassSpring::new(&system, DT, iterations).unwrap();
-    let mut lanes = LiuLanes::new(&solver).unwrap();
-    for lane in 0..WIDTH {
-        lanes.load(lane, &solver, &start);
-    }
-    bencher
-        .with_inputs(|| lanes.clone())
-        .bench_local_refs(|lanes| lanes.step());
+    bench_lanes(bencher, LiuLanes::new(&solver).unwrap(), &solver, &start);
+}
+
+/// Four ADMM-PD runs of the rope in the lanes of a batch (`batch::admm`).
+#[divan::bench(args = [1, 20, 50])]
+fn rope_step_admm_lanes(bencher: divan::Bencher, iterations: usize) {
+    let (system, start) = rope();
+    let solver = AdmmPd::new(&system, DT, iterations).unwrap();
+    bench_lanes(bencher, AdmmLanes::new(&solver).unwrap(), &solver, &start);
 }
 
 /// A 100×100 cloth hanging from its two top corners (10 000 nodes, 29 601 springs), moving:
