@@ -23,8 +23,9 @@ use faer::{Conj, MatMut, Par, Side};
 /// permutes through a fresh buffer each solve; interleaving the coordinates makes it one line
 /// and a reused buffer, and the backward substitution sums in four partial sums: 1.6 ms to
 /// 0.65 ms on the 100 × 100 sheet (`make timing`). Each node's coordinates are padded to four
-/// (x, y, z, 0), one 256-bit vector, and the substitutions run in AVX2 or AVX-512 registers
-/// where the CPU has them (`solve_three_dispatched`).
+/// (x, y, z, 0), one 256-bit vector, and the substitutions run in AVX2 registers where the CPU
+/// has them (`solve_three_dispatched`, the same bits): the global step 0.89 ms to 0.71 ms of
+/// thread CPU on a loaded Xeon (`docs/performance.md`, "The sheet").
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
     pub(super) n: usize,
@@ -96,7 +97,7 @@ impl SparseCholesky {
     /// [`Self::new`] with the simplicial factor whatever the size: slower to factor than a
     /// supernodal one past some thousands of unknowns, but solved for three right-hand sides by
     /// `SparseCholesky::solve_three`, several times faster than faer's supernodal solve on the sheet
-    /// (`make timing`), and by scalar loops only.
+    /// (`make timing`), and by this crate's loops only, whose bits do not depend on the CPU.
     pub fn simplicial(a: &SymmetricMatrix) -> Result<Self> {
         Self::with_threshold(a, SupernodalThreshold::FORCE_SIMPLICIAL)
     }
