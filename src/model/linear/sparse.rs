@@ -22,7 +22,10 @@ use faer::{Conj, MatMut, Par, Side};
 /// right-hand side, so every entry of $`L`$ touches three cache lines n values apart, and it
 /// permutes through a fresh buffer each solve; interleaving the coordinates makes it one line
 /// and a reused buffer, and the backward substitution sums in four partial sums: 1.6 ms to
-/// 0.65 ms on the 100 × 100 sheet (`make timing`).
+/// 0.65 ms on the 100 × 100 sheet (`make timing`). Each node's coordinates are padded to four
+/// (x, y, z, 0), one 256-bit vector, and the substitutions run in AVX2 registers where the CPU
+/// has them (`solve_three_dispatched`, the same bits): the global step 0.89 ms to 0.71 ms of
+/// thread CPU on a loaded Xeon (`docs/performance.md`, "The sheet").
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
     pub(super) n: usize,
@@ -80,7 +83,7 @@ impl SimplicialColumns {
 
 thread_local! {
     /// The interleaved right-hand sides of [`SparseCholesky::solve_three`], reused.
-    static INTERLEAVED: std::cell::RefCell<Vec<[f64; 3]>> = const { std::cell::RefCell::new(Vec::new()) };
+    static INTERLEAVED: std::cell::RefCell<Vec<[f64; 4]>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 impl SparseCholesky {
@@ -94,7 +97,7 @@ impl SparseCholesky {
     /// [`Self::new`] with the simplicial factor whatever the size: slower to factor than a
     /// supernodal one past some thousands of unknowns, but solved for three right-hand sides by
     /// `SparseCholesky::solve_three`, several times faster than faer's supernodal solve on the sheet
-    /// (`make timing`), and by scalar loops only.
+    /// (`make timing`), and by this crate's loops only, whose bits do not depend on the CPU.
     pub fn simplicial(a: &SymmetricMatrix) -> Result<Self> {
         Self::with_threshold(a, SupernodalThreshold::FORCE_SIMPLICIAL)
     }
@@ -173,62 +176,86 @@ impl SparseCholesky {
 
     /// $`L y = P b`$ column by column (each column of $`L`$ scatters into the rows below),
     /// then $`L^\top z = y`$ (each row gathers), $`x = P^\top z`$, for the three columns of `b`
-    /// interleaved: node i's three coordinates side by side.
+    /// interleaved: node i's three coordinates side by side, and a fourth lane of zeros.
     fn solve_three(&self, s: &SimplicialColumns, b: &mut [f64]) {
         let n = self.n;
         INTERLEAVED.with(|cell| {
             let mut y = cell.borrow_mut();
-            y.resize(n, [0.0; 3]);
+            y.resize(n, [0.0; 4]);
             for (y, &p) in y.iter_mut().zip(&s.permutation) {
                 let p = p as usize;
-                *y = [b[p], b[n + p], b[2 * n + p]];
+                *y = [b[p], b[n + p], b[2 * n + p], 0.0];
             }
-            for j in 0..n {
-                let (k0, k1) = (s.col_ptr[j] + 1, s.col_ptr[j + 1]);
-                let d = s.inverse_diagonal[j];
-                let yj = y[j].map(|v| v * d);
-                y[j] = yj;
-                for (&i, &l) in s.row[k0..k1].iter().zip(&self.values[k0..k1]) {
-                    let yi = &mut y[i as usize];
-                    for c in 0..3 {
-                        yi[c] -= l * yj[c];
-                    }
-                }
-            }
-            for j in (0..n).rev() {
-                let (k0, k1) = (s.col_ptr[j] + 1, s.col_ptr[j + 1]);
-                let sum = gather_three(&s.row[k0..k1], &self.values[k0..k1], &y);
-                let d = s.inverse_diagonal[j];
-                let z = y[j];
-                y[j] = std::array::from_fn(|c| (z[c] - sum[c]) * d);
-            }
+            solve_three_dispatched(s, &self.values, &mut y);
             for (y, &p) in y.iter().zip(&s.permutation) {
                 let p = p as usize;
-                [b[p], b[n + p], b[2 * n + p]] = *y;
+                [b[p], b[n + p], b[2 * n + p]] = [y[0], y[1], y[2]];
             }
         });
     }
 }
 
-/// $`\sum_k l_k\,y_{i_k}`$ for the three coordinates, in four interleaved partial sums: one
-/// running sum would make every addition wait for the one before (a chain as long as the
+/// [`substitute_three`] in AVX2 registers where the CPU has them (a node's four lanes, one
+/// 256-bit vector; AVX-512 measured no faster), chosen at run time. The bits do not depend on
+/// the choice: each lane adds and multiplies in the same order whatever the vector width, and
+/// Rust never fuses a multiplication and an addition into one rounding.
+pub(super) fn solve_three_dispatched(s: &SimplicialColumns, values: &[f64], y: &mut [[f64; 4]]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        unsafe fn avx2(s: &SimplicialColumns, values: &[f64], y: &mut [[f64; 4]]) {
+            substitute_three(s, values, y)
+        }
+        // SAFETY: the CPU has AVX2, detected above.
+        return unsafe { avx2(s, values, y) };
+    }
+    substitute_three(s, values, y)
+}
+
+/// The two substitutions of [`SparseCholesky::solve_three`] on the permuted, interleaved `y`.
+#[inline(always)]
+pub(super) fn substitute_three(s: &SimplicialColumns, values: &[f64], y: &mut [[f64; 4]]) {
+    let n = y.len();
+    for j in 0..n {
+        let (k0, k1) = (s.col_ptr[j] + 1, s.col_ptr[j + 1]);
+        let d = s.inverse_diagonal[j];
+        let yj = y[j].map(|v| v * d);
+        y[j] = yj;
+        for (&i, &l) in s.row[k0..k1].iter().zip(&values[k0..k1]) {
+            let yi = &mut y[i as usize];
+            for c in 0..4 {
+                yi[c] -= l * yj[c];
+            }
+        }
+    }
+    for j in (0..n).rev() {
+        let (k0, k1) = (s.col_ptr[j] + 1, s.col_ptr[j + 1]);
+        let sum = gather_four(&s.row[k0..k1], &values[k0..k1], y);
+        let d = s.inverse_diagonal[j];
+        let z = y[j];
+        y[j] = std::array::from_fn(|c| (z[c] - sum[c]) * d);
+    }
+}
+
+/// $`\sum_k l_k\,y_{i_k}`$ for the interleaved coordinates, in four interleaved partial sums:
+/// one running sum would make every addition wait for the one before (a chain as long as the
 /// column), four let the additions of consecutive entries overlap.
-#[inline]
-pub(super) fn gather_three(rows: &[u32], values: &[f64], y: &[[f64; 3]]) -> [f64; 3] {
-    let mut partial = [[0.0; 3]; 4];
+#[inline(always)]
+fn gather_four(rows: &[u32], values: &[f64], y: &[[f64; 4]]) -> [f64; 4] {
+    let mut partial = [[0.0; 4]; 4];
     let (rows4, values4) = (rows.chunks_exact(4), values.chunks_exact(4));
     let (rows_left, values_left) = (rows4.remainder(), values4.remainder());
     for (i, l) in rows4.zip(values4) {
         for k in 0..4 {
             let yi = y[i[k] as usize];
-            for c in 0..3 {
+            for c in 0..4 {
                 partial[k][c] += l[k] * yi[c];
             }
         }
     }
     for (k, (&i, &l)) in rows_left.iter().zip(values_left).enumerate() {
         let yi = y[i as usize];
-        for c in 0..3 {
+        for c in 0..4 {
             partial[k][c] += l * yi[c];
         }
     }

@@ -8,8 +8,10 @@
 //!
 //! The bound of an iteration: the global step streams the factor twice (forward and backward
 //! substitution, the three coordinates in one pass), $`2 \cdot 12\,\mathrm{nnz}`$ bytes at
-//! least, against the read bandwidth measured here on a buffer of the factor's size; the local
-//! step does a square root and a division per spring, against their measured throughput.
+//! least, against the read bandwidth measured here on a buffer of the factor's size, and does a
+//! multiplication and an addition of a node's four lanes per entry and pass, $`2\,\mathrm{nnz}`$
+//! of them against their measured throughput: the longer of the two; the local step does a
+//! square root and a division per spring, against their measured throughput.
 
 use crate::measure::{seconds, thread_cpu, time_batches, Time, BATCH_SECONDS, REPEATS};
 use mass_spring_solvers::error::{Error, Result};
@@ -347,6 +349,8 @@ pub struct Scaling {
     pub bandwidth: Vec<Bandwidth>,
     /// A square root and a division, s per spring.
     pub sqrt_div: f64,
+    /// A multiplication and an addition of four lanes, s per entry of the factor and pass.
+    pub multiply_add: f64,
 }
 
 /// Bytes a triangular solve reads per stored entry of a simplicial factor: its value and its
@@ -372,6 +376,7 @@ pub fn scaling_study(sides: &[usize]) -> Result<Scaling> {
         }
     }
     let sqrt_div = sqrt_div_seconds();
+    let multiply_add = multiply_add_seconds();
     let bandwidth = points
         .iter()
         .filter(|p| p.solver == SolverId::FastMassSpring.id())
@@ -389,6 +394,7 @@ pub fn scaling_study(sides: &[usize]) -> Result<Scaling> {
         points,
         bandwidth,
         sqrt_div,
+        multiply_add,
     })
 }
 
@@ -397,12 +403,16 @@ impl Scaling {
         self.points.iter().find(|p| p.solver == id.id() && p.n == n)
     }
 
-    /// The bound of one Liu/ADMM iteration at `p`'s size: the factor streamed twice at the
-    /// bandwidth measured for its size, and a square root and a division per spring, s.
+    /// The bound of one Liu/ADMM iteration at `p`'s size, s: the global step's floor, the
+    /// longer of the factor streamed twice at the bandwidth measured for its size and the
+    /// multiplication and addition of each entry in both passes, and the local step's, a
+    /// square root and a division per spring.
     pub fn bound(&self, p: &Point) -> Option<(f64, f64)> {
         let b = self.bandwidth.iter().find(|b| b.n == p.n)?;
+        let streamed = 2.0 * b.factor_bytes as f64 / b.read_bandwidth_bytes_per_s;
+        let entries = 2.0 * (b.factor_bytes / BYTES_PER_FACTOR_ENTRY) as f64;
         Some((
-            2.0 * b.factor_bytes as f64 / b.read_bandwidth_bytes_per_s,
+            streamed.max(entries * self.multiply_add),
             p.springs as f64 * self.sqrt_div,
         ))
     }
@@ -456,6 +466,52 @@ fn sqrt_div_seconds() -> f64 {
             std::hint::black_box(&mut out);
         }
         best = best.min((thread_cpu() - c) / (batch * q.len()) as f64);
+    }
+    best
+}
+
+/// Throughput of the substitutions' arithmetic, s per entry of the factor: a multiplication
+/// and an addition of four lanes (a node's x, y, z and padding, one AVX2 vector where the CPU
+/// has it, as in `SparseCholesky::solve_three`) into eight independent sums over an in-cache
+/// array (CPU time).
+fn multiply_add_seconds() -> f64 {
+    /// Eight sums of `l[k] * y[k]` over four lanes, the sums independent so that only the
+    /// throughput counts.
+    #[inline(always)]
+    fn sums(l: &[f64], y: &[[f64; 4]]) -> [[f64; 4]; 8] {
+        let mut acc = [[0.0; 4]; 8];
+        for (l, y) in l.chunks_exact(8).zip(y.chunks_exact(8)) {
+            for k in 0..8 {
+                for c in 0..4 {
+                    acc[k][c] += l[k] * y[k][c];
+                }
+            }
+        }
+        acc
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sums_avx2(l: &[f64], y: &[[f64; 4]]) -> [[f64; 4]; 8] {
+        sums(l, y)
+    }
+    let run = |l: &[f64], y: &[[f64; 4]]| {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, detected above.
+            return unsafe { sums_avx2(l, y) };
+        }
+        sums(l, y)
+    };
+    let l: Vec<f64> = (0..1024).map(|i| 1.0 + i as f64 * 1e-6).collect();
+    let y: Vec<[f64; 4]> = (0..1024).map(|i| [i as f64 * 1e-3; 4]).collect();
+    let batch = 4000;
+    let mut best = f64::INFINITY;
+    for _ in 0..REPEATS {
+        let c = thread_cpu();
+        for _ in 0..batch {
+            std::hint::black_box(run(std::hint::black_box(&l), std::hint::black_box(&y)));
+        }
+        best = best.min((thread_cpu() - c) / (batch * l.len()) as f64);
     }
     best
 }

@@ -196,15 +196,18 @@ fn bound_md(study: &Scaling) -> String {
         "Global step: the two triangular solves stream the factor once each, the three \
          coordinates in one pass: 2 × {BYTES_PER_FACTOR_ENTRY} × nnz bytes (a value and a 32-bit \
          row per entry), at the read bandwidth measured on a buffer of that size \
-         ([`bandwidth.csv`](bandwidth.csv): eight-lane sums, best of {REPEATS}). Local step: a \
-         square root and a division per spring, {:.2} ns per spring measured (`l0 / q.sqrt()` \
-         over an in-cache array). The bound is their sum; the ratio is the measured CPU time \
-         over it. Where the factor fits in the caches, the bandwidth is the caches' and the \
-         bound is not what limits: each entry of the factor is a load of three coordinates at an \
-         index that wanders over the right-hand sides in the fill-reducing order, three \
-         multiplications and three additions into partial sums (scalar: the x86-64 baseline has \
-         no fused multiply-add and the build targets no more). The column \"ns per entry\" is \
-         the measured global step over 2 × nnz.\n",
+         ([`bandwidth.csv`](bandwidth.csv): eight-lane sums, best of {REPEATS}); and each entry \
+         of each pass multiplies a node's four lanes (x, y, z and a padding lane, one AVX2 vector \
+         where the CPU has it) and adds them, {:.2} ns per entry measured (eight independent \
+         sums over an in-cache array, no fused multiply-add): the global floor is the longer of \
+         the two. Local step: a square root and a division per spring, {:.2} ns per spring \
+         measured (`l0 / q.sqrt()` over an in-cache array). The bound is the sum of the two \
+         floors; the ratio is the measured CPU time over it. What the floors leave out: each \
+         entry's load of a node at an index that wanders over the right-hand sides in the \
+         fill-reducing order (a gather the out-of-order core overlaps only in part), the \
+         right-hand side's assembly and the permutations. The column \"ns per entry\" is the \
+         measured global step over 2 × nnz.\n",
+        study.multiply_add * 1e9,
         study.sqrt_div * 1e9
     );
     let _ = writeln!(
