@@ -73,21 +73,6 @@ fn admm(
     })
 }
 
-/// A batch (its runs dearest first) in as many parts as its runs fill: the runs' total cost
-/// over [`WIDTH`] lanes, in units of its longest run (a batch costs about as long as its
-/// longest run once the others fill the lanes it leaves). Runs of like cost (the Liu intervals'
-/// bisection probes: six runs of 30 iterations) go to several parts, one per core, for the CPU
-/// time of one; a batch whose longest run outlasts the others' total stays whole. Dealt out in
-/// turn, so that the parts' costs are alike.
-fn split(batch: &[usize], costs: &[f64]) -> Vec<Vec<usize>> {
-    let longest = batch.iter().map(|&i| costs[i]).fold(0.0, f64::max);
-    let total: f64 = batch.iter().map(|&i| costs[i]).sum();
-    let parts = ((total / (WIDTH as f64 * longest)).ceil() as usize).clamp(1, batch.len());
-    (0..parts)
-        .map(|part| batch.iter().skip(part).step_by(parts).copied().collect())
-        .collect()
-}
-
 /// Runs every `(row, configuration)` of `jobs` (in parallel over the cores, the dearest first)
 /// and returns the outcomes in the jobs' order; `progress(done, total)` counts the pool's jobs
 /// (a batch is one).
@@ -98,14 +83,14 @@ pub fn run_experiments(
     let costs: Vec<f64> = jobs.iter().map(|(r, c)| expected_cost(r, c)).collect();
     // One batch per solver and iteration count (a lane with fewer iterations than another
     // idles while the other iterates on), its runs dearest first so that the short ones fill
-    // the lanes the long ones leave, split where its runs fill several ([`split`]).
+    // the lanes the long ones leave.
     let kind = |i: usize| batched(jobs[i].0, jobs[i].1);
     let key = |i: usize| (kind(i), jobs[i].0.iterations);
     let mut in_batches: Vec<usize> = (0..jobs.len()).filter(|&i| kind(i).is_some()).collect();
     in_batches.sort_by(|&a, &b| key(a).cmp(&key(b)).then(costs[b].total_cmp(&costs[a])));
     let mut units: Vec<Vec<usize>> = in_batches
         .chunk_by(|&a, &b| key(a) == key(b))
-        .flat_map(|batch| split(batch, &costs))
+        .map(<[usize]>::to_vec)
         .collect();
     units.extend(
         (0..jobs.len())
@@ -232,30 +217,5 @@ impl ResultSet {
             configuration: *configuration,
             rows: measured,
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Runs of like cost fill several parts (six bisection probes: two parts of three, one per
-    /// core); a long run with short ones stays whole (the short ones fill its idle lanes);
-    /// each part takes every `parts`th run, dearest first. A split by count alone (one part per
-    /// `WIDTH` runs, in chunks) fails the first two cases.
-    #[test]
-    fn a_batch_splits_where_its_runs_fill_the_parts() {
-        let parts = |costs: &[f64]| -> Vec<Vec<usize>> {
-            let batch: Vec<usize> = (0..costs.len()).collect();
-            split(&batch, costs)
-        };
-        assert_eq!(parts(&[1.0; 6]), vec![vec![0, 2, 4], vec![1, 3, 5]]);
-        assert_eq!(
-            parts(&[10.0, 1.0, 1.0, 1.0, 1.0, 1.0]),
-            vec![vec![0, 1, 2, 3, 4, 5]]
-        );
-        assert_eq!(parts(&[5.0, 5.0, 1.0, 1.0, 1.0]), vec![vec![0, 1, 2, 3, 4]]);
-        assert_eq!(parts(&[2.0]), vec![vec![0]]);
-        assert_eq!(parts(&[1.0; 9]).len(), 3);
     }
 }
