@@ -6,13 +6,13 @@
 //! go on changing its $`z`$ and $`\bar u`$ unread: only its iterate is kept
 //! ([`super::iterate_lanes`]).
 
-use super::{iterate_lanes, lane_mask, LaneSolver, WIDTH};
+use super::{iterate_lanes, lane_mask, LaneSolver, LaneStates, WIDTH};
 use crate::integrators::first_iterate::{inertia, FirstIterate};
 use crate::integrators::time_stepper::TimeStepper;
-use crate::model::lanes::{load_points, load_values, read_points, select, Lanes4};
+use crate::model::lanes::{load_points, load_values, select, Lanes4};
 use crate::model::system::{State, Vec3};
 use crate::solvers::admm::{global_rhs_of, local_step_of, prediction, pull, AdmmPd};
-use crate::solvers::projective::{finish_step_of, to_columns, GlobalSolveLanes, SpringIncidence};
+use crate::solvers::projective::{to_columns, GlobalSolveLanes, SpringIncidence};
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
 
@@ -37,8 +37,7 @@ pub struct AdmmLanes {
     /// Iterations per step of each lane's run (0: no run).
     iterations: [usize; WIDTH],
     first_iterate: [FirstIterate; WIDTH],
-    x: Vec<Vector3<Lanes4>>,
-    v: Vec<Vector3<Lanes4>>,
+    states: LaneStates,
     /// The first iterate, per node.
     first: Vec<Vector3<Lanes4>>,
     // The step's buffers, as in the run alone (column-major, 3n; one z and ū per spring).
@@ -71,8 +70,7 @@ impl AdmmLanes {
             a: GlobalSolveLanes::new(like.own_step())?,
             iterations: [0; WIDTH],
             first_iterate: [FirstIterate::Previous; WIDTH],
-            x: vec![Vector3::zeros(); n],
-            v: vec![Vector3::zeros(); n],
+            states: LaneStates::new(n),
             first: vec![Vector3::zeros(); n],
             x_n: vec![zero; 3 * n],
             m_x_tilde: vec![zero; 3 * n],
@@ -122,8 +120,7 @@ impl LaneSolver for AdmmLanes {
         load_points(&mut self.pull, lane, &pulls);
         self.d.load_lane(lane, run.iterate_data().reduction());
         self.a.load_lane(lane, run.own_step());
-        load_points(&mut self.x, lane, &state.x);
-        load_points(&mut self.v, lane, &state.v);
+        self.states.load(lane, state);
         self.iterations[lane] = run.iterations();
         self.first_iterate[lane] = run.first_iterate();
     }
@@ -136,13 +133,13 @@ impl LaneSolver for AdmmLanes {
     /// its iterate while the others iterate on.
     fn step(&mut self) {
         // 2.1: x̃ (as Mx̃) and the first iterate.
-        to_columns(&self.x, &mut self.x_n);
-        let n = self.x.len();
+        to_columns(&self.states.x, &mut self.x_n);
+        let n = self.states.x.len();
         let predicted =
             lane_mask(|lane| self.first_iterate[lane] == FirstIterate::InertialPrediction);
         let inertial = lane_mask(|lane| self.first_iterate[lane] == FirstIterate::Inertial);
         for (i, first) in self.first.iter_mut().enumerate() {
-            let (x, v, mass) = (self.x[i], self.v[i], self.masses[i]);
+            let (x, v, mass) = (self.states.x[i], self.states.v[i], self.masses[i]);
             let x_tilde = match self.fixed[i] {
                 true => x,
                 false => prediction(x, v, self.dt, self.pull[i]),
@@ -174,15 +171,14 @@ impl LaneSolver for AdmmLanes {
             a.solve(x, x_n);
         });
         // 2.11
-        finish_step_of(&mut self.x, &mut self.v, &self.iterate, self.dt);
+        self.states.finish_step(&self.iterate, self.dt);
     }
 
-    fn read(&self, lane: usize, state: &mut State) {
-        read_points(&self.x, lane, &mut state.x);
-        read_points(&self.v, lane, &mut state.v);
+    fn states(&self) -> &LaneStates {
+        &self.states
     }
 
-    fn write_velocities(&mut self, lane: usize, state: &State) {
-        load_points(&mut self.v, lane, &state.v);
+    fn states_mut(&mut self) -> &mut LaneStates {
+        &mut self.states
     }
 }

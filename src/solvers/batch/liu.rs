@@ -2,15 +2,15 @@
 //! [`Lanes4`], four runs of the same rope topology and fixed nodes (any dt, stiffness, masses,
 //! iteration counts, and a first iterate of (a) or (b), [`FirstIterate`]).
 
-use super::{iterate_lanes, lane_mask, LaneSolver, WIDTH};
+use super::{iterate_lanes, lane_mask, LaneSolver, LaneStates, WIDTH};
 use crate::integrators::first_iterate::inertia;
 use crate::integrators::time_stepper::TimeStepper;
-use crate::model::lanes::{load_points, load_values, read_points, select, Lanes4};
+use crate::model::lanes::{load_values, select, Lanes4};
 use crate::model::system::State;
 use crate::solvers::fast_mass_spring::{
     global_rhs, inertial_rhs, spring_directions, FastMassSpring, FirstIterate,
 };
-use crate::solvers::projective::{finish_step_of, to_columns, GlobalSolveLanes, SpringIncidence};
+use crate::solvers::projective::{to_columns, GlobalSolveLanes, SpringIncidence};
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
 
@@ -31,8 +31,7 @@ pub struct LiuLanes {
     iterations: [usize; WIDTH],
     /// Whether each lane's run starts at (b) $`x_n + dt\,v_n`$ rather than (a) $`x_n`$.
     inertial: [bool; WIDTH],
-    x: Vec<Vector3<Lanes4>>,
-    v: Vec<Vector3<Lanes4>>,
+    states: LaneStates,
     /// The first iterate, per node.
     first: Vec<Vector3<Lanes4>>,
     // The step's buffers, as in the run alone (column-major, 3n; one d per spring).
@@ -62,8 +61,7 @@ impl LiuLanes {
             dt2_f_ext: vec![zero; 3 * n],
             iterations: [0; WIDTH],
             inertial: [false; WIDTH],
-            x: vec![Vector3::zeros(); n],
-            v: vec![Vector3::zeros(); n],
+            states: LaneStates::new(n),
             first: vec![Vector3::zeros(); n],
             x_n: vec![zero; 3 * n],
             b: vec![zero; 3 * n],
@@ -101,8 +99,7 @@ impl LaneSolver for LiuLanes {
         let own = run.own_step();
         self.a.load_lane(lane, &own.a);
         load_values(&mut self.dt2_f_ext, lane, &own.dt2_f_ext);
-        load_points(&mut self.x, lane, &state.x);
-        load_points(&mut self.v, lane, &state.v);
+        self.states.load(lane, state);
         self.iterations[lane] = run.iterations();
         self.inertial[lane] = run.first_iterate() == FirstIterate::Inertial;
     }
@@ -115,10 +112,10 @@ impl LaneSolver for LiuLanes {
     /// keeps its iterate while the others iterate on.
     fn step(&mut self) {
         // 2.1 and the first iterate.
-        to_columns(&self.x, &mut self.x_n);
+        to_columns(&self.states.x, &mut self.x_n);
         inertial_rhs(
-            &self.x,
-            &self.v,
+            &self.states.x,
+            &self.states.v,
             &self.masses,
             self.dt,
             &self.dt2_f_ext,
@@ -128,7 +125,7 @@ impl LaneSolver for LiuLanes {
         for (first, ((&x, &v), &fixed)) in self
             .first
             .iter_mut()
-            .zip(self.x.iter().zip(&self.v).zip(&self.fixed))
+            .zip(self.states.x.iter().zip(&self.states.v).zip(&self.fixed))
         {
             *first = match fixed {
                 true => x,
@@ -151,15 +148,14 @@ impl LaneSolver for LiuLanes {
             },
         );
         // Erratum: Algorithm 3 omits the velocity update.
-        finish_step_of(&mut self.x, &mut self.v, &self.iterate, self.dt);
+        self.states.finish_step(&self.iterate, self.dt);
     }
 
-    fn read(&self, lane: usize, state: &mut State) {
-        read_points(&self.x, lane, &mut state.x);
-        read_points(&self.v, lane, &mut state.v);
+    fn states(&self) -> &LaneStates {
+        &self.states
     }
 
-    fn write_velocities(&mut self, lane: usize, state: &State) {
-        load_points(&mut self.v, lane, &state.v);
+    fn states_mut(&mut self) -> &mut LaneStates {
+        &mut self.states
     }
 }

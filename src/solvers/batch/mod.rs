@@ -13,8 +13,9 @@ pub mod xpbd;
 
 use crate::error::Result;
 use crate::integrators::time_stepper::{InMemory, Run, RunOptions, TimeStepper, Watch};
-use crate::model::lanes::{select, Lanes4};
+use crate::model::lanes::{load_points, read_points, select, Lanes4};
 use crate::model::system::State;
+use crate::solvers::projective::finish_step_of;
 use nalgebra::Vector3;
 use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
 
@@ -31,10 +32,49 @@ pub trait LaneSolver {
     fn clear(&mut self, lane: usize);
     /// Advances every lane by one of its run's steps.
     fn step(&mut self);
+    /// The positions and velocities of every lane.
+    fn states(&self) -> &LaneStates;
+    /// The same, to change.
+    fn states_mut(&mut self) -> &mut LaneStates;
     /// Lane `lane`'s state.
-    fn read(&self, lane: usize, state: &mut State);
+    fn read(&self, lane: usize, state: &mut State) {
+        let states = self.states();
+        read_points(&states.x, lane, &mut state.x);
+        read_points(&states.v, lane, &mut state.v);
+    }
     /// Sets lane `lane`'s velocities (after the run loop damped them).
-    fn write_velocities(&mut self, lane: usize, state: &State);
+    fn write_velocities(&mut self, lane: usize, state: &State) {
+        load_points(&mut self.states_mut().v, lane, &state.v);
+    }
+}
+
+/// The positions and velocities of the runs in a batch's lanes, per node.
+#[derive(Debug, Clone)]
+pub struct LaneStates {
+    pub x: Vec<Vector3<Lanes4>>,
+    pub v: Vec<Vector3<Lanes4>>,
+}
+
+impl LaneStates {
+    /// Zero states for `nodes` nodes.
+    pub fn new(nodes: usize) -> Self {
+        Self {
+            x: vec![Vector3::zeros(); nodes],
+            v: vec![Vector3::zeros(); nodes],
+        }
+    }
+
+    /// Puts `state` in lane `lane`.
+    pub fn load(&mut self, lane: usize, state: &State) {
+        load_points(&mut self.x, lane, &state.x);
+        load_points(&mut self.v, lane, &state.v);
+    }
+
+    /// The end of a projective step in every lane: the positions of the column-major
+    /// `iterate`, and the velocities they imply over `dt` ([`finish_step_of`]).
+    pub fn finish_step(&mut self, iterate: &[Lanes4], dt: Lanes4) {
+        finish_step_of(&mut self.x, &mut self.v, iterate, dt);
+    }
 }
 
 /// Per lane, whether `lane_holds` holds of its index.

@@ -1,9 +1,9 @@
 //! XPBD (Algorithm 2) in lanes: [`crate::solvers::xpbd::Xpbd`]'s step at [`Lanes4`], four runs of the
 //! same rope topology (any dt, compliance, masses and iteration counts).
 
-use super::{iterate_lanes, LaneSolver, WIDTH};
+use super::{iterate_lanes, LaneSolver, LaneStates, WIDTH};
 use crate::integrators::time_stepper::TimeStepper;
-use crate::model::lanes::{load_points, load_values, read_points, Lanes4};
+use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{Spring, State};
 use crate::solvers::xpbd::{Coefficients, Scratch, Xpbd};
 use nalgebra::Vector3;
@@ -17,8 +17,7 @@ pub struct XpbdLanes {
     scratch: Scratch<Lanes4>,
     /// Iterations per step of each lane's run (0: no run).
     iterations: [usize; WIDTH],
-    x: Vec<Vector3<Lanes4>>,
-    v: Vec<Vector3<Lanes4>>,
+    states: LaneStates,
     /// The positions of the lanes whose iterations are done, kept while the others sweep.
     done: Vec<Vector3<Lanes4>>,
 }
@@ -41,8 +40,7 @@ impl XpbdLanes {
             scratch: Scratch::new(springs.len(), nodes),
             springs,
             iterations: [0; WIDTH],
-            x: vec![Vector3::zeros(); nodes],
-            v: vec![Vector3::zeros(); nodes],
+            states: LaneStates::new(nodes),
             done: vec![Vector3::zeros(); nodes],
         }
     }
@@ -78,8 +76,7 @@ impl LaneSolver for XpbdLanes {
             lane,
             &from.external_acceleration,
         );
-        load_points(&mut self.x, lane, &state.x);
-        load_points(&mut self.v, lane, &state.v);
+        self.states.load(lane, state);
         self.iterations[lane] = run.iterations();
     }
 
@@ -91,20 +88,19 @@ impl LaneSolver for XpbdLanes {
     /// while the others sweep on.
     fn step(&mut self) {
         let c = &self.coefficients;
-        c.predict(&mut self.x, &self.v, &mut self.scratch);
+        c.predict(&mut self.states.x, &self.states.v, &mut self.scratch);
         let (springs, lambda) = (&self.springs, &mut self.scratch.lambda);
-        iterate_lanes(&self.iterations, &mut self.x, &mut self.done, |x| {
+        iterate_lanes(&self.iterations, &mut self.states.x, &mut self.done, |x| {
             c.sweep(springs, x, lambda)
         });
-        c.velocities(&self.x, &mut self.v, &self.scratch);
+        c.velocities(&self.states.x, &mut self.states.v, &self.scratch);
     }
 
-    fn read(&self, lane: usize, state: &mut State) {
-        read_points(&self.x, lane, &mut state.x);
-        read_points(&self.v, lane, &mut state.v);
+    fn states(&self) -> &LaneStates {
+        &self.states
     }
 
-    fn write_velocities(&mut self, lane: usize, state: &State) {
-        load_points(&mut self.v, lane, &state.v);
+    fn states_mut(&mut self) -> &mut LaneStates {
+        &mut self.states
     }
 }
