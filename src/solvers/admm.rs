@@ -31,7 +31,7 @@
 //! from this module's building blocks in [`crate::studies::forensics::admm_variants`].
 
 use crate::error::{require_positive, Error, Result};
-use crate::integrators::first_iterate::{FirstIterate, StepStart};
+use crate::integrators::first_iterate::{inertial_prediction, FirstIterate, StepStart};
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
 use crate::integrators::stopping::Convergence;
 use crate::integrators::time_stepper::TimeStepper;
@@ -75,13 +75,6 @@ pub fn z_minimisation<T: Lane>(q: Vector3<T>, l0: T, k: T, omega: T) -> Vector3<
 #[inline]
 pub fn dual_update<T: Lane>(u_bar: Vector3<T>, d_x: Vector3<T>, z: Vector3<T>) -> Vector3<T> {
     u_bar + d_x - z
-}
-
-/// Line 2.1 for a free node: $`\tilde x_i = x_i + dt\,v_i + dt^2 m_i^{-1} f_{ext,i}`$ (Eq 35),
-/// `pull` being the last term.
-#[inline]
-pub fn prediction<T: Lane>(x: Vector3<T>, v: Vector3<T>, dt: T, pull: Vector3<T>) -> Vector3<T> {
-    x + v * dt + pull
 }
 
 /// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$ (Eq 42),
@@ -196,11 +189,7 @@ impl AdmmIterate {
         to_columns(&state.x, &mut self.x_n);
         let n = state.x.len();
         for (i, node) in system.nodes().iter().enumerate() {
-            let x = if node.fixed {
-                state.x[i]
-            } else {
-                prediction(state.x[i], state.v[i], dt, pull(system, dt, i))
-            };
+            let x = inertial_prediction(system, state, dt, i);
             for c in 0..3 {
                 self.x_tilde[c * n + i] = x[c];
                 self.m_x_tilde[c * n + i] = node.mass * x[c];
@@ -273,11 +262,6 @@ impl AdmmIterate {
             &mut self.x,
         );
     }
-}
-
-/// $`dt^2 m_i^{-1} f_{ext,i}`$, the last term of node `i`'s prediction (Eq 35's $`\tilde x`$).
-pub fn pull(system: &MassSpringSystem, dt: f64, i: usize) -> Vec3 {
-    dt * dt / system.nodes()[i].mass * system.external_force(i)
 }
 
 /// ADMM-PD (Algorithm 4 as printed) with a fixed number of iterations per step.

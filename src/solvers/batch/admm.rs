@@ -7,11 +7,11 @@
 //! ([`super::iterate_lanes`]).
 
 use super::{iterate_lanes, lane_mask, LaneSolver, LaneStates, WIDTH};
-use crate::integrators::first_iterate::{inertia, FirstIterate};
+use crate::integrators::first_iterate::{inertia, predicted, pull, FirstIterate};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, select, Lanes4};
 use crate::model::system::{State, Vec3};
-use crate::solvers::admm::{global_rhs_of, local_step_of, prediction, pull, AdmmPd};
+use crate::solvers::admm::{global_rhs_of, local_step_of, AdmmPd};
 use crate::solvers::projective::{to_columns, GlobalSolveLanes, SpringIncidence};
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
@@ -135,14 +135,14 @@ impl LaneSolver for AdmmLanes {
         // 2.1: x̃ (as Mx̃) and the first iterate.
         to_columns(&self.states.x, &mut self.x_n);
         let n = self.states.x.len();
-        let predicted =
+        let at_x_tilde =
             lane_mask(|lane| self.first_iterate[lane] == FirstIterate::InertialPrediction);
         let inertial = lane_mask(|lane| self.first_iterate[lane] == FirstIterate::Inertial);
         for (i, first) in self.first.iter_mut().enumerate() {
             let (x, v, mass) = (self.states.x[i], self.states.v[i], self.masses[i]);
             let x_tilde = match self.fixed[i] {
                 true => x,
-                false => prediction(x, v, self.dt, self.pull[i]),
+                false => predicted(x, v, self.dt, self.pull[i]),
             };
             for c in 0..3 {
                 self.m_x_tilde[c * n + i] = mass * x_tilde[c];
@@ -150,7 +150,7 @@ impl LaneSolver for AdmmLanes {
             *first = match self.fixed[i] {
                 true => x,
                 false => select(
-                    predicted,
+                    at_x_tilde,
                     x_tilde,
                     select(inertial, inertia(x, v, self.dt), x),
                 ),

@@ -175,22 +175,6 @@ fn run_batch<'a, L: LaneSolver>(
         .collect()
 }
 
-/// Runs every row (in parallel over the available cores, longest first, the batchable ones in
-/// batches: [`run_experiments`]) and measures the rest-state errors against the references.
-/// `progress(done, total)` is called after each.
-pub fn run_all(
-    rows: &[PublishedRow],
-    configuration: &Configuration,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<ResultSet> {
-    let jobs: Vec<(&PublishedRow, &Configuration)> =
-        rows.iter().map(|row| (row, configuration)).collect();
-    let runs = run_experiments(&jobs, progress)
-        .into_iter()
-        .collect::<Result<Vec<Run>>>()?;
-    Ok(ResultSet::measured(rows, configuration, &runs))
-}
-
 impl ResultSet {
     /// The result set of `rows` run under `configuration` (`runs`, in the rows' order): each
     /// row's metrics, and a solver row's rest-state errors against the reference of its

@@ -8,7 +8,6 @@
 
 pub mod batched;
 
-pub use batched::run_all;
 pub mod pool;
 pub mod published;
 pub mod rule;

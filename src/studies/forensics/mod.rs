@@ -232,11 +232,6 @@ impl Forensics {
         Ok((results, forensics))
     }
 
-    /// [`Self::compute_with`] with nothing run before.
-    pub fn compute(faithful: &ResultSet, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
-        Self::compute_with(faithful, &mut RunMemo::default(), progress)
-    }
-
     /// Runs every named configuration on the rows of `faithful` it concerns, fits the Liu
     /// hypothesis and locates its intervals, selects each row's configuration, runs it at
     /// 9.8 m/s² (the gravity study and the other reading of the gravity), then classifies
