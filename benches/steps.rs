@@ -14,7 +14,8 @@
 
 use mass_spring_solvers::integrators::time_stepper::TimeStepper;
 use mass_spring_solvers::model::boundary::{fixed_unknowns, ConstrainedSystem};
-use mass_spring_solvers::model::scene::thesis_rope;
+use mass_spring_solvers::model::linear::{BandedLdlt, SymmetricMatrix};
+use mass_spring_solvers::model::scene::{thesis_rope, SheetParams, SHEET_NODES_PER_SIDE};
 use mass_spring_solvers::particles::scenes::ClothParams;
 use mass_spring_solvers::solvers::admm::AdmmPd;
 use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
@@ -254,4 +255,53 @@ fn floor_rope_global_solve(bencher: divan::Bencher) {
     bencher
         .with_inputs(|| x_n.clone())
         .bench_local_refs(|b| solve.solve(b, &x_n));
+}
+
+/// The banded matrix of Backward Euler's Newton step (three unknowns per node) on the rope
+/// (30 unknowns, half-bandwidth 5) or the 10×10 sheet of the benchmark (300, 35), made
+/// positive definite by a dominant diagonal: what [`BandedLdlt`] factors and solves per
+/// Newton iteration.
+fn banded_matrix(scene: &str) -> SymmetricMatrix {
+    let system = match scene {
+        "rope" => thesis_rope(1e3).unwrap(),
+        _ => SheetParams::spec(SHEET_NODES_PER_SIDE, 1e3)
+            .build()
+            .unwrap(),
+    };
+    let edges: Vec<_> = system.springs().iter().map(|s| (s.a, s.b)).collect();
+    let mut a = SymmetricMatrix::from_node_graph(system.len(), 3, &edges);
+    for &(i, j) in &edges {
+        for r in 0..3 {
+            for c in 0..3 {
+                let v = if r == c { 2.0 } else { 0.25 };
+                a.add(3 * i + r, 3 * i + c, v);
+                a.add(3 * j + r, 3 * j + c, v);
+                a.add(3 * i + r, 3 * j + c, -v / 2.0);
+                a.add(3 * j + r, 3 * i + c, -v / 2.0);
+            }
+        }
+    }
+    for i in 0..a.dim() {
+        a.add(i, i, 1.0);
+    }
+    a
+}
+
+/// The banded $`LDL^\top`$ refactored with new values (Backward Euler's Newton iteration).
+#[divan::bench(args = ["rope", "sheet"])]
+fn banded_refactor(bencher: divan::Bencher, scene: &str) {
+    let a = banded_matrix(scene);
+    let mut f = BandedLdlt::new(&a).unwrap();
+    bencher.bench_local(|| f.refactor(black_box(&a)).unwrap());
+}
+
+/// Its substitutions for one right-hand side.
+#[divan::bench(args = ["rope", "sheet"])]
+fn banded_solve(bencher: divan::Bencher, scene: &str) {
+    let a = banded_matrix(scene);
+    let f = BandedLdlt::new(&a).unwrap();
+    let b: Vec<f64> = (0..a.dim()).map(|i| (i as f64 * 0.37).sin()).collect();
+    bencher
+        .with_inputs(|| b.clone())
+        .bench_local_refs(|b| f.solve_in_place(b, 1));
 }

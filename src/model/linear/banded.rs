@@ -165,3 +165,122 @@ impl BandedLdlt {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::scene::{thesis_rope, SheetParams, SHEET_NODES_PER_SIDE};
+
+    /// The pattern of `system`'s springs with three unknowns per node (Backward Euler's): full
+    /// symmetric 3×3 blocks of uneven values, made positive definite by a dominant diagonal.
+    fn newton_like(system: &crate::model::system::MassSpringSystem) -> SymmetricMatrix {
+        let edges: Vec<_> = system.springs().iter().map(|s| (s.a, s.b)).collect();
+        let mut a = SymmetricMatrix::from_node_graph(system.len(), 3, &edges);
+        for (e, &(i, j)) in edges.iter().enumerate() {
+            for r in 0..3 {
+                for c in 0..3 {
+                    let v = ((e * 9 + r.min(c) * 3 + r.max(c)) as f64 * 0.731).sin() * 0.4;
+                    a.add(3 * i + r, 3 * i + c, v);
+                    a.add(3 * j + r, 3 * j + c, v);
+                    a.add(3 * i + r, 3 * j + c, -v * 0.5);
+                    a.add(3 * j + c, 3 * i + r, -v * 0.5);
+                }
+            }
+        }
+        for i in 0..a.dim() {
+            a.add(i, i, 8.0 + (i as f64 * 0.29).sin());
+        }
+        a
+    }
+
+    /// The row-oriented (left-looking) banded $`LDL^\top`$ written out plainly, the oracle of
+    /// [`BandedLdlt`]'s bits: on a dense copy with p zero rows and columns first, row i's
+    /// $`t_m`$ one sum after another, then $`d_i`$; every sum in ascending order. Returns
+    /// $`L`$ (padded, row-major) and $`1/d`$ (padded).
+    fn row_oriented(a: &SymmetricMatrix) -> (Vec<Vec<f64>>, Vec<f64>) {
+        let (n, p) = (a.dim(), a.bandwidth());
+        let mut l = vec![vec![0.0; n + p]; n + p];
+        let mut inverse = vec![0.0; n + p];
+        for i in 0..n {
+            let mut t = vec![0.0; p];
+            for m in 0..p {
+                // Column j = i - p + m (padded index i + m).
+                let j = i + m;
+                let mut s = if j >= p { a.get(i, j - p) } else { 0.0 };
+                for q in 0..m {
+                    s -= t[q] * l[j][i + q];
+                }
+                t[m] = s;
+                l[i + p][j] = s * inverse[j];
+            }
+            let mut d = a.get(i, i);
+            for q in 0..p {
+                d -= t[q] * l[i + p][i + q];
+            }
+            inverse[i + p] = 1.0 / d;
+            l[i + p][i + p] = d;
+        }
+        (l, inverse)
+    }
+
+    /// Every entry of the factor and every solution has the bits of the row-oriented
+    /// algorithm's, on the rope's Newton matrix (p = 5, the constant dispatch), the 10×10
+    /// sheet's (p = 35) and a band past [`BANDED_MAX_BANDWIDTH`] (scratch on the heap). Fails if
+    /// the column-wise factorisation changes any sum's order: with $`d_i`$'s terms taken in
+    /// descending order, or a column's update run upwards.
+    #[test]
+    fn the_column_factorisation_has_the_row_oriented_bits() {
+        let sheet = SheetParams::spec(SHEET_NODES_PER_SIDE, 1e3)
+            .build()
+            .unwrap();
+        let wide = SheetParams::spec(14, 1e3).build().unwrap();
+        for system in [thesis_rope(1e3).unwrap(), sheet, wide] {
+            let a = newton_like(&system);
+            let (n, p, w) = (a.dim(), a.bandwidth(), a.bandwidth() + 1);
+            let f = BandedLdlt::new(&a).unwrap();
+            let (l, inverse) = row_oriented(&a);
+            for j in 0..n {
+                assert_eq!(f.band[(j + p) * w + p].to_bits(), l[j + p][j + p].to_bits());
+                assert_eq!(
+                    f.inverse_diagonal[j + p].to_bits(),
+                    inverse[j + p].to_bits()
+                );
+                for i in j + 1..(j + w).min(n) {
+                    let ours = f.band[(i + p) * w + p + j - i];
+                    assert_eq!(
+                        ours.to_bits(),
+                        l[i + p][j + p].to_bits(),
+                        "L[{i}][{j}], p {p}"
+                    );
+                }
+            }
+            // The substitutions, as they were: ascending over row i of L, then descending
+            // over column i.
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+            let mut x = b.clone();
+            for i in 0..n {
+                let mut s = -0.0;
+                for k in i.saturating_sub(p)..i {
+                    s += l[i + p][k + p] * x[k];
+                }
+                x[i] -= s;
+            }
+            for i in (0..n).rev() {
+                let mut s = -0.0;
+                for k in (i + 1..(i + p + 1).min(n)).rev() {
+                    s += l[k + p][i + p] * x[k];
+                }
+                x[i] = x[i] * inverse[i + p] - s;
+            }
+            let mut ours = b.clone();
+            f.solve_in_place(&mut ours, 1);
+            assert!(ours.iter().zip(&x).all(|(a, b)| a.to_bits() == b.to_bits()));
+            let mut three: Vec<f64> = b.iter().chain(&b).chain(&b).copied().collect();
+            f.solve_in_place(&mut three, 3);
+            assert!(three
+                .iter()
+                .zip(x.iter().cycle())
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+        }
+    }
+}
