@@ -131,6 +131,30 @@ pub fn iterate_lanes<V: Kept>(
     }
 }
 
+/// How full a batch's lanes were: the steps the lanes took together, and the runs' steps
+/// among them (a step of a lane without a run, or of a lane whose run has stopped, is not a
+/// run's step). The last run, which goes on alone, is in neither.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Occupancy {
+    pub batch_steps: usize,
+    pub run_steps: usize,
+}
+
+impl Occupancy {
+    /// The runs' share of the lanes' steps, in [0, 1] (0 for a batch that took no step).
+    pub fn fraction(&self) -> f64 {
+        self.run_steps as f64 / (WIDTH * self.batch_steps).max(1) as f64
+    }
+}
+
+/// What [`simulate_batch`] returns: each run's outcome, in the order of the runs, and how
+/// full the lanes were.
+#[derive(Debug)]
+pub struct BatchOutcome {
+    pub runs: Vec<Result<Run>>,
+    pub occupancy: Occupancy,
+}
+
 /// A run in a lane.
 struct InLane<'a, R> {
     /// Its index in the batch's runs.
@@ -143,12 +167,13 @@ struct InLane<'a, R> {
 
 /// Runs every `(solver, start, options)` of `runs`, [`WIDTH`] at a time in the lanes of
 /// `lanes`, and returns each one's outcome as [`crate::integrators::time_stepper::simulate`] would give it, in the
-/// order of `runs`. A lane whose run stops takes the next run waiting; the last run left goes
-/// on alone.
+/// order of `runs`, with the lanes' [`Occupancy`]. A lane whose run stops takes the next run
+/// waiting; the last run left goes on alone.
 pub fn simulate_batch<'a, L: LaneSolver>(
     lanes: &mut L,
     runs: &'a [(L::Run, State, RunOptions)],
-) -> Vec<Result<Run>> {
+) -> BatchOutcome {
+    let mut occupancy = Occupancy::default();
     let mut outcomes: Vec<Option<Result<Run>>> = (0..runs.len()).map(|_| None).collect();
     let mut waiting = runs.iter().enumerate();
     let mut in_lane: Vec<Option<InLane<'a, L::Run>>> = (0..WIDTH)
@@ -171,6 +196,8 @@ pub fn simulate_batch<'a, L: LaneSolver>(
             _ => {}
         }
         lanes.step();
+        occupancy.batch_steps += 1;
+        occupancy.run_steps += busy.len();
         for lane in busy {
             let run = in_lane[lane].as_mut().expect("a busy lane");
             lanes.read(lane, &mut run.state);
@@ -189,10 +216,13 @@ pub fn simulate_batch<'a, L: LaneSolver>(
             in_lane[lane] = fill(lanes, lane, &mut waiting, &mut outcomes);
         }
     }
-    outcomes
-        .into_iter()
-        .map(|o| o.expect("every run ran"))
-        .collect()
+    BatchOutcome {
+        runs: outcomes
+            .into_iter()
+            .map(|o| o.expect("every run ran"))
+            .collect(),
+        occupancy,
+    }
 }
 
 /// The next run of `waiting` that starts without error, put in lane `lane` (the runs that
@@ -271,12 +301,22 @@ mod tests {
         runs: &[(L::Run, State, RunOptions)],
     ) {
         let batched = simulate_batch(lanes, runs);
-        for ((solver, state, options), batched) in runs.iter().zip(batched) {
+        let mut steps = Vec::new();
+        for ((solver, state, options), batched) in runs.iter().zip(batched.runs) {
             let alone = simulate(&mut solver.clone(), state.clone(), options).unwrap();
             let batched = batched.unwrap();
             assert_eq!(bits(&batched), bits(&alone), "{}", alone.solver);
             assert_eq!(batched.solver, alone.solver);
+            steps.push(alone.steps as usize);
         }
+        // Every run's steps are counted in the lanes but those the last one took alone.
+        let (total, longest) = (steps.iter().sum::<usize>(), *steps.iter().max().unwrap());
+        let o = batched.occupancy;
+        assert!(
+            o.run_steps <= total && o.run_steps + longest >= total,
+            "{o:?}"
+        );
+        assert!(o.run_steps <= WIDTH * o.batch_steps && o.fraction() <= 1.0);
     }
 
     /// Each lane of a batch gives its run's bits alone, with a different stiffness, dt,

@@ -13,7 +13,7 @@ use crate::solvers::admm::AdmmPd;
 use crate::solvers::batch::admm::AdmmLanes;
 use crate::solvers::batch::liu::LiuLanes;
 use crate::solvers::batch::xpbd::XpbdLanes;
-use crate::solvers::batch::{simulate_batch, LaneSolver, WIDTH};
+use crate::solvers::batch::{simulate_batch, BatchOutcome, LaneSolver, WIDTH};
 use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::solvers::registry::SolverId;
 use crate::solvers::xpbd::Xpbd;
@@ -161,11 +161,21 @@ fn run_batch<'a, L: LaneSolver>(
         format!("batch of {}: {}", jobs.len(), labels.join("; "))
     };
     let mut runs = match ready.first() {
-        Some((like, _, _)) => pool::profiled(
-            label,
-            |_| String::new(),
-            || simulate_batch(&mut lanes(like), &ready),
-        ),
+        Some((like, _, _)) => {
+            pool::profiled(
+                label,
+                |batch: &BatchOutcome| {
+                    let o = batch.occupancy;
+                    format!(
+                        " ({} steps of {WIDTH} lanes, {:.3} occupied)",
+                        o.batch_steps,
+                        o.fraction()
+                    )
+                },
+                || simulate_batch(&mut lanes(like), &ready),
+            )
+            .runs
+        }
         None => Vec::new(),
     }
     .into_iter();
