@@ -38,8 +38,8 @@ use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::Lane;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::projective::{
-    finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, to_columns, GlobalSolve,
-    SpringIncidence,
+    finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, sphere_scales, to_columns,
+    GlobalSolve, SpringIncidence,
 };
 use nalgebra::Vector3;
 
@@ -77,25 +77,49 @@ pub fn dual_update<T: Lane>(u_bar: Vector3<T>, d_x: Vector3<T>, z: Vector3<T>) -
     u_bar + d_x - z
 }
 
+/// Each spring's data in Algorithm 4's local step, one value per spring.
+#[derive(Debug, Clone, Copy)]
+pub struct LocalStepSprings<'a, T> {
+    /// $`l_{0,i}`$.
+    pub rest_lengths: &'a [T],
+    /// $`k_i`$.
+    pub stiffness: &'a [T],
+    /// $`\omega_i`$, the diagonal of $`W`$.
+    pub omega: &'a [T],
+}
+
 /// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$ (Eq 42),
-/// from the column-major iterate `x`; `springs` gives each spring's rest length and stiffness.
+/// from the column-major iterate `x`. [`z_minimisation`]'s arithmetic, with every spring's
+/// square root and division of Eq (55) gathered in one pass over `scale` (scratch, one per
+/// spring; `z` holds $`D_i x`$ until its update), as Liu's local step gathers its own
+/// ([`crate::solvers::projective::project_on_spheres`]): the same operations on the same
+/// operands, so the same bits, several springs' at a time.
 pub fn local_step_of<T: Lane>(
     d: &SpringIncidence<T>,
     x: &[T],
-    springs: impl Iterator<Item = (T, T)>,
-    omega: &[T],
+    springs: LocalStepSprings<T>,
+    scale: &mut [T],
     z: &mut [Vector3<T>],
     u_bar: &mut [Vector3<T>],
 ) {
-    for (i, (((z, u_bar), (l0, k)), &omega)) in z
+    // D_i x, and |q|² for Eq (41)'s q = D_i x + ū_i.
+    for (i, ((d_x, u_bar), r)) in z
         .iter_mut()
-        .zip(u_bar.iter_mut())
-        .zip(springs)
-        .zip(omega)
+        .zip(u_bar.iter())
+        .zip(scale.iter_mut())
         .enumerate()
     {
-        let d_x = d.apply_row(i, x);
-        *z = z_minimisation(d_x + *u_bar, l0, k, omega);
+        *d_x = d.apply_row(i, x);
+        *r = (*d_x + *u_bar).norm_squared();
+    }
+    // Eq (55): l_0/|q| for every spring.
+    sphere_scales(scale, springs.rest_lengths);
+    // Eq (56) on the projection p = q l_0/|q|, then Eq (42).
+    let per_spring = scale.iter().zip(springs.stiffness).zip(springs.omega);
+    for ((z, u_bar), ((&r, &k), &omega)) in z.iter_mut().zip(u_bar.iter_mut()).zip(per_spring) {
+        let d_x = *z;
+        let q = d_x + *u_bar;
+        *z = z_update(q * r, q, k, omega);
         *u_bar = dual_update(*u_bar, d_x, *z);
     }
 }
@@ -126,6 +150,11 @@ pub struct AdmmIterate {
     d: SpringIncidence,
     /// $`\omega_i`$, the diagonal of $`W`$.
     omega: Vec<f64>,
+    /// The springs' rest lengths and stiffnesses.
+    rest_lengths: Vec<f64>,
+    stiffness: Vec<f64>,
+    /// Scratch of the local step, one value per spring.
+    scale: Vec<f64>,
     /// $`dt^2\,\omega_i^2`$, the factor of $`D_i^\top`$ in Eq (40)'s right-hand side.
     dt2_omega2: Vec<f64>,
     /// The positions $`x_n`$ at the start of the step; the fixed nodes keep them.
@@ -150,6 +179,9 @@ impl AdmmIterate {
             d: reduction_matrix(system),
             dt2_omega2: omega.iter().map(|w| dt * dt * (w * w)).collect(),
             omega,
+            rest_lengths: system.springs().iter().map(|s| s.rest_length).collect(),
+            stiffness: system.springs().iter().map(|s| s.stiffness).collect(),
+            scale: vec![0.0; s],
             x_n: vec![0.0; 3 * n],
             x_tilde: vec![0.0; 3 * n],
             m_x_tilde: vec![0.0; 3 * n],
@@ -216,15 +248,17 @@ impl AdmmIterate {
 
     /// Lines 2.4-2.7: for every spring, $`z_i`$ (Eq 41 by Eqs 55-56), then $`\bar u_i`$
     /// (Eq 42), from the current iterate $`x`$.
-    pub fn local_step(&mut self, system: &MassSpringSystem) {
+    pub fn local_step(&mut self) {
+        let springs = LocalStepSprings {
+            rest_lengths: &self.rest_lengths,
+            stiffness: &self.stiffness,
+            omega: &self.omega,
+        };
         local_step_of(
             &self.d,
             &self.x,
-            system
-                .springs()
-                .iter()
-                .map(|s| (s.rest_length, s.stiffness)),
-            &self.omega,
+            springs,
+            &mut self.scale,
             &mut self.z,
             &mut self.u_bar,
         );
@@ -345,7 +379,7 @@ impl AdmmPd {
 
     /// Lines 2.4-2.7 at the current iterate: $`z`$ and $`\bar u`$ (Eqs 41-42).
     pub fn local_step(&mut self) {
-        self.iterate.local_step(&self.system);
+        self.iterate.local_step();
     }
 
     /// The global step at the current iterate: Eq (40)'s right-hand side and the prefactored

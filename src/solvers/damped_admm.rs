@@ -597,7 +597,7 @@ impl MinimizingSolver for DampedAdmm {
         // 2.3-2.10, with the damping blocks beside the springs', stopping early only in the
         // tolerance mode.
         for _ in 0..self.iterations {
-            it.local_step(&self.system);
+            it.local_step();
             if let Some(block) = &mut self.stiffness_damping {
                 block.local_step(&it.x);
             }

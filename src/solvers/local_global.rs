@@ -355,7 +355,7 @@ impl LocalGlobal {
                 x_before.copy_from_slice(&iterate.x);
                 u_before.copy_from_slice(&iterate.u_bar);
                 // 2.4-2.7: z and ū⁺ = ū + Dx − z, so that ū⁺ − ū is the primal residual.
-                iterate.local_step(&self.system);
+                iterate.local_step();
                 let weighted = |iterate: &AdmmIterate, i: usize, r: Vec3| {
                     (iterate.omega()[i] * r).norm_squared()
                 };

@@ -262,11 +262,18 @@ pub fn project_on_spheres<T: Lane>(q: &mut [Vector3<T>], l0: &[T], scale: &mut [
     for (r, q) in scale.iter_mut().zip(q.iter()) {
         *r = q.norm_squared();
     }
-    for (r, &l0) in scale.iter_mut().zip(l0) {
-        *r = sphere_scale(*r, l0);
-    }
+    sphere_scales(scale, l0);
     for (q, &r) in q.iter_mut().zip(scale.iter()) {
         *q *= r;
+    }
+}
+
+/// Every spring's factor $`l_{0,i}/|q_i|`$ of [`project_on_sphere`] at once: `scale` holds
+/// $`|q_i|^2`$ on entry and the factor on return, so that the square roots and divisions of
+/// a local step run several at a time.
+pub fn sphere_scales<T: Lane>(scale: &mut [T], l0: &[T]) {
+    for (r, &l0) in scale.iter_mut().zip(l0) {
+        *r = sphere_scale(*r, l0);
     }
 }
 

@@ -11,7 +11,7 @@ use crate::integrators::first_iterate::{inertia, predicted, pull, FirstIterate};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, select, Lanes4};
 use crate::model::system::{State, Vec3};
-use crate::solvers::admm::{global_rhs_of, local_step_of, AdmmPd};
+use crate::solvers::admm::{global_rhs_of, local_step_of, AdmmPd, LocalStepSprings};
 use crate::solvers::projective::{to_columns, GlobalSolveLanes, SpringIncidence};
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
@@ -46,6 +46,8 @@ pub struct AdmmLanes {
     iterate: Vec<Lanes4>,
     z: Vec<Vector3<Lanes4>>,
     u_bar: Vec<Vector3<Lanes4>>,
+    /// Scratch of the local step, one value per spring.
+    scale: Vec<Lanes4>,
     /// The iterate of the lanes whose iterations are done, kept while the others iterate.
     done: Vec<Lanes4>,
 }
@@ -77,6 +79,7 @@ impl AdmmLanes {
             iterate: vec![zero; 3 * n],
             z: vec![Vector3::zeros(); s],
             u_bar: vec![Vector3::zeros(); s],
+            scale: vec![zero; s],
             done: vec![zero; 3 * n],
         })
     }
@@ -163,10 +166,14 @@ impl LaneSolver for AdmmLanes {
         let (d, a, x_n, m_x_tilde) = (&self.d, &self.a, &self.x_n, &self.m_x_tilde);
         let (omega, dt2_omega2) = (&self.omega, &self.dt2_omega2);
         let (rest_lengths, stiffness) = (&self.rest_lengths, &self.stiffness);
-        let (z, u_bar) = (&mut self.z, &mut self.u_bar);
+        let (z, u_bar, scale) = (&mut self.z, &mut self.u_bar, &mut self.scale);
         iterate_lanes(&self.iterations, &mut self.iterate, &mut self.done, |x| {
-            let springs = rest_lengths.iter().copied().zip(stiffness.iter().copied());
-            local_step_of(d, x, springs, omega, z, u_bar);
+            let springs = LocalStepSprings {
+                rest_lengths,
+                stiffness,
+                omega,
+            };
+            local_step_of(d, x, springs, scale, z, u_bar);
             global_rhs_of(d, m_x_tilde, z, u_bar, dt2_omega2, x);
             a.solve(x, x_n);
         });

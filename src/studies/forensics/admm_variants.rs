@@ -290,7 +290,7 @@ impl TimeStepper for VariantAdmm {
             it.u_bar.fill(Vec3::zeros());
         }
         for iteration in 0..self.iterations {
-            it.local_step(&self.system);
+            it.local_step();
             if self.variant.stale_rhs && iteration > 0 {
                 it.x.copy_from_slice(&self.first_rhs);
             } else {
