@@ -223,13 +223,14 @@ mod tests {
         (l, inverse)
     }
 
-    /// Every entry of the factor and every solution has the bits of the row-oriented
+    /// Every entry of the factor and every solution has the bits of the plain row-oriented
     /// algorithm's, on the rope's Newton matrix (p = 5, the constant dispatch), the 10×10
-    /// sheet's (p = 35) and a band past [`BANDED_MAX_BANDWIDTH`] (scratch on the heap). Fails if
-    /// the column-wise factorisation changes any sum's order: with $`d_i`$'s terms taken in
-    /// descending order, or a column's update run upwards.
+    /// sheet's (p = 35) and a band past [`BANDED_MAX_BANDWIDTH`] (scratch on the heap): the
+    /// lock on any faster factorisation, which must keep every sum's terms and their order.
+    /// Fails (checked) with $`d_i`$'s terms taken in descending order, or with the
+    /// right-looking product $`(L_{ik} d_k) L_{jk}`$ in place of $`t_k L_{jk}`$.
     #[test]
-    fn the_column_factorisation_has_the_row_oriented_bits() {
+    fn the_factorisation_has_the_row_oriented_bits() {
         let sheet = SheetParams::spec(SHEET_NODES_PER_SIDE, 1e3)
             .build()
             .unwrap();
