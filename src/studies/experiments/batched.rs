@@ -104,12 +104,8 @@ pub fn run_experiments(
     );
     let outcomes = run_parallel(
         &units,
-        // A batch takes about as long as its longest run, or its runs' total over its lanes.
-        |unit| {
-            let longest = unit.iter().map(|&i| costs[i]).fold(0.0, f64::max);
-            let total: f64 = unit.iter().map(|&i| costs[i]).sum();
-            longest.max(total / WIDTH as f64)
-        },
+        // The lanes' model of a batch ([`batch_cost`]); a run alone, its own cost.
+        |unit| batch_cost(&lane_runs(unit, &costs, iterations)),
         |unit| {
             let batch = unit.iter().map(|&i| jobs[i]);
             match (&unit[..], kind(unit[0])) {
@@ -155,9 +151,7 @@ fn join_half_empty(
     modelled: impl Fn(usize) -> bool,
     costs: &[f64],
 ) -> Vec<Vec<usize>> {
-    let model = |unit: &[usize]| -> Vec<(f64, usize)> {
-        unit.iter().map(|&i| (costs[i], iterations(i))).collect()
-    };
+    let model = |unit: &[usize]| lane_runs(unit, costs, &iterations);
     let half_empty = |unit: &[usize]| {
         let longest = unit.iter().map(|&i| costs[i]).fold(0.0, f64::max);
         let total: f64 = unit.iter().map(|&i| costs[i]).sum();
@@ -185,6 +179,15 @@ fn join_half_empty(
         }
     }
     out
+}
+
+/// The runs of `unit` as [`batch_cost`] takes them: (expected cost, iterations per step).
+fn lane_runs(
+    unit: &[usize],
+    costs: &[f64],
+    iterations: impl Fn(usize) -> usize,
+) -> Vec<(f64, usize)> {
+    unit.iter().map(|&i| (costs[i], iterations(i))).collect()
 }
 
 /// The model's cost of a batch of runs given as (cost, iterations per step), in the order
