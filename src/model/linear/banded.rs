@@ -25,9 +25,10 @@ pub const BANDED_MAX_BANDWIDTH: usize = 40;
 pub struct BandedLdlt {
     n: usize,
     p: usize,
-    /// (slot in the matrix's values, index in `band`) of every stored entry on or below the
-    /// diagonal, so that refactoring copies without searching.
-    lower: Vec<(usize, usize)>,
+    /// The stored entries on or below the diagonal, as runs consecutive both in the matrix's
+    /// values and in `band` (slot of the first, its index in `band`, length), so that
+    /// refactoring copies slices without searching (a row of the rope's matrix is one run).
+    lower: Vec<(usize, usize, usize)>,
     /// Row i of the matrix is row i + p here (p zero rows first, so that every row has p
     /// entries left of its diagonal): $`L_{i,i-p}, \dots, L_{i,i-1}, d_i`$, zero left of
     /// column 0.
@@ -44,13 +45,16 @@ impl BandedLdlt {
     pub fn new(a: &SymmetricMatrix) -> Result<Self> {
         let p = a.bandwidth();
         let w = p + 1;
-        let lower = (0..a.dim())
-            .flat_map(|i| {
-                a.row_slots(i)
-                    .filter(move |&(_, j)| j <= i)
-                    .map(move |(slot, j)| (slot, (i + p) * w + p + j - i))
-            })
-            .collect();
+        let mut lower: Vec<(usize, usize, usize)> = Vec::new();
+        for i in 0..a.dim() {
+            for (slot, j) in a.row_slots(i).filter(|&(_, j)| j <= i) {
+                let k = (i + p) * w + p + j - i;
+                match lower.last_mut() {
+                    Some((s, b, len)) if *s + *len == slot && *b + *len == k => *len += 1,
+                    _ => lower.push((slot, k, 1)),
+                }
+            }
+        }
         let mut f = Self {
             n: a.dim(),
             p,
@@ -67,8 +71,8 @@ impl BandedLdlt {
         debug_assert_eq!(a.dim(), self.n);
         self.band.fill(0.0);
         let values = a.values();
-        for &(slot, k) in &self.lower {
-            self.band[k] = values[slot];
+        for &(slot, k, len) in &self.lower {
+            self.band[k..k + len].copy_from_slice(&values[slot..slot + len]);
         }
         let mut t = [0.0; BANDED_MAX_BANDWIDTH];
         match self.p {
@@ -83,13 +87,20 @@ impl BandedLdlt {
     /// columns before the matrix give every row the same p steps, adding exact zeros.
     /// `t` (at least p long) holds $`t_m = L_{ik} d_k`$ for the columns $`k = i - p + m`$ of the
     /// current row i.
+    ///
+    /// The chain from row to row is $`d_{i-1} \to 1/d_{i-1} \to L_{i,i-1} \to d_i`$: its values
+    /// stay in registers ($`1/d_{i-1}`$ carried over, $`d_i`$'s terms taken as each
+    /// $`L_{ik}`$ is made, in the same ascending order), not stored and read back.
     #[inline(always)]
     fn factor(&mut self, p: usize, t: &mut [f64]) -> Result<()> {
         let w = p + 1;
+        // 1/d of the row before (a zero row's before row 0).
+        let mut inverse_before = 0.0;
         for i in 0..self.n {
             // Rows before i are final; row i holds A's entries until overwritten.
             let (done, rest) = self.band.split_at_mut((i + p) * w);
             let (l_i, a_ii) = rest[..w].split_at_mut(p);
+            let mut d = a_ii[0];
             for m in 0..p {
                 // Row j = i - p + m is stored at i + m; its column i - p + q at p - m + q.
                 let l_j = &done[(i + m) * w + p - m..(i + m) * w + p];
@@ -98,13 +109,17 @@ impl BandedLdlt {
                     s -= t_q * l_jq;
                 }
                 t[m] = s;
-                l_i[m] = s * self.inverse_diagonal[i + m];
+                let inverse_j = if m + 1 == p {
+                    inverse_before
+                } else {
+                    self.inverse_diagonal[i + m]
+                };
+                let l_im = s * inverse_j;
+                l_i[m] = l_im;
+                d -= s * l_im;
             }
-            let mut d = a_ii[0];
-            for (t_q, l_iq) in t[..p].iter().zip(&*l_i) {
-                d -= t_q * l_iq;
-            }
-            self.inverse_diagonal[i + p] = inverse_pivot(i, d)?;
+            inverse_before = inverse_pivot(i, d)?;
+            self.inverse_diagonal[i + p] = inverse_before;
             a_ii[0] = d;
         }
         Ok(())
@@ -132,36 +147,79 @@ impl BandedLdlt {
     }
 
     /// Row i of $`L`$ holds columns i-p..i-1; column i of $`L^\top`$ is read down the rows below
-    /// i, farthest first.
+    /// i, farthest first. Each sum's last term is the unknown the row before made, carried in
+    /// a register (`newest`) rather than stored and read back: that is the chain from row to
+    /// row. The first p rows of each sweep have fewer terms; the others have p, a constant
+    /// where p is one (the loops unroll).
     #[inline(always)]
     fn solve_banded<const C: usize>(&self, cols: &mut [&mut [f64]; C], p: usize) {
         let n = self.n;
+        let mut newest = [0.0; C];
+        for i in 0..p.min(n) {
+            self.forward_row(cols, &mut newest, p, i, 0);
+        }
+        for i in p..n {
+            self.forward_row(cols, &mut newest, p, i, i - p);
+        }
+        for i in (n.saturating_sub(p)..n).rev() {
+            self.backward_row(cols, &mut newest, p, i, n);
+        }
+        for i in (0..n.saturating_sub(p)).rev() {
+            self.backward_row(cols, &mut newest, p, i, i + p + 1);
+        }
+    }
+
+    /// $`y_i = b_i - \sum_{k_0 \le k < i} L_{ik} y_k`$, ascending, so that $`y_{i-1}`$
+    /// (`newest`) comes last.
+    #[inline(always)]
+    fn forward_row<const C: usize>(
+        &self,
+        cols: &mut [&mut [f64]; C],
+        newest: &mut [f64; C],
+        p: usize,
+        i: usize,
+        k0: usize,
+    ) {
         let w = p + 1;
-        for i in 0..n {
-            let k0 = i.saturating_sub(p);
-            let l_i = &self.band[(i + p) * w + p + k0 - i..(i + p) * w + p];
-            for col in cols.iter_mut() {
-                let (y, rest) = col.split_at_mut(i);
-                // Ascending, so that the newest unknown y_{i-1} comes last.
-                let mut s = -0.0;
-                for (l_ik, y_k) in l_i.iter().zip(&y[k0..]) {
+        let l_i = &self.band[(i + p) * w + p + k0 - i..(i + p) * w + p];
+        for (col, newest) in cols.iter_mut().zip(newest) {
+            let mut s = -0.0;
+            if let Some((l_newest, l_older)) = l_i.split_last() {
+                for (l_ik, y_k) in l_older.iter().zip(&col[k0..i - 1]) {
                     s += l_ik * y_k;
                 }
-                rest[0] -= s;
+                s += l_newest * *newest;
             }
+            *newest = col[i] - s;
+            col[i] = *newest;
         }
-        for i in (0..n).rev() {
-            let k1 = (i + p + 1).min(n);
-            let inv = self.inverse_diagonal[i + p];
-            for col in cols.iter_mut() {
-                let (z, x) = col.split_at_mut(i + 1);
-                // Descending, so that the newest unknown x_{i+1} comes last.
-                let mut s = -0.0;
-                for (k, x_k) in (i + 1..k1).zip(&x[..k1 - i - 1]).rev() {
-                    s += self.band[(k + p) * w + p + i - k] * x_k;
+    }
+
+    /// $`x_i = z_i / d_i - \sum_{i < k < k_1} L_{ki} x_k`$, descending, so that
+    /// $`x_{i+1}`$ (`newest`) comes last. $`L_{ki}`$ is stored at $`kp + (p + 2)p + i`$.
+    #[inline(always)]
+    fn backward_row<const C: usize>(
+        &self,
+        cols: &mut [&mut [f64]; C],
+        newest: &mut [f64; C],
+        p: usize,
+        i: usize,
+        k1: usize,
+    ) {
+        let inv = self.inverse_diagonal[i + p];
+        let at = |k: usize| k * p + (p + 2) * p + i;
+        for (col, newest) in cols.iter_mut().zip(newest) {
+            let mut s = -0.0;
+            if i + 1 < k1 {
+                let column = &self.band[at(i + 1)..=at(k1 - 1)];
+                let x = &col[i + 1..k1];
+                for j in (1..x.len()).rev() {
+                    s += column[j * p] * x[j];
                 }
-                z[i] = z[i] * inv - s;
+                s += column[0] * *newest;
             }
+            *newest = col[i] * inv - s;
+            col[i] = *newest;
         }
     }
 }
