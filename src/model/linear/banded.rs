@@ -286,7 +286,9 @@ mod tests {
     /// sheet's (p = 35) and a band past [`BANDED_MAX_BANDWIDTH`] (scratch on the heap): the
     /// lock on any faster factorisation, which must keep every sum's terms and their order.
     /// Fails (checked) with $`d_i`$'s terms taken in descending order, or with the
-    /// right-looking product $`(L_{ik} d_k) L_{jk}`$ in place of $`t_k L_{jk}`$.
+    /// right-looking product $`(L_{ik} d_k) L_{jk}`$ in place of $`t_k L_{jk}`$; and, on the
+    /// registers' version (`620d92a`), with $`L_{ij} = t_j / d_j`$ in place of
+    /// $`t_j \cdot (1/d_j)`$, or with the forward substitution's newest unknown taken first.
     #[test]
     fn the_factorisation_has_the_row_oriented_bits() {
         let sheet = SheetParams::spec(SHEET_NODES_PER_SIDE, 1e3)
