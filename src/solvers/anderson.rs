@@ -467,7 +467,7 @@ mod tests {
     fn the_sums_side_by_side_have_the_bits_of_dot() {
         let vector = |seed: f64| -> Vec<f64> {
             (0..301)
-                .map(|e| (e as f64 * seed).sin() * 10f64.powi((e % 13) as i32 - 6))
+                .map(|e| (e as f64 * seed).sin() * 10f64.powi(e % 13 - 6))
                 .collect()
         };
         let a: Vec<Vec<f64>> = [0.37, 1.1, 2.9, 0.05, 7.3]
