@@ -6,50 +6,34 @@
 //! go on changing its $`z`$ and $`\bar u`$ unread: only its iterate is kept
 //! ([`super::iterate_lanes`]).
 
-use super::{iterate_lanes, lane_mask, LaneSolver, LaneStates, WIDTH};
-use crate::integrators::first_iterate::{inertia, predicted, pull, FirstIterate};
+use super::projective::ProjectiveLanes;
+use super::{LaneSolver, LaneStates};
+use crate::integrators::first_iterate::{predicted, pull, FirstIterate};
 use crate::integrators::time_stepper::TimeStepper;
-use crate::model::lanes::{load_points, load_values, select, Lanes4};
+use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{State, Vec3};
 use crate::solvers::admm::{global_rhs_of, local_step_of, AdmmPd, LocalStepSprings};
-use crate::solvers::projective::{to_columns, GlobalSolveLanes, SpringIncidence};
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
 
 /// Four ADMM-PD runs of one topology, one per lane.
 #[derive(Debug, Clone)]
 pub struct AdmmLanes {
-    /// Whether each node is fixed (the same in every lane).
-    fixed: Vec<bool>,
-    dt: Lanes4,
-    masses: Vec<Lanes4>,
-    rest_lengths: Vec<Lanes4>,
+    /// The scene, the first iterate, the iterations and the finish ([`ProjectiveLanes`]).
+    core: ProjectiveLanes,
     stiffness: Vec<Lanes4>,
     /// $`\omega_i`$ and $`dt^2\omega_i^2`$, per lane.
     omega: Vec<Lanes4>,
     dt2_omega2: Vec<Lanes4>,
     /// $`dt^2 m_i^{-1} f_{ext,i}`$ per node ([`pull`]).
     pull: Vec<Vector3<Lanes4>>,
-    /// $`D`$ of Eq (54), per lane.
-    d: SpringIncidence<Lanes4>,
-    /// $`A`$ (Algorithm 4 line 1.5), per lane.
-    a: GlobalSolveLanes<Lanes4>,
-    /// Iterations per step of each lane's run (0: no run).
-    iterations: [usize; WIDTH],
-    first_iterate: [FirstIterate; WIDTH],
-    states: LaneStates,
-    /// The first iterate, per node.
-    first: Vec<Vector3<Lanes4>>,
     // The step's buffers, as in the run alone (column-major, 3n; one z and ū per spring).
-    x_n: Vec<Lanes4>,
+    x_tilde: Vec<Vector3<Lanes4>>,
     m_x_tilde: Vec<Lanes4>,
-    iterate: Vec<Lanes4>,
     z: Vec<Vector3<Lanes4>>,
     u_bar: Vec<Vector3<Lanes4>>,
     /// Scratch of the local step, one value per spring.
     scale: Vec<Lanes4>,
-    /// The iterate of the lanes whose iterations are done, kept while the others iterate.
-    done: Vec<Lanes4>,
 }
 
 impl AdmmLanes {
@@ -60,27 +44,16 @@ impl AdmmLanes {
         let (n, s) = (system.len(), system.springs().len());
         let zero = Lanes4::splat(0.0);
         Some(Self {
-            fixed: system.nodes().iter().map(|node| node.fixed).collect(),
-            dt: zero,
-            masses: vec![zero; n],
-            rest_lengths: vec![zero; s],
+            core: ProjectiveLanes::new(system, like.iterate_data().reduction(), like.own_step())?,
             stiffness: vec![zero; s],
             omega: vec![zero; s],
             dt2_omega2: vec![zero; s],
             pull: vec![Vector3::zeros(); n],
-            d: SpringIncidence::lanes(like.iterate_data().reduction()),
-            a: GlobalSolveLanes::new(like.own_step())?,
-            iterations: [0; WIDTH],
-            first_iterate: [FirstIterate::Previous; WIDTH],
-            states: LaneStates::new(n),
-            first: vec![Vector3::zeros(); n],
-            x_n: vec![zero; 3 * n],
+            x_tilde: vec![Vector3::zeros(); n],
             m_x_tilde: vec![zero; 3 * n],
-            iterate: vec![zero; 3 * n],
             z: vec![Vector3::zeros(); s],
             u_bar: vec![Vector3::zeros(); s],
             scale: vec![zero; s],
-            done: vec![zero; 3 * n],
         })
     }
 }
@@ -91,101 +64,84 @@ impl LaneSolver for AdmmLanes {
     fn load(&mut self, lane: usize, run: &AdmmPd, state: &State) {
         let system = run.system();
         assert!(
-            run.counts_iterations()
-                && matches!(
-                    run.first_iterate(),
-                    FirstIterate::Previous
-                        | FirstIterate::Inertial
-                        | FirstIterate::InertialPrediction
-                )
-                && system
-                    .nodes()
-                    .iter()
-                    .map(|node| node.fixed)
-                    .eq(self.fixed.iter().copied()),
+            self.core.holds(
+                system,
+                run.counts_iterations(),
+                run.first_iterate(),
+                &[
+                    FirstIterate::Previous,
+                    FirstIterate::Inertial,
+                    FirstIterate::InertialPrediction
+                ]
+            ),
             "a batch of ADMM-PD runs holds runs of one topology and fixed set that count their \
              iterations and start at (a), (b) or x̃"
         );
         let dt = run.dt();
-        self.dt.replace(lane, dt);
-        let masses: Vec<f64> = system.nodes().iter().map(|node| node.mass).collect();
-        load_values(&mut self.masses, lane, &masses);
-        let (rest_lengths, stiffness): (Vec<f64>, Vec<f64>) = system
-            .springs()
-            .iter()
-            .map(|s| (s.rest_length, s.stiffness))
-            .unzip();
-        load_values(&mut self.rest_lengths, lane, &rest_lengths);
+        self.core.load(
+            lane,
+            system,
+            dt,
+            run.iterate_data().reduction(),
+            run.own_step(),
+            state,
+            run.iterations(),
+            run.first_iterate(),
+        );
+        let stiffness: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
         load_values(&mut self.stiffness, lane, &stiffness);
         load_values(&mut self.omega, lane, run.omega());
         load_values(&mut self.dt2_omega2, lane, run.iterate_data().dt2_omega2());
         let pulls: Vec<Vec3> = (0..system.len()).map(|i| pull(system, dt, i)).collect();
         load_points(&mut self.pull, lane, &pulls);
-        self.d.load_lane(lane, run.iterate_data().reduction());
-        self.a.load_lane(lane, run.own_step());
-        self.states.load(lane, state);
-        self.iterations[lane] = run.iterations();
-        self.first_iterate[lane] = run.first_iterate();
     }
 
     fn clear(&mut self, lane: usize) {
-        self.iterations[lane] = 0;
+        self.core.clear(lane);
     }
 
     /// [`AdmmPd`]'s step (Algorithm 4) in every lane; a lane whose iterations are done keeps
     /// its iterate while the others iterate on.
     fn step(&mut self) {
         // 2.1: x̃ (as Mx̃) and the first iterate.
-        to_columns(&self.states.x, &mut self.x_n);
-        let n = self.states.x.len();
-        let at_x_tilde =
-            lane_mask(|lane| self.first_iterate[lane] == FirstIterate::InertialPrediction);
-        let inertial = lane_mask(|lane| self.first_iterate[lane] == FirstIterate::Inertial);
-        for (i, first) in self.first.iter_mut().enumerate() {
-            let (x, v, mass) = (self.states.x[i], self.states.v[i], self.masses[i]);
-            let x_tilde = match self.fixed[i] {
+        let core = &mut self.core;
+        let n = core.states.x.len();
+        for (i, x_tilde) in self.x_tilde.iter_mut().enumerate() {
+            let (x, v) = (core.states.x[i], core.states.v[i]);
+            *x_tilde = match core.is_fixed(i) {
                 true => x,
-                false => predicted(x, v, self.dt, self.pull[i]),
+                false => predicted(x, v, core.dt, self.pull[i]),
             };
             for c in 0..3 {
-                self.m_x_tilde[c * n + i] = mass * x_tilde[c];
+                self.m_x_tilde[c * n + i] = core.masses[i] * x_tilde[c];
             }
-            *first = match self.fixed[i] {
-                true => x,
-                false => select(
-                    at_x_tilde,
-                    x_tilde,
-                    select(inertial, inertia(x, v, self.dt), x),
-                ),
-            };
         }
-        to_columns(&self.first, &mut self.iterate);
+        core.begin_step(Some(&self.x_tilde));
         // 2.2: ū = 0 every step.
         self.u_bar.fill(Vector3::zeros());
         // 2.3-2.10.
-        let (d, a, x_n, m_x_tilde) = (&self.d, &self.a, &self.x_n, &self.m_x_tilde);
-        let (omega, dt2_omega2) = (&self.omega, &self.dt2_omega2);
-        let (rest_lengths, stiffness) = (&self.rest_lengths, &self.stiffness);
+        let (m_x_tilde, omega, dt2_omega2) = (&self.m_x_tilde, &self.omega, &self.dt2_omega2);
+        let stiffness = &self.stiffness;
         let (z, u_bar, scale) = (&mut self.z, &mut self.u_bar, &mut self.scale);
-        iterate_lanes(&self.iterations, &mut self.iterate, &mut self.done, |x| {
+        core.iterate(|scene, x| {
             let springs = LocalStepSprings {
-                rest_lengths,
+                rest_lengths: scene.rest_lengths,
                 stiffness,
                 omega,
             };
-            local_step_of(d, x, springs, scale, z, u_bar);
-            global_rhs_of(d, m_x_tilde, z, u_bar, dt2_omega2, x);
-            a.solve(x, x_n);
+            local_step_of(scene.incidence, x, springs, scale, z, u_bar);
+            global_rhs_of(scene.incidence, m_x_tilde, z, u_bar, dt2_omega2, x);
+            scene.a.solve(x, scene.x_n);
         });
         // 2.11
-        self.states.finish_step(&self.iterate, self.dt);
+        core.finish_step();
     }
 
     fn states(&self) -> &LaneStates {
-        &self.states
+        &self.core.states
     }
 
     fn states_mut(&mut self) -> &mut LaneStates {
-        &mut self.states
+        &mut self.core.states
     }
 }

@@ -9,6 +9,7 @@
 
 pub mod admm;
 pub mod liu;
+pub mod projective;
 pub mod xpbd;
 
 use crate::error::Result;
