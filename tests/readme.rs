@@ -131,3 +131,30 @@ fn the_readmes_count_of_reproduced_rows_is_the_reports() {
     let report = std::fs::read_to_string(root().join("report/REPORT.md")).unwrap();
     assert_eq!(phrase(&readme), phrase(&report));
 }
+
+/// `make test` runs `tests/thesis` beside the other test binaries, which it names by a
+/// wildcard over the files `tests/*.rs` and `presentation/tests/*.rs`: a test target in a
+/// directory of its own (`NAME/main.rs`) other than `thesis` would be left out of both. So
+/// `thesis` must be the only one, and the Makefile must still run it and the wildcard.
+#[test]
+fn make_test_runs_every_test_target() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut in_directories = Vec::new();
+    for tests in [root.join("tests"), root.join("presentation/tests")] {
+        for entry in std::fs::read_dir(&tests).unwrap() {
+            let path = entry.unwrap().path();
+            if path.join("main.rs").is_file() {
+                in_directories.push(path.strip_prefix(root).unwrap().display().to_string());
+            }
+        }
+    }
+    assert_eq!(in_directories, ["tests/thesis"], "make test runs only tests/thesis of these");
+    let makefile = std::fs::read_to_string(root.join("Makefile")).unwrap();
+    for line in [
+        "$(CARGO) test --test thesis",
+        "$(wildcard tests/*.rs presentation/tests/*.rs)",
+        "$(CARGO) test --lib --bins $(OTHER_TESTS)",
+    ] {
+        assert!(makefile.contains(line), "the Makefile's test target runs {line}");
+    }
+}
