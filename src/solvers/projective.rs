@@ -268,9 +268,10 @@ pub fn project_on_spheres<T: Lane>(q: &mut [Vector3<T>], l0: &[T], scale: &mut [
     }
 }
 
-/// Every spring's factor $`l_{0,i}/|q_i|`$ of [`project_on_sphere`] at once: `scale` holds
-/// $`|q_i|^2`$ on entry and the factor on return, so that the square roots and divisions of
-/// a local step run several at a time.
+/// Eqs. (28), (55): every spring's factor $`l_{0,i}/|q_i|`$ of the projection
+/// ([`project_on_sphere`]) at once: `scale` holds $`|q_i|^2`$ on entry and the factor on
+/// return, so that the square roots and divisions of a local step run several at a time
+/// (ADMM-PD's local step multiplies by it itself, [`crate::solvers::admm::local_step_of`]).
 pub fn sphere_scales<T: Lane>(scale: &mut [T], l0: &[T]) {
     for (r, &l0) in scale.iter_mut().zip(l0) {
         *r = sphere_scale(*r, l0);
