@@ -148,13 +148,20 @@ fn make_test_runs_every_test_target() {
             }
         }
     }
-    assert_eq!(in_directories, ["tests/thesis"], "make test runs only tests/thesis of these");
+    assert_eq!(
+        in_directories,
+        ["tests/thesis"],
+        "make test runs only tests/thesis of these"
+    );
     let makefile = std::fs::read_to_string(root.join("Makefile")).unwrap();
     for line in [
         "$(CARGO) test --test thesis",
         "$(wildcard tests/*.rs presentation/tests/*.rs)",
         "$(CARGO) test --lib --bins $(OTHER_TESTS)",
     ] {
-        assert!(makefile.contains(line), "the Makefile's test target runs {line}");
+        assert!(
+            makefile.contains(line),
+            "the Makefile's test target runs {line}"
+        );
     }
 }
