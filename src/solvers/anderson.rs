@@ -130,6 +130,8 @@ pub struct AndersonMixing {
     next: usize,
     /// $`\Delta F^\top \Delta F`$ of the scaled columns.
     normal: DMatrix<f64>,
+    /// The new column's products with every column ([`dots`]).
+    products: Vec<f64>,
 }
 
 impl AndersonMixing {
@@ -148,6 +150,7 @@ impl AndersonMixing {
             columns: 0,
             next: 0,
             normal: DMatrix::zeros(window, window),
+            products: vec![0.0; window],
         }
     }
 
@@ -194,14 +197,11 @@ impl AndersonMixing {
             self.delta_f[col].iter_mut().for_each(|df| *df /= scale);
             self.columns = (self.columns + 1).min(self.window);
             self.next = (self.next + 1) % self.window;
-            let mut products = [0.0; DOTS_TOGETHER];
-            for first in (0..self.columns).step_by(DOTS_TOGETHER) {
-                let group = &self.delta_f[first..self.columns.min(first + DOTS_TOGETHER)];
-                dots_together(group, &self.delta_f[col], &mut products);
-                for (j, &product) in (first..).zip(&products[..group.len()]) {
-                    self.normal[(col, j)] = product;
-                    self.normal[(j, col)] = product;
-                }
+            let products = &mut self.products[..self.columns];
+            dots(&self.delta_f[..self.columns], &self.delta_f[col], products);
+            for (j, &product) in products.iter().enumerate() {
+                self.normal[(col, j)] = product;
+                self.normal[(j, col)] = product;
             }
         }
         self.f_previous.copy_from_slice(&self.f);
@@ -228,14 +228,7 @@ impl AndersonMixing {
             return DVector::zeros(0);
         }
         let mut rhs = DVector::zeros(c);
-        for (group, rhs) in self.delta_f[..c]
-            .chunks(DOTS_TOGETHER)
-            .zip(rhs.as_mut_slice().chunks_mut(DOTS_TOGETHER))
-        {
-            let mut products = [0.0; DOTS_TOGETHER];
-            dots_together(group, &self.f, &mut products);
-            rhs.copy_from_slice(&products[..group.len()]);
-        }
+        dots(&self.delta_f[..c], &self.f, rhs.as_mut_slice());
         let svd = self
             .normal
             .view((0, 0), (c, c))
@@ -251,29 +244,35 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(a, b)| a * b).sum()
 }
 
-/// How many of [`dots_together`]'s sums run side by side.
+/// How many of [`dots`]'s sums run side by side.
 const DOTS_TOGETHER: usize = 4;
 
-/// [`dot`]`(a_j, b)` for up to [`DOTS_TOGETHER`] vectors $`a_j`$ into `products[j]`, in one
-/// pass: each sum takes its terms in [`dot`]'s order from [`dot`]'s start (the bits of
-/// [`dot`]), and the sums' chains of additions overlap instead of waiting for each other.
-fn dots_together(a: &[Vec<f64>], b: &[f64], products: &mut [f64; DOTS_TOGETHER]) {
+/// [`dot`]`(a_j, b)` for every $`a_j`$ of `a`, into `products[j]`, [`DOTS_TOGETHER`] at a time
+/// in one pass over `b`: each sum takes its terms in [`dot`]'s order from [`dot`]'s start (the
+/// bits of [`dot`]), and the sums' chains of additions overlap instead of waiting for each
+/// other.
+fn dots(a: &[Vec<f64>], b: &[f64], products: &mut [f64]) {
     // `Sum`'s own start for f64, whichever zero that is.
     let start: f64 = std::iter::empty::<f64>().sum();
-    match a {
-        [a0, a1, a2, a3] => {
-            let mut sums = [start; DOTS_TOGETHER];
-            for ((((b, a0), a1), a2), a3) in b.iter().zip(a0).zip(a1).zip(a2).zip(a3) {
-                sums[0] += a0 * b;
-                sums[1] += a1 * b;
-                sums[2] += a2 * b;
-                sums[3] += a3 * b;
+    for (a, products) in a
+        .chunks(DOTS_TOGETHER)
+        .zip(products.chunks_mut(DOTS_TOGETHER))
+    {
+        match a {
+            [a0, a1, a2, a3] => {
+                let mut sums = [start; DOTS_TOGETHER];
+                for ((((b, a0), a1), a2), a3) in b.iter().zip(a0).zip(a1).zip(a2).zip(a3) {
+                    sums[0] += a0 * b;
+                    sums[1] += a1 * b;
+                    sums[2] += a2 * b;
+                    sums[3] += a3 * b;
+                }
+                products.copy_from_slice(&sums);
             }
-            *products = sums;
-        }
-        _ => {
-            for (product, a_j) in products.iter_mut().zip(a) {
-                *product = dot(a_j, b);
+            _ => {
+                for (product, a_j) in products.iter_mut().zip(a) {
+                    *product = dot(a_j, b);
+                }
             }
         }
     }
@@ -460,9 +459,9 @@ impl MinimizingSolver for Anderson {
 mod tests {
     use super::*;
 
-    /// Each of `dots_together`'s sums has the bits of `dot`, four at once and fewer, on
-    /// vectors whose terms span magnitudes (so that another order of addition rounds
-    /// differently: one sum split into two over alternate terms fails this test, checked).
+    /// Each of `dots`'s sums has the bits of `dot`, four at once and fewer, on vectors whose
+    /// terms span magnitudes (so that another order of addition rounds differently: one sum
+    /// split into two over alternate terms fails this test, checked).
     #[test]
     fn the_sums_side_by_side_have_the_bits_of_dot() {
         let vector = |seed: f64| -> Vec<f64> {
@@ -476,15 +475,10 @@ mod tests {
             .collect();
         let b = vector(0.61);
         for columns in [a.len(), 4, 3, 1] {
-            let mut products = [0.0; DOTS_TOGETHER];
-            for (first, group) in (0..)
-                .step_by(DOTS_TOGETHER)
-                .zip(a[..columns].chunks(DOTS_TOGETHER))
-            {
-                dots_together(group, &b, &mut products);
-                for (j, product) in products[..group.len()].iter().enumerate() {
-                    assert_eq!(product.to_bits(), dot(&a[first + j], &b).to_bits());
-                }
+            let mut products = vec![0.0; columns];
+            dots(&a[..columns], &b, &mut products);
+            for (a_j, product) in a.iter().zip(&products) {
+                assert_eq!(product.to_bits(), dot(a_j, &b).to_bits());
             }
         }
     }

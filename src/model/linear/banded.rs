@@ -11,7 +11,8 @@ use crate::error::Result;
 /// 0.61 s of CPU banded against 0.87 s with faer's sparse Cholesky. A 15×15 sheet (50) is past it.
 pub const BANDED_MAX_BANDWIDTH: usize = 40;
 
-/// How many of a row's sums [`BandedLdlt`]'s factorisation advances side by side.
+/// How many of a row's sums [`BandedLdlt`]'s factorisation advances side by side (its block
+/// is written out for four: more were slower, `docs/performance.md`).
 const SUMS_TOGETHER: usize = 4;
 
 /// Banded $`LDL^\top`$ (square-root-free Cholesky): $`L`$ unit lower triangular with
@@ -77,10 +78,10 @@ impl BandedLdlt {
         for &(slot, k, len) in &self.lower {
             self.band[k..k + len].copy_from_slice(&values[slot..slot + len]);
         }
-        let mut scratch = [0.0; BANDED_MAX_BANDWIDTH];
+        let mut t = [0.0; BANDED_MAX_BANDWIDTH];
         match self.p {
-            5 => self.factor(5, &mut scratch),
-            p if p <= BANDED_MAX_BANDWIDTH => self.factor(p, &mut scratch),
+            5 => self.factor(5, &mut t),
+            p if p <= BANDED_MAX_BANDWIDTH => self.factor(p, &mut t),
             p => self.factor(p, &mut vec![0.0; p]),
         }
     }
@@ -88,7 +89,7 @@ impl BandedLdlt {
     /// Row by row: $`t_j = a_{ij} - \sum_{k<j} t_k L_{jk}`$ (so $`t_k = L_{ik} d_k`$),
     /// $`L_{ij} = t_j / d_j`$, $`d_i = a_{ii} - \sum_{k<i} t_k L_{ik}`$. The zero rows and
     /// columns before the matrix give every row the same p steps, adding exact zeros.
-    /// `scratch` (at least p long) holds $`t_m = L_{ik} d_k`$ for the columns $`k = i - p + m`$ of the
+    /// `t` (at least p long) holds $`t_m = L_{ik} d_k`$ for the columns $`k = i - p + m`$ of the
     /// current row i.
     ///
     /// The chain from row to row is $`d_{i-1} \to 1/d_{i-1} \to L_{i,i-1} \to d_i`$: its values
@@ -99,11 +100,11 @@ impl BandedLdlt {
     /// overlapping instead of one), then each its own terms within the block, in order; every
     /// sum keeps its terms and their order.
     #[inline(always)]
-    fn factor(&mut self, p: usize, scratch: &mut [f64]) -> Result<()> {
+    fn factor(&mut self, p: usize, t: &mut [f64]) -> Result<()> {
         let w = p + 1;
         // 1/d of the row before (a zero row's before row 0).
         let mut inverse_before = 0.0;
-        let t = &mut scratch[..p];
+        let t = &mut t[..p];
         for i in 0..self.n {
             // Rows before i are final; row i holds A's entries until overwritten.
             let (done, rest) = self.band.split_at_mut((i + p) * w);
@@ -132,7 +133,8 @@ impl BandedLdlt {
             }
             let mut m0 = SUMS_TOGETHER;
             while m0 + SUMS_TOGETHER <= p {
-                let [mut s0, mut s1, mut s2, mut s3] = [0, 1, 2, 3].map(|b| l_i[m0 + b]);
+                let [mut s0, mut s1, mut s2, mut s3]: [f64; SUMS_TOGETHER] =
+                    std::array::from_fn(|b| l_i[m0 + b]);
                 let (r0, r1, r2, r3) = (row_j(m0), row_j(m0 + 1), row_j(m0 + 2), row_j(m0 + 3));
                 // The columns before the block, side by side.
                 for ((((t_q, l0), l1), l2), l3) in t[..m0].iter().zip(r0).zip(r1).zip(r2).zip(r3) {
