@@ -153,16 +153,6 @@ impl FastMassSpring {
         &self.j
     }
 
-    /// The springs' rest lengths, m.
-    pub fn rest_lengths(&self) -> &[f64] {
-        &self.rest_lengths
-    }
-
-    /// The nodes' masses, kg.
-    pub fn masses(&self) -> &[f64] {
-        &self.masses
-    }
-
     /// What the solver prefactored for its own step $`dt`$.
     pub fn own_step(&self) -> &LiuStageStep {
         self.stage_steps.own()
