@@ -39,7 +39,7 @@ use crate::model::lanes::Lane;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::projective::{
     finish_step, nodes_of_columns, project_on_sphere, reduction_matrix, sphere_scales, to_columns,
-    GlobalSolve, SpringIncidence,
+    GlobalSolve, SpringGraph, SpringIncidence,
 };
 use nalgebra::Vector3;
 
@@ -94,14 +94,20 @@ pub struct LocalStepSprings<'a, T> {
 /// spring; `z` holds $`D_i x`$ until its update), as Liu's local step gathers its own
 /// ([`crate::solvers::projective::project_on_spheres`]): the same operations on the same
 /// operands, so the same bits, several springs' at a time.
-pub fn local_step_of<T: Lane>(
-    d: &SpringIncidence<T>,
+#[inline]
+pub fn local_step_of<T: Lane, G: SpringGraph>(
+    d: &SpringIncidence<T, G>,
     x: &[T],
     springs: LocalStepSprings<T>,
     scale: &mut [T],
     z: &mut [Vector3<T>],
     u_bar: &mut [Vector3<T>],
 ) {
+    // The loops run over the graph's springs and nodes (every index known where the code is
+    // compiled for a `Chain`).
+    let s = d.springs();
+    let x = &x[..3 * d.nodes()];
+    let (scale, z, u_bar) = (&mut scale[..s], &mut z[..s], &mut u_bar[..s]);
     // D_i x, and |q|² for Eq (41)'s q = D_i x + ū_i.
     for (i, ((d_x, u_bar), r)) in z
         .iter_mut()
@@ -113,9 +119,12 @@ pub fn local_step_of<T: Lane>(
         *r = (*d_x + *u_bar).norm_squared();
     }
     // Eq (55): l_0/|q| for every spring.
-    sphere_scales(scale, springs.rest_lengths);
+    sphere_scales(scale, &springs.rest_lengths[..s]);
     // Eq (56) on the projection p = q l_0/|q|, then Eq (42).
-    let per_spring = scale.iter().zip(springs.stiffness).zip(springs.omega);
+    let per_spring = scale
+        .iter()
+        .zip(&springs.stiffness[..s])
+        .zip(&springs.omega[..s]);
     for ((z, u_bar), ((&r, &k), &omega)) in z.iter_mut().zip(u_bar.iter_mut()).zip(per_spring) {
         let d_x = *z;
         let q = d_x + *u_bar;
@@ -126,16 +135,20 @@ pub fn local_step_of<T: Lane>(
 
 /// Eq. (40)'s right-hand side $`M\tilde x + dt^2 D^\top W^\top W (z - \bar u)`$, formed in `x`
 /// (`dt2_omega2`: $`dt^2\omega_i^2`$ per spring).
-pub fn global_rhs_of<T: Lane>(
-    d: &SpringIncidence<T>,
+#[inline]
+pub fn global_rhs_of<T: Lane, G: SpringGraph>(
+    d: &SpringIncidence<T, G>,
     m_x_tilde: &[T],
     z: &[Vector3<T>],
     u_bar: &[Vector3<T>],
     dt2_omega2: &[T],
     x: &mut [T],
 ) {
-    x.copy_from_slice(m_x_tilde);
-    for (i, ((&z, &u_bar), &w)) in z.iter().zip(u_bar).zip(dt2_omega2).enumerate() {
+    let (s, columns) = (d.springs(), 3 * d.nodes());
+    let x = &mut x[..columns];
+    x.copy_from_slice(&m_x_tilde[..columns]);
+    let per_spring = z[..s].iter().zip(&u_bar[..s]).zip(&dt2_omega2[..s]);
+    for (i, ((&z, &u_bar), &w)) in per_spring.enumerate() {
         d.add_row_transposed(i, (z - u_bar) * w, x);
     }
 }

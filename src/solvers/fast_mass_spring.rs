@@ -37,7 +37,7 @@ use crate::model::lanes::Lane;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::projective::{
     finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve,
-    SpringIncidence,
+    SpringGraph, SpringIncidence,
 };
 use nalgebra::Vector3;
 
@@ -261,24 +261,39 @@ pub fn inertial_rhs<T: Lane>(
 }
 
 /// Eq. (28): $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for every spring of `j` at the
-/// column-major iterate `x` (`scale`: scratch, one entry per spring).
-pub fn spring_directions<T: Lane>(
-    j: &SpringIncidence<T>,
+/// column-major iterate `x` (`scale`: scratch, one entry per spring). The loops run over the
+/// graph's springs and nodes, so that on a [`crate::solvers::projective::Chain`] every index
+/// is known where the code is compiled.
+#[inline]
+pub fn spring_directions<T: Lane, G: SpringGraph>(
+    j: &SpringIncidence<T, G>,
     x: &[T],
     rest_lengths: &[T],
     d: &mut [Vector3<T>],
     scale: &mut [T],
 ) {
+    let springs = j.springs();
+    let x = &x[..3 * j.nodes()];
+    let d = &mut d[..springs];
     for (i, d) in d.iter_mut().enumerate() {
         *d = j.difference(i, x);
     }
-    project_on_spheres(d, rest_lengths, scale);
+    project_on_spheres(d, &rest_lengths[..springs], &mut scale[..springs]);
 }
 
 /// Eq. (29), the right-hand side of the consistent form: $`x \leftarrow b + dt^2 J d`$.
-pub fn global_rhs<T: Lane>(j: &SpringIncidence<T>, b: &[T], d: &[Vector3<T>], dt2: T, x: &mut [T]) {
-    x.copy_from_slice(b);
-    for (i, &d) in d.iter().enumerate() {
+#[inline]
+pub fn global_rhs<T: Lane, G: SpringGraph>(
+    j: &SpringIncidence<T, G>,
+    b: &[T],
+    d: &[Vector3<T>],
+    dt2: T,
+    x: &mut [T],
+) {
+    let columns = 3 * j.nodes();
+    let x = &mut x[..columns];
+    x.copy_from_slice(&b[..columns]);
+    for (i, &d) in d[..j.springs()].iter().enumerate() {
         j.add_row_transposed(i, d * dt2, x);
     }
 }

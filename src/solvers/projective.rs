@@ -26,25 +26,91 @@ use crate::model::linear::{Factorization, SymmetricMatrix, TwistedTridiagonal};
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Vector3;
 
+/// Which nodes each spring joins: the shape of a spring graph, apart from its weights.
+pub trait SpringGraph: Clone + std::fmt::Debug + PartialEq {
+    /// Number of nodes n.
+    fn nodes(&self) -> usize;
+    /// Number of springs s.
+    fn springs(&self) -> usize;
+    /// The nodes $`(a_i, b_i)`$ of spring `i`.
+    fn ends(&self, i: usize) -> (usize, usize);
+}
+
+/// Any spring graph: each spring's ends as listed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ends {
+    nodes: usize,
+    ends: Vec<(usize, usize)>,
+}
+
+impl SpringGraph for Ends {
+    fn nodes(&self) -> usize {
+        self.nodes
+    }
+
+    fn springs(&self) -> usize {
+        self.ends.len()
+    }
+
+    fn ends(&self, i: usize) -> (usize, usize) {
+        self.ends[i]
+    }
+}
+
+/// A chain of `N` nodes, spring `i` joining nodes `i` and `i + 1`: the rope. Its size and
+/// ends are known where the code is compiled, so that a loop over its springs or nodes is
+/// unrolled with every index a constant (the batched runs' rope,
+/// [`crate::solvers::batch::projective`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Chain<const N: usize>;
+
+impl<const N: usize> Chain<N> {
+    /// The chain, if `graph` is one of `N` nodes.
+    pub fn of(graph: &impl SpringGraph) -> Option<Self> {
+        let chain = graph.nodes() == N
+            && graph.springs() + 1 == N
+            && (0..graph.springs()).all(|i| graph.ends(i) == (i, i + 1));
+        chain.then_some(Self)
+    }
+}
+
+impl<const N: usize> SpringGraph for Chain<N> {
+    #[inline(always)]
+    fn nodes(&self) -> usize {
+        N
+    }
+
+    #[inline(always)]
+    fn springs(&self) -> usize {
+        N - 1
+    }
+
+    #[inline(always)]
+    fn ends(&self, i: usize) -> (usize, usize) {
+        (i, i + 1)
+    }
+}
+
 /// Spring-node incidence of a spring graph, stored per spring (never as a dense matrix).
 ///
 /// As an s×n matrix (s springs, n nodes) its row $`i`$ is $`w_i\,(e_{a_i} - e_{b_i})^\top`$, so
 /// that row $`i`$ applied to the positions is $`w_i\,(x_{a_i} - x_{b_i})`$. With unit weights it
 /// is the reduction matrix $`D`$ of Eq (54); with $`w_i = k_i`$ it is the transpose of the
 /// incidence matrix $`J`$ of Eqs (26), (53). The weights are per lane in a batch of runs
-/// ([`crate::model::lanes`]); the ends are shared.
+/// ([`crate::model::lanes`]); the graph is shared.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SpringIncidence<T = f64> {
-    nodes: usize,
-    ends: Vec<(usize, usize)>,
+pub struct SpringIncidence<T = f64, G = Ends> {
+    graph: G,
     weights: Vec<T>,
 }
 
 impl SpringIncidence {
     fn new(system: &MassSpringSystem, weights: Vec<f64>) -> Self {
         Self {
-            nodes: system.len(),
-            ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
+            graph: Ends {
+                nodes: system.len(),
+                ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
+            },
             weights,
         }
     }
@@ -56,7 +122,7 @@ impl SpringIncidence {
 
     /// Entry (`spring`, `node`) of the s×n matrix: $`D_{ij}`$ of Eq (54), $`J_{ji}`$ of Eq (53).
     pub fn entry(&self, spring: usize, node: usize) -> f64 {
-        let (a, b) = self.ends[spring];
+        let (a, b) = self.graph.ends(spring);
         if node == a {
             self.weights[spring]
         } else if node == b {
@@ -67,39 +133,43 @@ impl SpringIncidence {
     }
 }
 
-impl<T: Lane> SpringIncidence<T> {
-    /// The same spring graph with every weight zero, in lanes to be loaded
-    /// ([`Self::load_lane`]).
-    pub fn lanes(like: &SpringIncidence) -> Self {
-        Self {
-            nodes: like.nodes,
-            ends: like.ends.clone(),
-            weights: vec![T::splat(0.0); like.ends.len()],
-        }
+impl<T: Lane, const N: usize> SpringIncidence<T, Chain<N>> {
+    /// `like`'s graph as a chain of `N` nodes, with every weight zero, in lanes to be loaded
+    /// ([`Self::load_lane`]); None unless `like` is such a chain.
+    pub fn chain_lanes(like: &SpringIncidence) -> Option<Self> {
+        Some(Self {
+            graph: Chain::of(&like.graph)?,
+            weights: vec![T::splat(0.0); like.graph.springs()],
+        })
     }
 
-    /// Sets lane `lane` of every weight to `from`'s, which must have the same ends.
+    /// Sets lane `lane` of every weight to `from`'s, which must be the same chain.
     pub fn load_lane(&mut self, lane: usize, from: &SpringIncidence) {
         assert!(
-            from.ends == self.ends && from.nodes == self.nodes,
+            Chain::<N>::of(&from.graph).is_some(),
             "the lanes of a batch share one spring graph"
         );
         crate::model::lanes::load_values(&mut self.weights, lane, &from.weights);
     }
+}
 
+impl<T: Lane, G: SpringGraph> SpringIncidence<T, G> {
     /// Number of springs s (rows).
+    #[inline]
     pub fn springs(&self) -> usize {
-        self.ends.len()
+        self.graph.springs()
     }
 
     /// Number of nodes n (columns).
+    #[inline]
     pub fn nodes(&self) -> usize {
-        self.nodes
+        self.graph.nodes()
     }
 
     /// The nodes $`(a_i, b_i)`$ of spring `i`.
+    #[inline]
     pub fn ends(&self, i: usize) -> (usize, usize) {
-        self.ends[i]
+        self.graph.ends(i)
     }
 
     /// Row `i` applied to column-major positions `x` (length 3n): $`w_i\,(x_{a_i} - x_{b_i})`$
@@ -113,8 +183,8 @@ impl<T: Lane> SpringIncidence<T> {
     /// positions `x` ($`x_1 - x_2`$ of Eqs 21-28).
     #[inline]
     pub fn difference(&self, i: usize, x: &[T]) -> Vector3<T> {
-        let (a, b) = self.ends[i];
-        let [x, y, z] = coordinates(x, self.nodes);
+        let (a, b) = self.graph.ends(i);
+        let [x, y, z] = coordinates(x, self.graph.nodes());
         Vector3::new(x[a] - x[b], y[a] - y[b], z[a] - z[b])
     }
 
@@ -123,9 +193,12 @@ impl<T: Lane> SpringIncidence<T> {
     /// of $`J`$ times $`d_i`$; $`D_i^\top`$ times a per-spring vector).
     #[inline]
     pub fn add_row_transposed(&self, i: usize, value: Vector3<T>, out: &mut [T]) {
-        let (a, b) = self.ends[i];
+        let (a, b) = self.graph.ends(i);
         let v = value * self.weights[i];
-        for (out, &v) in coordinates_mut(out, self.nodes).into_iter().zip(v.iter()) {
+        for (out, &v) in coordinates_mut(out, self.graph.nodes())
+            .into_iter()
+            .zip(v.iter())
+        {
             out[a] += v;
             out[b] -= v;
         }
@@ -258,6 +331,7 @@ pub fn project_on_sphere<T: Lane>(q: Vector3<T>, l0: T) -> Vector3<T> {
 /// arithmetic of [`project_on_sphere`]. A square root and a division per spring are most of a
 /// local step's cost; gathered in one loop over `scale` (scratch, one entry per spring) they
 /// run several at a time in SIMD registers.
+#[inline]
 pub fn project_on_spheres<T: Lane>(q: &mut [Vector3<T>], l0: &[T], scale: &mut [T]) {
     for (r, q) in scale.iter_mut().zip(q.iter()) {
         *r = q.norm_squared();
@@ -272,6 +346,7 @@ pub fn project_on_spheres<T: Lane>(q: &mut [Vector3<T>], l0: &[T], scale: &mut [
 /// ([`project_on_sphere`]) at once: `scale` holds $`|q_i|^2`$ on entry and the factor on
 /// return, so that the square roots and divisions of a local step run several at a time
 /// (ADMM-PD's local step multiplies by it itself, [`crate::solvers::admm::local_step_of`]).
+#[inline]
 pub fn sphere_scales<T: Lane>(scale: &mut [T], l0: &[T]) {
     for (r, &l0) in scale.iter_mut().zip(l0) {
         *r = sphere_scale(*r, l0);
@@ -333,24 +408,27 @@ impl GlobalSolve {
 }
 
 /// [`GlobalSolve`] in lanes ([`crate::model::lanes`]): one prefactored $`A`$ per lane, of one chain's
-/// pattern (a tridiagonal $`A`$, the rope's) and one fixed set, solved by the same arithmetic
-/// as [`GlobalSolve::solve`] at `f64` (the imposition of Eqs 45-47 and the twisted
-/// substitution).
+/// pattern (a tridiagonal $`A`$ of `N` nodes, the rope's) and one fixed set, solved by the same
+/// arithmetic as [`GlobalSolve::solve`] at `f64` (the imposition of Eqs 45-47 and the twisted
+/// substitution), with the size known where it is compiled.
 #[derive(Debug, Clone)]
-pub struct GlobalSolveLanes<T> {
+pub struct GlobalSolveLanes<T, const N: usize> {
     fixed: Vec<usize>,
     /// $`(i, j, A_{ij})`$ of Eq (43)'s block $`A_2`$, per lane.
     coupling: Vec<(usize, usize, T)>,
     factor: TwistedTridiagonal<T>,
 }
 
-impl<T: Lane> GlobalSolveLanes<T> {
+impl<T: Lane, const N: usize> GlobalSolveLanes<T, N> {
     /// Lanes for solves of `like`'s pattern and fixed set, none loaded; None unless its
-    /// factorisation is tridiagonal.
+    /// factorisation is a tridiagonal one of `N` nodes.
     pub fn new(like: &GlobalSolve) -> Option<Self> {
         let Factorization::Tridiagonal(factor) = like.solve.factorization() else {
             return None;
         };
+        if like.nodes != N {
+            return None;
+        }
         Some(Self {
             fixed: like.solve.fixed().to_vec(),
             coupling: like
@@ -379,8 +457,9 @@ impl<T: Lane> GlobalSolveLanes<T> {
     /// [`GlobalSolve::solve`] in every lane.
     #[inline]
     pub fn solve(&self, b: &mut [T], x_bar: &[T]) {
-        impose_on_rhs(&self.coupling, &self.fixed, b, x_bar, 3);
-        self.factor.solve_in_place(b, 3);
+        let b = &mut b[..3 * N];
+        impose_on_rhs(&self.coupling, &self.fixed, b, &x_bar[..3 * N], 3);
+        self.factor.solve_three_of_size(b, N);
     }
 }
 
@@ -420,5 +499,35 @@ pub fn finish_step_of<T: Lane>(x: &mut [Vector3<T>], v: &mut [Vector3<T>], x_nex
         let x_new = node_of_columns(x_next, n, i);
         *v = (x_new - *x) / dt;
         *x = x_new;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::scene::{thesis_rope, THESIS_NODES};
+
+    /// [`Chain::of`] accepts the thesis rope's graph and nothing else of its size: not the
+    /// same springs listed the other way round, in another order, with one more, or with the
+    /// last one joined to the first node. (Fails with only each spring's first end checked.)
+    #[test]
+    fn a_chain_is_springs_i_to_i_plus_one() {
+        let rope = incidence_matrix(&thesis_rope(1e3).unwrap()).graph;
+        assert!(Chain::<THESIS_NODES>::of(&rope).is_some());
+        assert!(Chain::<{ THESIS_NODES + 1 }>::of(&rope).is_none());
+        let chain: Vec<(usize, usize)> = (0..THESIS_NODES - 1).map(|i| (i, i + 1)).collect();
+        let graph = |ends: Vec<(usize, usize)>| Ends {
+            nodes: THESIS_NODES,
+            ends,
+        };
+        let reversed = chain.iter().map(|&(a, b)| (b, a)).collect();
+        let reordered = chain.iter().rev().copied().collect();
+        let closed = [chain.clone(), vec![(THESIS_NODES - 1, 0)]].concat();
+        let mut rejoined = chain.clone();
+        rejoined[THESIS_NODES - 2].1 = 0;
+        assert!(Chain::<THESIS_NODES>::of(&graph(chain)).is_some());
+        for other in [reversed, reordered, closed, rejoined] {
+            assert!(Chain::<THESIS_NODES>::of(&graph(other)).is_none());
+        }
     }
 }

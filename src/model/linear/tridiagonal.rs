@@ -33,6 +33,12 @@ pub struct TwistedTridiagonal<T = f64> {
     inverse_pivot: Vec<T>,
 }
 
+/// The row where the two halves of a factorisation of `n` rows meet.
+#[inline(always)]
+fn middle_row(n: usize) -> usize {
+    n.saturating_sub(1) / 2
+}
+
 impl TwistedTridiagonal {
     /// Factors `a`, whose half-bandwidth must be at most 1.
     pub fn new(a: &SymmetricMatrix) -> Result<Self> {
@@ -46,7 +52,7 @@ impl TwistedTridiagonal {
         let n = a.dim();
         let mut f = Self {
             n,
-            k: n.saturating_sub(1) / 2,
+            k: middle_row(n),
             diagonal_slots: (0..n)
                 .map(|i| a.slot(i, i).expect("the pattern stores the diagonal"))
                 .collect(),
@@ -141,13 +147,22 @@ impl<T: Lane> TwistedTridiagonal<T> {
             return;
         }
         match ncols {
-            3 => self.solve_together(columns::<_, 3>(b, self.n)),
+            3 => self.solve_together(columns::<_, 3>(b, self.n), self.n),
             _ => {
                 for col in b.chunks_exact_mut(self.n) {
-                    self.solve_together([col]);
+                    self.solve_together([col], self.n);
                 }
             }
         }
+    }
+
+    /// [`Self::solve_in_place`] for three right-hand sides of a matrix of `n` rows: a caller
+    /// that knows `n` where it is compiled (the batched rope, [`crate::solvers::projective::Chain`])
+    /// gets the substitutions unrolled.
+    #[inline(always)]
+    pub fn solve_three_of_size(&self, b: &mut [T], n: usize) {
+        assert_eq!(n, self.n, "the size of the factorisation");
+        self.solve_together(columns::<_, 3>(&mut b[..3 * n], n), n);
     }
 
     /// $`y_i = b_i - L_{i,i-1}y_{i-1}`$ down to k and $`y_i = b_i - U_{i,i+1}y_{i+1}`$ up to k,
@@ -159,9 +174,9 @@ impl<T: Lane> TwistedTridiagonal<T> {
     /// registers: the CPU overlaps them instead of running one column's chain after another's
     /// (the rope's Liu iteration in half the time, `make bench`). Every value is computed from
     /// the same operands in the same order as column by column.
-    #[inline]
-    fn solve_together<const C: usize>(&self, mut cols: [&mut [T]; C]) {
-        let (n, k) = (self.n, self.k);
+    #[inline(always)]
+    fn solve_together<const C: usize>(&self, mut cols: [&mut [T]; C], n: usize) {
+        let k = middle_row(n);
         let lower = &self.lower[..n];
         let upper = &self.upper[..n];
         let inv = &self.inverse_pivot[..n];

@@ -37,8 +37,8 @@ pub struct AdmmLanes {
 }
 
 impl AdmmLanes {
-    /// Lanes for runs of `like`'s topology and fixed nodes, none loaded yet; None unless its
-    /// global solve is a tridiagonal one (a chain: the rope).
+    /// Lanes for runs of `like`'s topology and fixed nodes, none loaded yet; None unless it is
+    /// the thesis rope's chain ([`super::projective::Rope`]) with a tridiagonal global solve.
     pub fn new(like: &AdmmPd) -> Option<Self> {
         let system = like.system();
         let (n, s) = (system.len(), system.springs().len());

@@ -26,8 +26,8 @@ pub struct LiuLanes {
 }
 
 impl LiuLanes {
-    /// Lanes for runs of `like`'s topology and fixed nodes, none loaded yet; None unless its
-    /// global solve is a tridiagonal one (a chain: the rope).
+    /// Lanes for runs of `like`'s topology and fixed nodes, none loaded yet; None unless it is
+    /// the thesis rope's chain ([`super::projective::Rope`]) with a tridiagonal global solve.
     pub fn new(like: &FastMassSpring) -> Option<Self> {
         let system = like.system();
         let (n, s) = (system.len(), system.springs().len());

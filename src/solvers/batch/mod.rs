@@ -383,6 +383,32 @@ mod tests {
         assert_lanes_are_runs_alone(&mut lanes, &runs);
     }
 
+    /// Lanes are built for the thesis rope's chain only ([`projective::Rope`]): a rope of
+    /// another length, or a sheet, runs alone (`Chain::of` itself is tested in
+    /// `solvers::projective`).
+    #[test]
+    fn lanes_hold_the_thesis_rope_only() {
+        use crate::model::scene::{RopeParams, SheetParams};
+        use crate::solvers::admm::AdmmPd;
+        use crate::solvers::fast_mass_spring::FastMassSpring;
+        let rope = thesis_rope(1e3).unwrap();
+        let shorter = RopeParams {
+            nodes: 7,
+            ..RopeParams::thesis(1e3)
+        }
+        .build()
+        .unwrap();
+        let sheet = SheetParams::spec(4, 1e3).build().unwrap();
+        let liu = |system| FastMassSpring::new(system, 1e-3, 1).unwrap();
+        let admm = |system| AdmmPd::new(system, 1e-3, 1).unwrap();
+        assert!(LiuLanes::new(&liu(&rope)).is_some());
+        assert!(super::admm::AdmmLanes::new(&admm(&rope)).is_some());
+        for other in [&shorter, &sheet] {
+            assert!(LiuLanes::new(&liu(other)).is_none());
+            assert!(super::admm::AdmmLanes::new(&admm(other)).is_none());
+        }
+    }
+
     /// The same for ADMM-PD (Algorithm 4): every lane's run alone, with a different stiffness,
     /// dt, iteration count, first iterate ((a), (b) and line 2.1's x̃), damping and stopping
     /// time per lane. Fails if the lanes' step departs from the run's: with line 2.2's reset of

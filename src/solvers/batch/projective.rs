@@ -7,10 +7,18 @@
 use super::{iterate_lanes, lane_mask, LaneStates, WIDTH};
 use crate::integrators::first_iterate::{inertia, FirstIterate};
 use crate::model::lanes::{load_values, select, Lanes4};
+use crate::model::scene::THESIS_NODES;
 use crate::model::system::{MassSpringSystem, State};
-use crate::solvers::projective::{to_columns, GlobalSolve, GlobalSolveLanes, SpringIncidence};
+use crate::solvers::projective::{
+    to_columns, Chain, GlobalSolve, GlobalSolveLanes, SpringIncidence,
+};
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
+
+/// The spring graph of a batch: the thesis rope, a chain whose size is known where the step
+/// is compiled, so that its loops are unrolled with every index a constant (the Liu iteration
+/// in lanes a third faster than over a graph read at run time, docs/performance.md).
+pub type Rope = Chain<THESIS_NODES>;
 
 /// Four local/global runs of one topology and fixed set, one per lane: what Liu 2013's and
 /// ADMM-PD's lanes have in common.
@@ -22,9 +30,9 @@ pub struct ProjectiveLanes {
     pub masses: Vec<Lanes4>,
     rest_lengths: Vec<Lanes4>,
     /// The springs' incidence ($`J`$ of Eqs (26), (53) or $`D`$ of Eq (54)), per lane.
-    incidence: SpringIncidence<Lanes4>,
+    incidence: SpringIncidence<Lanes4, Rope>,
     /// The global step's matrix $`A`$, per lane.
-    a: GlobalSolveLanes<Lanes4>,
+    a: GlobalSolveLanes<Lanes4, THESIS_NODES>,
     /// Iterations per step of each lane's run (0: no run).
     iterations: [usize; WIDTH],
     first_iterate: [FirstIterate; WIDTH],
@@ -40,8 +48,8 @@ pub struct ProjectiveLanes {
 
 impl ProjectiveLanes {
     /// Lanes for runs of `system`'s topology and fixed nodes with `incidence` and global
-    /// matrix `a`, none loaded yet; None unless the global solve is a tridiagonal one (a
-    /// chain: the rope).
+    /// matrix `a`, none loaded yet; None unless the springs are a [`Rope`]'s and the global
+    /// solve a tridiagonal one.
     pub fn new(
         system: &MassSpringSystem,
         incidence: &SpringIncidence,
@@ -54,7 +62,7 @@ impl ProjectiveLanes {
             dt: zero,
             masses: vec![zero; n],
             rest_lengths: vec![zero; s],
-            incidence: SpringIncidence::lanes(incidence),
+            incidence: SpringIncidence::chain_lanes(incidence)?,
             a: GlobalSolveLanes::new(a)?,
             iterations: [0; WIDTH],
             first_iterate: [FirstIterate::Previous; WIDTH],
@@ -168,8 +176,8 @@ impl ProjectiveLanes {
 
 /// What an iteration reads of the lanes' scene ([`ProjectiveLanes::iterate`]).
 pub struct Iteration<'a> {
-    pub incidence: &'a SpringIncidence<Lanes4>,
-    pub a: &'a GlobalSolveLanes<Lanes4>,
+    pub incidence: &'a SpringIncidence<Lanes4, Rope>,
+    pub a: &'a GlobalSolveLanes<Lanes4, THESIS_NODES>,
     /// $`x_n`$, column-major (the global solve's fixed values).
     pub x_n: &'a [Lanes4],
     pub rest_lengths: &'a [Lanes4],

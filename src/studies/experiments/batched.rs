@@ -111,10 +111,10 @@ pub fn run_experiments(
             match (&unit[..], kind(unit[0])) {
                 ([i], _) => vec![run_experiment(jobs[*i].0, jobs[*i].1)],
                 (_, Some(SolverId::FastMassSpring)) => run_batch(batch, liu, |like| {
-                    LiuLanes::new(like).expect("the thesis rope's global solve is tridiagonal")
+                    LiuLanes::new(like).expect("the thesis rope is a batch's rope")
                 }),
                 (_, Some(SolverId::AdmmPd)) => run_batch(batch, admm, |like| {
-                    AdmmLanes::new(like).expect("the thesis rope's global solve is tridiagonal")
+                    AdmmLanes::new(like).expect("the thesis rope is a batch's rope")
                 }),
                 _ => run_batch(
                     batch,
