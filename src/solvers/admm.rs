@@ -326,9 +326,6 @@ pub struct AdmmPd {
     start: StepStart,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
-    /// The label of the forensic variant whose settings these are, for the name (None:
-    /// Algorithm 4 as printed).
-    variant: Option<String>,
 }
 
 impl AdmmPd {
@@ -373,16 +370,7 @@ impl AdmmPd {
             iterate: AdmmIterate::new(system, dt, omega),
             start: StepStart::new(FirstIterate::InertialPrediction),
             convergence: Convergence::default(),
-            variant: None,
         })
-    }
-
-    /// The same solver named as the forensic variant `label` whose first iterate and weights
-    /// it was given (its runs then carry the name that variant's own solver gives them,
-    /// [`crate::studies::forensics::VariantAdmm`]).
-    pub fn named_as_variant(mut self, label: String) -> Self {
-        self.variant = Some(label);
-        self
     }
 
     /// The same solver starting each step at `first_iterate` ([`crate::integrators::first_iterate`]); the
@@ -454,13 +442,11 @@ impl AdmmPd {
 
 impl TimeStepper for AdmmPd {
     fn name(&self) -> String {
-        let iterations = self
-            .convergence
-            .iterations_label(self.iterations, "iterations");
-        match &self.variant {
-            None => format!("ADMM-PD ({iterations})"),
-            Some(label) => format!("ADMM-PD ({iterations}, variant: {label})"),
-        }
+        format!(
+            "ADMM-PD ({})",
+            self.convergence
+                .iterations_label(self.iterations, "iterations")
+        )
     }
 
     fn dt(&self) -> f64 {

@@ -56,7 +56,7 @@ fn liu(
 }
 
 /// The ADMM-PD solver of a row: Algorithm 4, at the configuration's first iterate and weights
-/// (a variant that departs from it in those only, bit for bit, and named as it).
+/// (a variant that departs from it in those only, bit for bit).
 fn admm(
     system: &MassSpringSystem,
     row: &PublishedRow,
@@ -69,7 +69,6 @@ fn admm(
             );
             AdmmPd::weighted(system, row.dt_s, row.iterations, weights.omega(system))?
                 .with_first_iterate(first)
-                .named_as_variant(variant.label())
         }
         _ => AdmmPd::new(system, row.dt_s, row.iterations)?,
     })
