@@ -332,34 +332,13 @@ impl AdmmPd {
     /// Algorithm 4, lines 1.1-1.5, with $`\omega_i = \sqrt{k_i}`$. Needs every stiffness > 0,
     /// `dt` > 0 and `iterations` >= 1.
     pub fn new(system: &MassSpringSystem, dt: f64, iterations: usize) -> Result<Self> {
-        Self::weighted(system, dt, iterations, default_omega(system))
-    }
-
-    /// The same with other weights $`\omega_i`$ (one per spring, each > 0 and finite): the
-    /// forensic variants' $`\omega_i = k_i`$ and $`\omega_i^2 = \sqrt{k_i}`$
-    /// ([`crate::studies::forensics::Weights`]), never the default.
-    pub fn weighted(
-        system: &MassSpringSystem,
-        dt: f64,
-        iterations: usize,
-        omega: Vec<f64>,
-    ) -> Result<Self> {
         require_positive("dt", dt)?;
         system.require_positive_stiffness()?;
         system.require_undamped_springs()?;
         if iterations == 0 {
             return Err(Error::invalid("iterations", 0, "an integer >= 1"));
         }
-        if omega.len() != system.springs().len() {
-            return Err(Error::invalid(
-                "omega",
-                omega.len(),
-                &format!("one weight per spring ({})", system.springs().len()),
-            ));
-        }
-        for (i, &w) in omega.iter().enumerate() {
-            require_positive(format!("omega[{i}]"), w)?;
-        }
+        let omega = default_omega(system);
         let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
         Ok(Self {
             system: system.clone(),

@@ -410,8 +410,7 @@ mod tests {
     }
 
     /// The same for ADMM-PD (Algorithm 4): every lane's run alone, with a different stiffness,
-    /// dt, iteration count, first iterate ((a), (b) and line 2.1's x̃), weights (ω = √k and
-    /// ω = k, [`AdmmPd::weighted`](crate::solvers::admm::AdmmPd::weighted)), damping and stopping
+    /// dt, iteration count, first iterate ((a), (b) and line 2.1's x̃), damping and stopping
     /// time per lane. Fails if the lanes' step departs from the run's: with line 2.2's reset of
     /// $`\bar u`$ left out of the lanes' step (the dual carried across steps), or with the
     /// put-back of [`iterate_lanes`] skipped. (A dependent pull $`dt^2 g`$ in place of $`dt^2 m^{-1} f_{ext}`$ does
@@ -421,32 +420,25 @@ mod tests {
         use crate::integrators::first_iterate::FirstIterate::{
             Inertial, InertialPrediction, Previous,
         };
-        use crate::solvers::admm::{default_omega, AdmmPd};
+        use crate::solvers::admm::AdmmPd;
         let runs: Vec<(AdmmPd, State, RunOptions)> = [
-            // (k N/m, dt s, iterations, first iterate, ω = k, damping 1/s, max time s,
-            // threshold J)
-            (1e3, 1e-2, 20, InertialPrediction, false, 0.0, 3.0, 1e-4),
-            (1e4, 5e-3, 50, Inertial, true, 0.0, 2.0, 1e-4),
-            (1e3, 1e-3, 7, Previous, false, 0.5, 1.0, 1e-4),
-            (1e4, 1e-2, 20, InertialPrediction, true, 0.0, 4.0, 1e9),
-            (1e3, 2e-3, 1, Inertial, false, 0.0, 1.5, 1e-4),
-            (1e4, 1e-2, 50, InertialPrediction, false, 2.0, 2.5, 1e-4),
+            // (k N/m, dt s, iterations, first iterate, damping 1/s, max time s, threshold J)
+            (1e3, 1e-2, 20, InertialPrediction, 0.0, 3.0, 1e-4),
+            (1e4, 5e-3, 50, Inertial, 0.0, 2.0, 1e-4),
+            (1e3, 1e-3, 7, Previous, 0.5, 1.0, 1e-4),
+            (1e4, 1e-2, 20, InertialPrediction, 0.0, 4.0, 1e9),
+            (1e3, 2e-3, 1, Inertial, 0.0, 1.5, 1e-4),
+            (1e4, 1e-2, 50, InertialPrediction, 2.0, 2.5, 1e-4),
         ]
         .into_iter()
-        .map(
-            |(k, dt, iterations, first, omega_k, damping, max_time, threshold)| {
-                let system = thesis_rope(k).unwrap();
-                let omega = match omega_k {
-                    true => system.springs().iter().map(|s| s.stiffness).collect(),
-                    false => default_omega(&system),
-                };
-                let solver = AdmmPd::weighted(&system, dt, iterations, omega)
-                    .unwrap()
-                    .with_first_iterate(first);
-                let options = options(damping, max_time, threshold);
-                (solver, system.initial_state(), options)
-            },
-        )
+        .map(|(k, dt, iterations, first, damping, max_time, threshold)| {
+            let system = thesis_rope(k).unwrap();
+            let solver = AdmmPd::new(&system, dt, iterations)
+                .unwrap()
+                .with_first_iterate(first);
+            let options = options(damping, max_time, threshold);
+            (solver, system.initial_state(), options)
+        })
         .collect();
         let mut lanes =
             super::admm::AdmmLanes::new(&runs[0].0).expect("the rope's solve is tridiagonal");

@@ -22,15 +22,15 @@ use crate::studies::experiments::SolverChoice;
 /// The solver of a row whose runs go into batches: XPBD's, whichever the configuration (every
 /// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), Liu's started at (a) or
 /// (b) (the printed Liu for [`SolverChoice::Admm`] too, which a Liu row ignores), and ADMM-PD's
-/// as printed or with another first iterate and weights only
-/// ([`crate::studies::forensics::AdmmVariant::as_printed_solver`]); None for
+/// as printed or with another first iterate only
+/// ([`crate::studies::forensics::AdmmVariant::as_first_iterate`]); None for
 /// a row run alone.
 fn batched(row: &PublishedRow, configuration: &Configuration) -> Option<SolverId> {
     match (row.solver, configuration.solver) {
         (SolverId::Xpbd, _) => Some(SolverId::Xpbd),
         (SolverId::AdmmPd, SolverChoice::Printed) => Some(SolverId::AdmmPd),
         (SolverId::AdmmPd, SolverChoice::Admm(variant)) => {
-            variant.as_printed_solver().map(|_| SolverId::AdmmPd)
+            variant.as_first_iterate().map(|_| SolverId::AdmmPd)
         }
         (
             SolverId::FastMassSpring,
@@ -55,22 +55,21 @@ fn liu(
     })
 }
 
-/// The ADMM-PD solver of a row: Algorithm 4, at the configuration's first iterate and weights
-/// (a variant that departs from it in those only, bit for bit).
+/// The ADMM-PD solver of a row: Algorithm 4, at the configuration's first iterate (a variant
+/// that departs from it in its start only, bit for bit).
 fn admm(
     system: &MassSpringSystem,
     row: &PublishedRow,
     configuration: &Configuration,
 ) -> Result<AdmmPd> {
+    let solver = AdmmPd::new(system, row.dt_s, row.iterations)?;
     Ok(match configuration.solver {
-        SolverChoice::Admm(variant) => {
-            let (first, weights) = variant.as_printed_solver().expect(
-                "a batched ADMM variant departs from Algorithm 4 in its start and weights only",
-            );
-            AdmmPd::weighted(system, row.dt_s, row.iterations, weights.omega(system))?
-                .with_first_iterate(first)
-        }
-        _ => AdmmPd::new(system, row.dt_s, row.iterations)?,
+        SolverChoice::Admm(variant) => solver.with_first_iterate(
+            variant
+                .as_first_iterate()
+                .expect("a batched ADMM variant departs from Algorithm 4 in its start only"),
+        ),
+        _ => solver,
     })
 }
 

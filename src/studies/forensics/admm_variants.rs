@@ -98,24 +98,20 @@ impl AdmmVariant {
         stale_rhs: false,
     };
 
-    /// The first iterate and weights that make [`AdmmPd`](crate::solvers::admm::AdmmPd)
-    /// this variant, bit for bit ([`AdmmPd::weighted`](crate::solvers::admm::AdmmPd::weighted)
-    /// at that first iterate), when it departs from Algorithm 4 in its start and weights only
-    /// (line 2.1's $`\tilde x`$ is [`FirstIterate::InertialPrediction`]); None when it departs
-    /// in anything else. A batch of runs steps the printed solver
-    /// ([`crate::solvers::batch::admm`]), not this module's.
-    pub fn as_printed_solver(&self) -> Option<(FirstIterate, Weights)> {
-        let start_and_weights_only = AdmmVariant {
+    /// The first iterate that makes [`AdmmPd`](crate::solvers::admm::AdmmPd) this variant, bit
+    /// for bit, when it departs from Algorithm 4 in its start only (line 2.1's $`\tilde x`$ is
+    /// [`FirstIterate::InertialPrediction`]); None when it departs in anything else. A batch of
+    /// runs steps the printed solver ([`crate::solvers::batch::admm`]), not this module's.
+    pub fn as_first_iterate(&self) -> Option<FirstIterate> {
+        let start_only = AdmmVariant {
             start: StartPoint::Prediction,
-            weights: Weights::SqrtStiffness,
             ..*self
         } == AdmmVariant::PRINTED;
-        let first = match self.start {
+        start_only.then_some(match self.start {
             StartPoint::Prediction => FirstIterate::InertialPrediction,
             StartPoint::Inertial => FirstIterate::Inertial,
             StartPoint::Previous => FirstIterate::Previous,
-        };
-        start_and_weights_only.then_some((first, self.weights))
+        })
     }
 
     /// The departures from Algorithm 4, comma-separated; empty for the printed method.
