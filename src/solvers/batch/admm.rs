@@ -1,6 +1,6 @@
 //! ADMM-PD (Algorithm 4) in lanes: [`AdmmPd`]'s step at [`Lanes4`], four runs of the same rope
-//! topology and fixed nodes (any dt, stiffness, masses, iteration counts, and a first iterate
-//! of (a), (b) or line 2.1's $`\tilde x`$, [`FirstIterate`]).
+//! topology and fixed nodes (any dt, stiffness, masses, weights, iteration counts, and a first
+//! iterate of (a), (b) or line 2.1's $`\tilde x`$, [`FirstIterate`]): each an [`AdmmRun`].
 //!
 //! The dual $`\bar u`$ is reset every step (line 2.2), so a lane whose iterations are done may
 //! go on changing its $`z`$ and $`\bar u`$ unread: only its iterate is kept
@@ -12,13 +12,55 @@ use crate::integrators::first_iterate::{predicted, pull, FirstIterate};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{State, Vec3};
-use crate::solvers::admm::{global_rhs_of, local_step_of, AdmmPd, LocalStepSprings};
+use crate::solvers::admm::{global_rhs_of, local_step_of, AdmmIterate, AdmmPd, LocalStepSprings};
+use crate::solvers::projective::GlobalSolve;
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
+use std::marker::PhantomData;
 
-/// Four ADMM-PD runs of one topology, one per lane.
+/// A run a lane can hold: Algorithm 4 as printed, with its own weights $`\omega_i`$, first
+/// iterate and prefactored $`A`$, counting its iterations. [`AdmmPd`] is one; so is a forensic
+/// variant that departs from Algorithm 4 in its start and weights only
+/// ([`crate::studies::forensics::VariantAdmm`]), whose lanes are then that variant's runs bit for
+/// bit.
+pub trait AdmmRun: TimeStepper + Clone {
+    /// Iterations per step.
+    fn iterations(&self) -> usize;
+    /// Where each step starts.
+    fn first_iterate(&self) -> FirstIterate;
+    /// Whether each step runs its full count of iterations.
+    fn counts_iterations(&self) -> bool;
+    /// The iteration's per-spring data ($`D`$, $`\omega_i`$, $`dt^2\omega_i^2`$).
+    fn iterate_data(&self) -> &AdmmIterate;
+    /// $`A`$ of the run's step, prefactored (line 1.5).
+    fn own_step(&self) -> &GlobalSolve;
+}
+
+impl AdmmRun for AdmmPd {
+    fn iterations(&self) -> usize {
+        AdmmPd::iterations(self)
+    }
+
+    fn first_iterate(&self) -> FirstIterate {
+        AdmmPd::first_iterate(self)
+    }
+
+    fn counts_iterations(&self) -> bool {
+        AdmmPd::counts_iterations(self)
+    }
+
+    fn iterate_data(&self) -> &AdmmIterate {
+        AdmmPd::iterate_data(self)
+    }
+
+    fn own_step(&self) -> &GlobalSolve {
+        AdmmPd::own_step(self)
+    }
+}
+
+/// Four ADMM-PD runs of one topology, one per lane, each an [`AdmmRun`] of type `R`.
 #[derive(Debug, Clone)]
-pub struct AdmmLanes {
+pub struct AdmmLanes<R = AdmmPd> {
     /// The scene, the first iterate, the iterations and the finish ([`ProjectiveLanes`]).
     core: ProjectiveLanes,
     stiffness: Vec<Lanes4>,
@@ -34,12 +76,13 @@ pub struct AdmmLanes {
     u_bar: Vec<Vector3<Lanes4>>,
     /// Scratch of the local step, one value per spring.
     scale: Vec<Lanes4>,
+    run: PhantomData<R>,
 }
 
-impl AdmmLanes {
+impl<R: AdmmRun> AdmmLanes<R> {
     /// Lanes for runs of `like`'s topology and fixed nodes, none loaded yet; None unless it is
     /// the thesis rope's chain ([`super::projective::Rope`]) with a tridiagonal global solve.
-    pub fn new(like: &AdmmPd) -> Option<Self> {
+    pub fn new(like: &R) -> Option<Self> {
         let system = like.system();
         let (n, s) = (system.len(), system.springs().len());
         let zero = Lanes4::splat(0.0);
@@ -54,14 +97,15 @@ impl AdmmLanes {
             z: vec![Vector3::zeros(); s],
             u_bar: vec![Vector3::zeros(); s],
             scale: vec![zero; s],
+            run: PhantomData,
         })
     }
 }
 
-impl LaneSolver for AdmmLanes {
-    type Run = AdmmPd;
+impl<R: AdmmRun> LaneSolver for AdmmLanes<R> {
+    type Run = R;
 
-    fn load(&mut self, lane: usize, run: &AdmmPd, state: &State) {
+    fn load(&mut self, lane: usize, run: &R, state: &State) {
         let system = run.system();
         assert!(
             self.core.holds(
@@ -90,7 +134,7 @@ impl LaneSolver for AdmmLanes {
         );
         let stiffness: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
         load_values(&mut self.stiffness, lane, &stiffness);
-        load_values(&mut self.omega, lane, run.omega());
+        load_values(&mut self.omega, lane, run.iterate_data().omega());
         load_values(&mut self.dt2_omega2, lane, run.iterate_data().dt2_omega2());
         let pulls: Vec<Vec3> = (0..system.len()).map(|i| pull(system, dt, i)).collect();
         load_points(&mut self.pull, lane, &pulls);

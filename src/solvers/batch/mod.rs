@@ -383,6 +383,43 @@ mod tests {
         assert_lanes_are_runs_alone(&mut lanes, &runs);
     }
 
+    /// The same for ADMM-PD's forensic variants that take a lane (other first iterates and
+    /// weights, [`crate::studies::forensics::AdmmVariant::takes_a_lane`]): every lane gives
+    /// the variant's own run alone ([`crate::studies::forensics::VariantAdmm`]), bits and name.
+    /// Fails with the lanes' weights left at one lane's (ω = √k for every lane).
+    #[test]
+    fn every_admm_variant_lane_is_its_run_alone_bit_for_bit() {
+        use crate::studies::forensics::{AdmmVariant, StartPoint, VariantAdmm, Weights};
+        use StartPoint::{Inertial, Prediction, Previous};
+        use Weights::{FourthRootStiffness, SqrtStiffness, Stiffness};
+        let runs: Vec<(VariantAdmm, State, RunOptions)> = [
+            // (k N/m, dt s, iterations, start, weights, damping 1/s, max time s)
+            (1e3, 1e-2, 20, Prediction, Stiffness, 0.0, 3.0),
+            (1e4, 5e-3, 50, Inertial, FourthRootStiffness, 0.0, 2.0),
+            (1e3, 1e-3, 7, Previous, SqrtStiffness, 0.5, 1.0),
+            (1e4, 1e-2, 20, Prediction, FourthRootStiffness, 0.0, 4.0),
+            (1e3, 2e-3, 1, Inertial, Stiffness, 0.0, 1.5),
+            (1e4, 1e-2, 50, Previous, Stiffness, 2.0, 2.5),
+        ]
+        .into_iter()
+        .map(|(k, dt, iterations, start, weights, damping, max_time)| {
+            let system = thesis_rope(k).unwrap();
+            let variant = AdmmVariant {
+                start,
+                weights,
+                ..AdmmVariant::PRINTED
+            };
+            assert!(variant.takes_a_lane());
+            let solver = VariantAdmm::new(&system, dt, iterations, variant).unwrap();
+            let options = options(damping, max_time, 1e-4);
+            (solver, system.initial_state(), options)
+        })
+        .collect();
+        let mut lanes =
+            super::admm::AdmmLanes::new(&runs[0].0).expect("the rope's solve is tridiagonal");
+        assert_lanes_are_runs_alone(&mut lanes, &runs);
+    }
+
     /// Lanes are built for the thesis rope's chain only ([`projective::Rope`]): a rope of
     /// another length, or a sheet, runs alone (`Chain::of` itself is tested in
     /// `solvers::projective`).

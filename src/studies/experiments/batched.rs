@@ -1,36 +1,40 @@
 //! The experiments' runs with those of one solver in batches ([`crate::solvers::batch`]): the XPBD rows
 //! and the Liu 2013 rows of every configuration, and the ADMM-PD rows whose configuration is
-//! Algorithm 4 or departs from it in its first iterate only, [`WIDTH`] at a time in the lanes
+//! Algorithm 4 or departs from it in its first iterate and weights only, [`WIDTH`] at a time in the lanes
 //! of a batch per solver and iteration count, each with the bits it has alone. The other rows
 //! run one by one, as [`run_experiment`] runs them.
 
 use super::{expected_cost, pool, profile_label, run_experiment, setup, Configuration};
 use super::{measure, run_parallel, PublishedRow, Reference, ResultSet};
 use crate::error::Result;
+use crate::integrators::first_iterate::FirstIterate as Start;
+use crate::integrators::stopping::Convergence;
+use crate::integrators::time_stepper::TimeStepper;
 use crate::integrators::time_stepper::{Run, RunOptions};
 use crate::model::system::{MassSpringSystem, State};
-use crate::solvers::admm::AdmmPd;
-use crate::solvers::batch::admm::AdmmLanes;
+use crate::solvers::admm::{AdmmIterate, AdmmPd};
+use crate::solvers::batch::admm::{AdmmLanes, AdmmRun};
 use crate::solvers::batch::liu::LiuLanes;
 use crate::solvers::batch::xpbd::XpbdLanes;
 use crate::solvers::batch::{simulate_batch, BatchOutcome, LaneSolver, WIDTH};
 use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
+use crate::solvers::projective::GlobalSolve;
 use crate::solvers::registry::SolverId;
 use crate::solvers::xpbd::Xpbd;
 use crate::studies::experiments::SolverChoice;
+use crate::studies::forensics::VariantAdmm;
 
 /// The solver of a row whose runs go into batches: XPBD's, whichever the configuration (every
 /// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), Liu's started at (a) or
 /// (b) (the printed Liu for [`SolverChoice::Admm`] too, which a Liu row ignores), and ADMM-PD's
-/// as printed or with another first iterate only
-/// ([`crate::studies::forensics::AdmmVariant::as_first_iterate`]); None for
-/// a row run alone.
+/// as printed or with another first iterate and weights only
+/// ([`crate::studies::forensics::AdmmVariant::takes_a_lane`]); None for a row run alone.
 fn batched(row: &PublishedRow, configuration: &Configuration) -> Option<SolverId> {
     match (row.solver, configuration.solver) {
         (SolverId::Xpbd, _) => Some(SolverId::Xpbd),
         (SolverId::AdmmPd, SolverChoice::Printed) => Some(SolverId::AdmmPd),
         (SolverId::AdmmPd, SolverChoice::Admm(variant)) => {
-            variant.as_first_iterate().map(|_| SolverId::AdmmPd)
+            variant.takes_a_lane().then_some(SolverId::AdmmPd)
         }
         (
             SolverId::FastMassSpring,
@@ -55,21 +59,103 @@ fn liu(
     })
 }
 
-/// The ADMM-PD solver of a row: Algorithm 4, at the configuration's first iterate (a variant
-/// that departs from it in its start only, bit for bit).
+/// An ADMM-PD row's run in a batch: Algorithm 4 as printed, or a forensic variant that departs
+/// from it in its first iterate and weights only (its own solver, which the lanes run as it
+/// runs alone, [`AdmmRun`]).
+#[derive(Debug, Clone)]
+enum AdmmJob {
+    Printed(AdmmPd),
+    Variant(VariantAdmm),
+}
+
+impl AdmmJob {
+    fn stepper(&self) -> &dyn TimeStepper {
+        match self {
+            AdmmJob::Printed(run) => run,
+            AdmmJob::Variant(run) => run,
+        }
+    }
+
+    fn stepper_mut(&mut self) -> &mut dyn TimeStepper {
+        match self {
+            AdmmJob::Printed(run) => run,
+            AdmmJob::Variant(run) => run,
+        }
+    }
+}
+
+impl TimeStepper for AdmmJob {
+    fn name(&self) -> String {
+        self.stepper().name()
+    }
+
+    fn dt(&self) -> f64 {
+        self.stepper().dt()
+    }
+
+    fn system(&self) -> &MassSpringSystem {
+        self.stepper().system()
+    }
+
+    fn step(&mut self, state: &mut State) -> Result<()> {
+        self.stepper_mut().step(state)
+    }
+
+    fn convergence(&mut self) -> Option<&mut Convergence> {
+        self.stepper_mut().convergence()
+    }
+}
+
+impl AdmmRun for AdmmJob {
+    fn iterations(&self) -> usize {
+        match self {
+            AdmmJob::Printed(run) => AdmmRun::iterations(run),
+            AdmmJob::Variant(run) => AdmmRun::iterations(run),
+        }
+    }
+
+    fn first_iterate(&self) -> Start {
+        match self {
+            AdmmJob::Printed(run) => AdmmRun::first_iterate(run),
+            AdmmJob::Variant(run) => AdmmRun::first_iterate(run),
+        }
+    }
+
+    fn counts_iterations(&self) -> bool {
+        match self {
+            AdmmJob::Printed(run) => AdmmRun::counts_iterations(run),
+            AdmmJob::Variant(run) => AdmmRun::counts_iterations(run),
+        }
+    }
+
+    fn iterate_data(&self) -> &AdmmIterate {
+        match self {
+            AdmmJob::Printed(run) => AdmmRun::iterate_data(run),
+            AdmmJob::Variant(run) => AdmmRun::iterate_data(run),
+        }
+    }
+
+    fn own_step(&self) -> &GlobalSolve {
+        match self {
+            AdmmJob::Printed(run) => AdmmRun::own_step(run),
+            AdmmJob::Variant(run) => AdmmRun::own_step(run),
+        }
+    }
+}
+
+/// The ADMM-PD solver of a row: Algorithm 4, or the configuration's variant (one that departs
+/// from it in its first iterate and weights only).
 fn admm(
     system: &MassSpringSystem,
     row: &PublishedRow,
     configuration: &Configuration,
-) -> Result<AdmmPd> {
-    let solver = AdmmPd::new(system, row.dt_s, row.iterations)?;
+) -> Result<AdmmJob> {
     Ok(match configuration.solver {
-        SolverChoice::Admm(variant) => solver.with_first_iterate(
-            variant
-                .as_first_iterate()
-                .expect("a batched ADMM variant departs from Algorithm 4 in its start only"),
-        ),
-        _ => solver,
+        SolverChoice::Admm(variant) => {
+            debug_assert!(variant.takes_a_lane());
+            AdmmJob::Variant(VariantAdmm::new(system, row.dt_s, row.iterations, variant)?)
+        }
+        _ => AdmmJob::Printed(AdmmPd::new(system, row.dt_s, row.iterations)?),
     })
 }
 

@@ -24,6 +24,7 @@ use crate::model::boundary::EliminatedSystem;
 use crate::model::linear::Factorization;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::admm::{default_omega, AdmmIterate};
+use crate::solvers::batch::admm::AdmmRun;
 use crate::solvers::projective::{finish_step, system_matrix, GlobalSolve};
 
 /// The per-spring weights $`\omega_i`$ of a variant.
@@ -64,6 +65,17 @@ pub enum StartPoint {
     Previous,
 }
 
+impl StartPoint {
+    /// The crate's [`FirstIterate`] that starts a step here.
+    pub fn first_iterate(self) -> FirstIterate {
+        match self {
+            StartPoint::Prediction => FirstIterate::InertialPrediction,
+            StartPoint::Inertial => FirstIterate::Inertial,
+            StartPoint::Previous => FirstIterate::Previous,
+        }
+    }
+}
+
 /// How the fixed nodes enter the global step (the three ways of thesis §3.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum FixedNodes {
@@ -100,18 +112,24 @@ impl AdmmVariant {
 
     /// The first iterate that makes [`AdmmPd`](crate::solvers::admm::AdmmPd) this variant, bit
     /// for bit, when it departs from Algorithm 4 in its start only (line 2.1's $`\tilde x`$ is
-    /// [`FirstIterate::InertialPrediction`]); None when it departs in anything else. A batch of
-    /// runs steps the printed solver ([`crate::solvers::batch::admm`]), not this module's.
+    /// [`FirstIterate::InertialPrediction`]); None when it departs in anything else.
     pub fn as_first_iterate(&self) -> Option<FirstIterate> {
         let start_only = AdmmVariant {
             start: StartPoint::Prediction,
             ..*self
         } == AdmmVariant::PRINTED;
-        start_only.then_some(match self.start {
-            StartPoint::Prediction => FirstIterate::InertialPrediction,
-            StartPoint::Inertial => FirstIterate::Inertial,
-            StartPoint::Previous => FirstIterate::Previous,
-        })
+        start_only.then_some(self.start.first_iterate())
+    }
+
+    /// Whether the variant's runs can take a lane of a batch
+    /// ([`crate::solvers::batch::admm`], whose step is Algorithm 4's with each lane's own
+    /// weights and start): it departs from Algorithm 4 in its start and weights only.
+    pub fn takes_a_lane(&self) -> bool {
+        AdmmVariant {
+            start: StartPoint::Prediction,
+            weights: Weights::SqrtStiffness,
+            ..*self
+        } == AdmmVariant::PRINTED
     }
 
     /// The departures from Algorithm 4, comma-separated; empty for the printed method.
@@ -261,6 +279,40 @@ impl VariantAdmm {
                     }
                 }
             }
+        }
+    }
+}
+
+/// A variant of start and weights in a lane ([`AdmmVariant::takes_a_lane`]): its data, which
+/// the lanes' step (Algorithm 4's) runs as the variant's own step does (a test in
+/// `solvers::batch`).
+impl AdmmRun for VariantAdmm {
+    fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    fn first_iterate(&self) -> FirstIterate {
+        self.variant.start.first_iterate()
+    }
+
+    fn counts_iterations(&self) -> bool {
+        true
+    }
+
+    fn iterate_data(&self) -> &AdmmIterate {
+        &self.iterate
+    }
+
+    /// # Panics
+    /// For a variant that does not take a lane (its fixed nodes not imposed by Eqs 43-47).
+    fn own_step(&self) -> &GlobalSolve {
+        assert!(
+            self.variant.takes_a_lane(),
+            "only a variant of start and weights takes a lane"
+        );
+        match &self.a {
+            GlobalMatrix::Imposed(a) => a,
+            _ => unreachable!("a variant that takes a lane imposes its fixed nodes"),
         }
     }
 }
