@@ -22,7 +22,7 @@ use crate::solvers::projective::GlobalSolve;
 use crate::solvers::registry::SolverId;
 use crate::solvers::xpbd::Xpbd;
 use crate::studies::experiments::SolverChoice;
-use crate::studies::forensics::VariantAdmm;
+use crate::studies::forensics::admm_variants::VariantAdmm;
 
 /// The solver of a row whose runs go into batches: XPBD's, whichever the configuration (every
 /// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), Liu's started at (a) or
