@@ -11,6 +11,7 @@ pub mod chebyshev;
 pub mod converged_stage;
 pub mod damped_admm;
 pub mod fast_mass_spring;
+pub mod incidence;
 pub mod local_global;
 pub mod pbd;
 pub mod projective;
