@@ -115,7 +115,7 @@ fn bench_lanes<L: LaneSolver + Clone>(
 fn rope_step_xpbd_lanes(bencher: divan::Bencher, iterations: usize) {
     let (system, start) = rope();
     let solver = Xpbd::new(&system, DT, iterations).unwrap();
-    bench_lanes(bencher, XpbdLanes::new(&solver), &solver, &start);
+    bench_lanes(bencher, XpbdLanes::new(&solver).unwrap(), &solver, &start);
 }
 
 /// Four Liu 2013 runs of the rope in the lanes of a batch (`batch::liu`).

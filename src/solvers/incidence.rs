@@ -29,6 +29,16 @@ pub struct Ends {
     ends: Vec<(usize, usize)>,
 }
 
+impl Ends {
+    /// `system`'s springs' ends.
+    pub fn of(system: &MassSpringSystem) -> Self {
+        Self {
+            nodes: system.len(),
+            ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
+        }
+    }
+}
+
 impl SpringGraph for Ends {
     fn nodes(&self) -> usize {
         self.nodes
@@ -95,10 +105,7 @@ impl SpringIncidence {
     /// ([`crate::solvers::projective::incidence_matrix`], [`crate::solvers::projective::reduction_matrix`]).
     pub(super) fn new(system: &MassSpringSystem, weights: Vec<f64>) -> Self {
         Self {
-            graph: Ends {
-                nodes: system.len(),
-                ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
-            },
+            graph: Ends::of(system),
             weights,
         }
     }

@@ -62,7 +62,8 @@ use crate::integrators::stopping::Convergence;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{self, Lane};
 use crate::model::spring;
-use crate::model::system::{MassSpringSystem, Spring, State, Vec3};
+use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::incidence::{Ends, SpringGraph};
 use nalgebra::Vector3;
 
 /// Eq. (18): $`\tilde\alpha = \alpha/dt^2`$, the time-step-scaled compliance that Eqs 17-18
@@ -256,26 +257,30 @@ impl<T: Lane> Coefficients<T> {
         scratch.lambda.fill(T::zero());
     }
 
-    /// Algorithm 2, lines 5-11: one Gauss-Seidel sweep over the springs in index order.
-    pub fn sweep(&self, springs: &[Spring], x: &mut [Vector3<T>], lambda: &mut [T]) {
-        for (j, s) in springs.iter().enumerate() {
-            let (w1, w2) = (self.w[s.a], self.w[s.b]);
+    /// Algorithm 2, lines 5-11: one Gauss-Seidel sweep over the springs of `graph` in index
+    /// order (on the batches' [`crate::solvers::incidence::Chain`] every index a constant).
+    #[inline]
+    pub fn sweep<G: SpringGraph>(&self, graph: &G, x: &mut [Vector3<T>], lambda: &mut [T]) {
+        let x = &mut x[..graph.nodes()];
+        for (j, lambda_j) in lambda[..graph.springs()].iter_mut().enumerate() {
+            let (a, b) = graph.ends(j);
+            let (w1, w2) = (self.w[a], self.w[b]);
             // Eqs 48-49.
-            let c = spring::constraint(&x[s.a], &x[s.b], self.rest_length[j]);
-            let grad = spring::constraint_gradient(&x[s.a], &x[s.b]);
+            let c = spring::constraint(&x[a], &x[b], self.rest_length[j]);
+            let grad = spring::constraint_gradient(&x[a], &x[b]);
             // Line 6, Eqs 18 and 50.
             let delta_lambda = delta_lambda(
                 c,
                 self.alpha_tilde[j],
-                lambda[j],
+                *lambda_j,
                 self.inverse_denominator[j],
             );
             // Line 7, Eqs 19 and 51.
             let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, delta_lambda);
             // Lines 8-9.
-            lambda[j] += delta_lambda;
-            x[s.a] += delta_x1;
-            x[s.b] += delta_x2;
+            *lambda_j += delta_lambda;
+            x[a] += delta_x1;
+            x[b] += delta_x2;
         }
     }
 
@@ -297,6 +302,8 @@ pub struct Xpbd {
     compliance: Compliance,
     coefficients: Coefficients<f64>,
     scratch: Scratch<f64>,
+    /// The springs' ends, for the sweep.
+    graph: Ends,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
 }
@@ -368,6 +375,7 @@ impl Xpbd {
                 external_acceleration,
             },
             scratch: Scratch::new(system.springs().len(), system.len()),
+            graph: Ends::of(system),
             convergence: Convergence::default(),
         })
     }
@@ -445,7 +453,7 @@ impl TimeStepper for Xpbd {
         // tolerance mode.
         for _ in 0..self.iterations {
             self.coefficients
-                .sweep(self.system.springs(), x, &mut self.scratch.lambda);
+                .sweep(&self.graph, x, &mut self.scratch.lambda);
             let converged = if self.convergence.wants_value() {
                 let r = constraint_residual(
                     &self.system,

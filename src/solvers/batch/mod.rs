@@ -347,7 +347,8 @@ mod tests {
             (solver, system.initial_state(), options)
         })
         .collect();
-        assert_lanes_are_runs_alone(&mut XpbdLanes::new(&runs[0].0), &runs);
+        let mut lanes = XpbdLanes::new(&runs[0].0).expect("the thesis rope is a batch's rope");
+        assert_lanes_are_runs_alone(&mut lanes, &runs);
     }
 
     /// The same for Liu 2013 (Algorithm 3): every lane's run alone, with a different stiffness,

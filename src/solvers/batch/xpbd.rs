@@ -1,10 +1,13 @@
 //! XPBD (Algorithm 2) in lanes: [`crate::solvers::xpbd::Xpbd`]'s step at [`Lanes4`], four runs of the
-//! same rope topology (any dt, compliance, masses and iteration counts).
+//! thesis rope's chain ([`super::projective::Rope`]; any dt, compliance, masses and iteration
+//! counts).
 
+use super::projective::Rope;
 use super::{iterate_lanes, LaneSolver, LaneStates, WIDTH};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, Lanes4};
-use crate::model::system::{Spring, State};
+use crate::model::system::{MassSpringSystem, State};
+use crate::solvers::incidence::{Ends, SpringGraph};
 use crate::solvers::xpbd::{Coefficients, Scratch, Xpbd};
 use nalgebra::Vector3;
 use simba::simd::SimdValue;
@@ -12,7 +15,7 @@ use simba::simd::SimdValue;
 /// Four XPBD runs of one topology, one per lane.
 #[derive(Debug, Clone)]
 pub struct XpbdLanes {
-    springs: Vec<Spring>,
+    rope: Rope,
     coefficients: Coefficients<Lanes4>,
     scratch: Scratch<Lanes4>,
     /// Iterations per step of each lane's run (0: no run).
@@ -23,27 +26,33 @@ pub struct XpbdLanes {
 }
 
 impl XpbdLanes {
-    /// Lanes for runs of `like`'s topology (its springs' end nodes), none loaded yet.
-    pub fn new(like: &Xpbd) -> Self {
-        let springs = like.system().springs().to_vec();
-        let nodes = like.coefficients().w.len();
+    /// Lanes for runs of `like`'s topology, none loaded yet; None unless it is the thesis
+    /// rope's chain ([`Rope`]).
+    pub fn new(like: &Xpbd) -> Option<Self> {
+        let rope = rope_of(like.system())?;
+        let (springs, nodes) = (rope.springs(), rope.nodes());
         let zero = Lanes4::splat(0.0);
-        Self {
+        Some(Self {
             coefficients: Coefficients {
                 dt: zero,
-                rest_length: vec![zero; springs.len()],
-                alpha_tilde: vec![zero; springs.len()],
-                inverse_denominator: vec![zero; springs.len()],
+                rest_length: vec![zero; springs],
+                alpha_tilde: vec![zero; springs],
+                inverse_denominator: vec![zero; springs],
                 w: vec![zero; nodes],
                 external_acceleration: vec![Vector3::zeros(); nodes],
             },
-            scratch: Scratch::new(springs.len(), nodes),
-            springs,
+            scratch: Scratch::new(springs, nodes),
+            rope,
             iterations: [0; WIDTH],
             states: LaneStates::new(nodes),
             done: vec![Vector3::zeros(); nodes],
-        }
+        })
     }
+}
+
+/// `system`'s springs as the batches' [`Rope`], if they are its chain.
+fn rope_of(system: &MassSpringSystem) -> Option<Rope> {
+    Rope::of(&Ends::of(system))
 }
 
 impl LaneSolver for XpbdLanes {
@@ -51,15 +60,8 @@ impl LaneSolver for XpbdLanes {
 
     fn load(&mut self, lane: usize, run: &Xpbd, state: &State) {
         assert!(
-            run.counts_iterations()
-                && run.system().springs().len() == self.springs.len()
-                && run
-                    .system()
-                    .springs()
-                    .iter()
-                    .zip(&self.springs)
-                    .all(|(a, b)| (a.a, a.b) == (b.a, b.b)),
-            "a batch holds runs of one topology that count their iterations"
+            run.counts_iterations() && rope_of(run.system()).is_some(),
+            "a batch holds runs of the thesis rope that count their iterations"
         );
         let (into, from) = (&mut self.coefficients, run.coefficients());
         into.dt.replace(lane, from.dt);
@@ -89,9 +91,9 @@ impl LaneSolver for XpbdLanes {
     fn step(&mut self) {
         let c = &self.coefficients;
         c.predict(&mut self.states.x, &self.states.v, &mut self.scratch);
-        let (springs, lambda) = (&self.springs, &mut self.scratch.lambda);
+        let (rope, lambda) = (&self.rope, &mut self.scratch.lambda);
         iterate_lanes(&self.iterations, &mut self.states.x, &mut self.done, |x| {
-            c.sweep(springs, x, lambda)
+            c.sweep(rope, x, lambda)
         });
         c.velocities(&self.states.x, &mut self.states.v, &self.scratch);
     }

@@ -205,7 +205,7 @@ pub fn run_experiments(
                 _ => run_batch(
                     batch,
                     |system, row, _| Xpbd::new(system, row.dt_s, row.iterations),
-                    XpbdLanes::new,
+                    |like| XpbdLanes::new(like).expect("the thesis rope is a batch's rope"),
                 ),
             }
         },
