@@ -439,11 +439,14 @@ mod tests {
         let sheet = SheetParams::spec(4, 1e3).build().unwrap();
         let liu = |system| FastMassSpring::new(system, 1e-3, 1).unwrap();
         let admm = |system| AdmmPd::new(system, 1e-3, 1).unwrap();
+        let xpbd = |system| Xpbd::new(system, 1e-3, 1).unwrap();
         assert!(LiuLanes::new(&liu(&rope)).is_some());
         assert!(super::admm::AdmmLanes::new(&admm(&rope)).is_some());
+        assert!(XpbdLanes::new(&xpbd(&rope)).is_some());
         for other in [&shorter, &sheet] {
             assert!(LiuLanes::new(&liu(other)).is_none());
             assert!(super::admm::AdmmLanes::new(&admm(other)).is_none());
+            assert!(XpbdLanes::new(&xpbd(other)).is_none());
         }
     }
 
