@@ -110,17 +110,6 @@ impl AdmmVariant {
         stale_rhs: false,
     };
 
-    /// The first iterate that makes [`AdmmPd`](crate::solvers::admm::AdmmPd) this variant, bit
-    /// for bit, when it departs from Algorithm 4 in its start only (line 2.1's $`\tilde x`$ is
-    /// [`FirstIterate::InertialPrediction`]); None when it departs in anything else.
-    pub fn as_first_iterate(&self) -> Option<FirstIterate> {
-        let start_only = AdmmVariant {
-            start: StartPoint::Prediction,
-            ..*self
-        } == AdmmVariant::PRINTED;
-        start_only.then_some(self.start.first_iterate())
-    }
-
     /// Whether the variant's runs can take a lane of a batch
     /// ([`crate::solvers::batch::admm`], whose step is Algorithm 4's with each lane's own
     /// weights and start): it departs from Algorithm 4 in its start and weights only.
