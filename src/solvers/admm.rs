@@ -375,11 +375,6 @@ impl AdmmPd {
         self.convergence.stopping() == crate::integrators::stopping::Stopping::Count
     }
 
-    /// The weights $`\omega_i`$.
-    pub fn omega(&self) -> &[f64] {
-        self.iterate.omega()
-    }
-
     /// The iteration's per-spring data ($`D`$, $`dt^2\omega_i^2`$) at the solver's own step.
     pub fn iterate_data(&self) -> &AdmmIterate {
         &self.iterate

@@ -18,43 +18,39 @@ use nalgebra::Vector3;
 use simba::simd::SimdValue;
 use std::marker::PhantomData;
 
+/// What a lane loads of an ADMM-PD run ([`AdmmRun::lane_data`]).
+pub struct AdmmLaneData<'a> {
+    /// Iterations per step.
+    pub iterations: usize,
+    /// Where each step starts.
+    pub first_iterate: FirstIterate,
+    /// Whether each step runs its full count of iterations.
+    pub counts_iterations: bool,
+    /// The iteration's per-spring data ($`D`$, $`\omega_i`$, $`dt^2\omega_i^2`$).
+    pub iterate: &'a AdmmIterate,
+    /// $`A`$ of the run's step, prefactored (line 1.5).
+    pub a: &'a GlobalSolve,
+}
+
 /// A run a lane can hold: Algorithm 4 as printed, with its own weights $`\omega_i`$, first
 /// iterate and prefactored $`A`$, counting its iterations. [`AdmmPd`] is one; so is a forensic
 /// variant that departs from Algorithm 4 in its start and weights only
 /// ([`crate::studies::forensics::VariantAdmm`]), whose lanes are then that variant's runs bit for
 /// bit.
 pub trait AdmmRun: TimeStepper + Clone {
-    /// Iterations per step.
-    fn iterations(&self) -> usize;
-    /// Where each step starts.
-    fn first_iterate(&self) -> FirstIterate;
-    /// Whether each step runs its full count of iterations.
-    fn counts_iterations(&self) -> bool;
-    /// The iteration's per-spring data ($`D`$, $`\omega_i`$, $`dt^2\omega_i^2`$).
-    fn iterate_data(&self) -> &AdmmIterate;
-    /// $`A`$ of the run's step, prefactored (line 1.5).
-    fn own_step(&self) -> &GlobalSolve;
+    /// What a lane loads of the run.
+    fn lane_data(&self) -> AdmmLaneData<'_>;
 }
 
 impl AdmmRun for AdmmPd {
-    fn iterations(&self) -> usize {
-        AdmmPd::iterations(self)
-    }
-
-    fn first_iterate(&self) -> FirstIterate {
-        AdmmPd::first_iterate(self)
-    }
-
-    fn counts_iterations(&self) -> bool {
-        AdmmPd::counts_iterations(self)
-    }
-
-    fn iterate_data(&self) -> &AdmmIterate {
-        AdmmPd::iterate_data(self)
-    }
-
-    fn own_step(&self) -> &GlobalSolve {
-        AdmmPd::own_step(self)
+    fn lane_data(&self) -> AdmmLaneData<'_> {
+        AdmmLaneData {
+            iterations: self.iterations(),
+            first_iterate: self.first_iterate(),
+            counts_iterations: self.counts_iterations(),
+            iterate: self.iterate_data(),
+            a: self.own_step(),
+        }
     }
 }
 
@@ -83,11 +79,11 @@ impl<R: AdmmRun> AdmmLanes<R> {
     /// Lanes for runs of `like`'s topology and fixed nodes, none loaded yet; None unless it is
     /// the thesis rope's chain ([`super::projective::Rope`]) with a tridiagonal global solve.
     pub fn new(like: &R) -> Option<Self> {
-        let system = like.system();
+        let (system, data) = (like.system(), like.lane_data());
         let (n, s) = (system.len(), system.springs().len());
         let zero = Lanes4::splat(0.0);
         Some(Self {
-            core: ProjectiveLanes::new(system, like.iterate_data().reduction(), like.own_step())?,
+            core: ProjectiveLanes::new(system, data.iterate.reduction(), data.a)?,
             stiffness: vec![zero; s],
             omega: vec![zero; s],
             dt2_omega2: vec![zero; s],
@@ -106,12 +102,12 @@ impl<R: AdmmRun> LaneSolver for AdmmLanes<R> {
     type Run = R;
 
     fn load(&mut self, lane: usize, run: &R, state: &State) {
-        let system = run.system();
+        let (system, data) = (run.system(), run.lane_data());
         assert!(
             self.core.holds(
                 system,
-                run.counts_iterations(),
-                run.first_iterate(),
+                data.counts_iterations,
+                data.first_iterate,
                 &[
                     FirstIterate::Previous,
                     FirstIterate::Inertial,
@@ -126,16 +122,16 @@ impl<R: AdmmRun> LaneSolver for AdmmLanes<R> {
             lane,
             system,
             dt,
-            run.iterate_data().reduction(),
-            run.own_step(),
+            data.iterate.reduction(),
+            data.a,
             state,
-            run.iterations(),
-            run.first_iterate(),
+            data.iterations,
+            data.first_iterate,
         );
         let stiffness: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
         load_values(&mut self.stiffness, lane, &stiffness);
-        load_values(&mut self.omega, lane, run.iterate_data().omega());
-        load_values(&mut self.dt2_omega2, lane, run.iterate_data().dt2_omega2());
+        load_values(&mut self.omega, lane, data.iterate.omega());
+        load_values(&mut self.dt2_omega2, lane, data.iterate.dt2_omega2());
         let pulls: Vec<Vec3> = (0..system.len()).map(|i| pull(system, dt, i)).collect();
         load_points(&mut self.pull, lane, &pulls);
     }

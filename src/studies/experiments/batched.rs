@@ -7,18 +7,16 @@
 use super::{expected_cost, pool, profile_label, run_experiment, setup, Configuration};
 use super::{measure, run_parallel, PublishedRow, Reference, ResultSet};
 use crate::error::Result;
-use crate::integrators::first_iterate::FirstIterate as Start;
 use crate::integrators::stopping::Convergence;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::integrators::time_stepper::{Run, RunOptions};
 use crate::model::system::{MassSpringSystem, State};
-use crate::solvers::admm::{AdmmIterate, AdmmPd};
-use crate::solvers::batch::admm::{AdmmLanes, AdmmRun};
+use crate::solvers::admm::AdmmPd;
+use crate::solvers::batch::admm::{AdmmLaneData, AdmmLanes, AdmmRun};
 use crate::solvers::batch::liu::LiuLanes;
 use crate::solvers::batch::xpbd::XpbdLanes;
 use crate::solvers::batch::{simulate_batch, BatchOutcome, LaneSolver, WIDTH};
 use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
-use crate::solvers::projective::GlobalSolve;
 use crate::solvers::registry::SolverId;
 use crate::solvers::xpbd::Xpbd;
 use crate::studies::experiments::SolverChoice;
@@ -107,38 +105,10 @@ impl TimeStepper for AdmmJob {
 }
 
 impl AdmmRun for AdmmJob {
-    fn iterations(&self) -> usize {
+    fn lane_data(&self) -> AdmmLaneData<'_> {
         match self {
-            AdmmJob::Printed(run) => AdmmRun::iterations(run),
-            AdmmJob::Variant(run) => AdmmRun::iterations(run),
-        }
-    }
-
-    fn first_iterate(&self) -> Start {
-        match self {
-            AdmmJob::Printed(run) => AdmmRun::first_iterate(run),
-            AdmmJob::Variant(run) => AdmmRun::first_iterate(run),
-        }
-    }
-
-    fn counts_iterations(&self) -> bool {
-        match self {
-            AdmmJob::Printed(run) => AdmmRun::counts_iterations(run),
-            AdmmJob::Variant(run) => AdmmRun::counts_iterations(run),
-        }
-    }
-
-    fn iterate_data(&self) -> &AdmmIterate {
-        match self {
-            AdmmJob::Printed(run) => AdmmRun::iterate_data(run),
-            AdmmJob::Variant(run) => AdmmRun::iterate_data(run),
-        }
-    }
-
-    fn own_step(&self) -> &GlobalSolve {
-        match self {
-            AdmmJob::Printed(run) => AdmmRun::own_step(run),
-            AdmmJob::Variant(run) => AdmmRun::own_step(run),
+            AdmmJob::Printed(run) => run.lane_data(),
+            AdmmJob::Variant(run) => run.lane_data(),
         }
     }
 }

@@ -24,7 +24,7 @@ use crate::model::boundary::EliminatedSystem;
 use crate::model::linear::Factorization;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::admm::{default_omega, AdmmIterate};
-use crate::solvers::batch::admm::AdmmRun;
+use crate::solvers::batch::admm::{AdmmLaneData, AdmmRun};
 use crate::solvers::projective::{finish_step, system_matrix, GlobalSolve};
 
 /// The per-spring weights $`\omega_i`$ of a variant.
@@ -276,32 +276,22 @@ impl VariantAdmm {
 /// the lanes' step (Algorithm 4's) runs as the variant's own step does (a test in
 /// `solvers::batch`).
 impl AdmmRun for VariantAdmm {
-    fn iterations(&self) -> usize {
-        self.iterations
-    }
-
-    fn first_iterate(&self) -> FirstIterate {
-        self.variant.start.first_iterate()
-    }
-
-    fn counts_iterations(&self) -> bool {
-        true
-    }
-
-    fn iterate_data(&self) -> &AdmmIterate {
-        &self.iterate
-    }
-
     /// # Panics
     /// For a variant that does not take a lane (its fixed nodes not imposed by Eqs 43-47).
-    fn own_step(&self) -> &GlobalSolve {
+    fn lane_data(&self) -> AdmmLaneData<'_> {
         assert!(
             self.variant.takes_a_lane(),
             "only a variant of start and weights takes a lane"
         );
-        match &self.a {
-            GlobalMatrix::Imposed(a) => a,
-            _ => unreachable!("a variant that takes a lane imposes its fixed nodes"),
+        let GlobalMatrix::Imposed(a) = &self.a else {
+            unreachable!("a variant that takes a lane imposes its fixed nodes")
+        };
+        AdmmLaneData {
+            iterations: self.iterations,
+            first_iterate: self.variant.start.first_iterate(),
+            counts_iterations: true,
+            iterate: &self.iterate,
+            a,
         }
     }
 }
