@@ -12,7 +12,7 @@
 
 use crate::model::Vec3;
 use nalgebra::Vector3;
-use simba::simd::{SimdRealField, WideF64x4};
+use simba::simd::{SimdRealField, SimdValue, WideF64x4};
 
 /// A value per run: `f64` for one run, [`Lanes4`] for four. Every [`SimdRealField`] whose lanes
 /// are `f64` is one; a step generic over it must keep to the operations the module doc lists.
@@ -59,5 +59,33 @@ pub fn select<T: Lane>(cond: T::SimdBool, a: Vector3<T>, b: Vector3<T>) -> Vecto
         a.x.select(cond, b.x),
         a.y.select(cond, b.y),
         a.z.select(cond, b.z),
+    )
+}
+
+/// The points `points[i]` at four indices as one point of four lanes (lane `j` from `at[j]`).
+/// Written out and inlined always: through `map` and `from_fn` the compiler made it a call
+/// per lane, which cost more than the four springs' arithmetic it fed.
+#[inline(always)]
+pub fn gather_points(points: &[Vec3], at: [usize; 4]) -> Vector3<Lanes4> {
+    let [p0, p1, p2, p3] = [
+        &points[at[0]],
+        &points[at[1]],
+        &points[at[2]],
+        &points[at[3]],
+    ];
+    Vector3::new(
+        Lanes4::from([p0.x, p1.x, p2.x, p3.x]),
+        Lanes4::from([p0.y, p1.y, p2.y, p3.y]),
+        Lanes4::from([p0.z, p1.z, p2.z, p3.z]),
+    )
+}
+
+/// Lane `lane` of a point of four lanes.
+#[inline(always)]
+pub fn lane_point(point: &Vector3<Lanes4>, lane: usize) -> Vec3 {
+    Vec3::new(
+        point.x.extract(lane),
+        point.y.extract(lane),
+        point.z.extract(lane),
     )
 }

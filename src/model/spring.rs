@@ -35,8 +35,12 @@ pub fn energy(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> f64 {
 
 /// Eq. (3): $`F_1 = -\partial E/\partial x_1 = -k\,C\,\nabla_{x_1}C`$, the force on $`x_1`$
 /// (the force on $`x_2`$ is $`-F_1`$).
-pub fn force(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Vec3 {
-    -k * constraint(x1, x2, l0) * constraint_gradient(x1, x2)
+///
+/// Generic over the [`Lane`] type like Eq. (1): `f64` is one spring, [`lanes::Lanes4`] four
+/// (the tutorial's forces, [`crate::particles::DampedSprings`]); the product is the same either
+/// way (IEEE multiplication commutes).
+pub fn force<T: Lane>(x1: &Vector3<T>, x2: &Vector3<T>, l0: T, k: T) -> Vector3<T> {
+    constraint_gradient(x1, x2) * (-k * constraint(x1, x2, l0))
 }
 
 /// Eq. (4): $`\partial F_1/\partial x_1 = -\partial^2 E/\partial x_1^2

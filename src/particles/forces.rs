@@ -4,8 +4,10 @@
 
 use super::{Force, Particles};
 use crate::error::{require_finite, require_non_negative, Result};
+use crate::model::lanes::{gather_points, lane_point, Lane, Lanes4};
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, Spring, State, Vec3};
+use nalgebra::Vector3;
 
 /// Gravity on a set of particles: $`f_i = m_i\,g`$. A system may hold several, each on its own
 /// set of particles.
@@ -75,20 +77,45 @@ impl Force for DampedSprings {
         Ok(())
     }
 
-    /// A few springs' forces at a time, then their sums in spring order: each spring's
-    /// square root and divisions run beside the others' instead of after the sums of the
-    /// spring before (the sums' order, so their bits, unchanged).
+    /// Four springs' forces at a time, as the four lanes of one vector ([`Lanes4`]), then
+    /// their sums in spring order: the square roots and divisions of four springs in one
+    /// instruction each, and each lane's force the bits of the spring's own (the lanes'
+    /// arithmetic is IEEE's, [`crate::model::lanes`]), so the sums' bits are those of one
+    /// spring at a time.
     fn accumulate(&self, system: &MassSpringSystem, state: &State, f: &mut [Vec3]) {
-        const AT_ONCE: usize = 8;
-        for springs in system.springs().chunks(AT_ONCE) {
-            let mut forces = [Vec3::zeros(); AT_ONCE];
-            for (f_a, s) in forces.iter_mut().zip(springs) {
-                *f_a = damped_spring_force(s, &state.x, &state.v);
-            }
-            for (f_a, s) in forces.iter().zip(springs) {
+        let mut fours = system.springs().chunks_exact(4);
+        for four in &mut fours {
+            let [s0, s1, s2, s3] = [&four[0], &four[1], &four[2], &four[3]];
+            let each = |of: fn(&Spring) -> f64| Lanes4::from([of(s0), of(s1), of(s2), of(s3)]);
+            let (a, b) = ([s0.a, s1.a, s2.a, s3.a], [s0.b, s1.b, s2.b, s3.b]);
+            let f_a = damped_spring_force(
+                &gather_points(&state.x, a),
+                &gather_points(&state.x, b),
+                &gather_points(&state.v, a),
+                &gather_points(&state.v, b),
+                each(|s| s.rest_length),
+                each(|s| s.stiffness),
+                each(|s| s.damping),
+            );
+            for (lane, s) in four.iter().enumerate() {
+                let f_a = lane_point(&f_a, lane);
                 f[s.a] += f_a;
                 f[s.b] -= f_a;
             }
+        }
+        for s in fours.remainder() {
+            let (x, v) = (&state.x, &state.v);
+            let f_a = damped_spring_force(
+                &x[s.a],
+                &x[s.b],
+                &v[s.a],
+                &v[s.b],
+                s.rest_length,
+                s.stiffness,
+                s.damping,
+            );
+            f[s.a] += f_a;
+            f[s.b] -= f_a;
         }
     }
 }
@@ -100,9 +127,99 @@ impl Force for DampedSprings {
 /// The elastic part is the thesis's Hooke force, Eq. (3) ([`spring::force`]); the damping part
 /// acts along the spring only, so it resists stretching and compression but not rotation. A
 /// collapsed spring ($`|l| = 0`$) has no axis and exerts no force.
-pub fn damped_spring_force(s: &Spring, x: &[Vec3], v: &[Vec3]) -> Vec3 {
-    let (x_a, x_b) = (&x[s.a], &x[s.b]);
+///
+/// Generic over the [`Lane`] type: `f64` is one spring, [`Lanes4`] four.
+pub fn damped_spring_force<T: Lane>(
+    x_a: &Vector3<T>,
+    x_b: &Vector3<T>,
+    v_a: &Vector3<T>,
+    v_b: &Vector3<T>,
+    rest_length: T,
+    k_s: T,
+    k_d: T,
+) -> Vector3<T> {
     let n = spring::constraint_gradient(x_a, x_b);
-    let l_dot = v[s.a] - v[s.b];
-    spring::force(x_a, x_b, s.rest_length, s.stiffness) - s.damping * l_dot.dot(&n) * n
+    let l_dot = v_a - v_b;
+    spring::force(x_a, x_b, rest_length, k_s) - n * (k_d * l_dot.dot(&n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::system::Node;
+
+    /// The springs' sum one spring at a time, at `f64`: the oracle of the four-lane one.
+    fn one_at_a_time(system: &MassSpringSystem, state: &State) -> Vec<Vec3> {
+        let mut f = vec![Vec3::zeros(); system.len()];
+        for s in system.springs() {
+            let (x, v) = (&state.x, &state.v);
+            let f_a = damped_spring_force(
+                &x[s.a],
+                &x[s.b],
+                &v[s.a],
+                &v[s.b],
+                s.rest_length,
+                s.stiffness,
+                s.damping,
+            );
+            f[s.a] += f_a;
+            f[s.b] -= f_a;
+        }
+        f
+    }
+
+    /// Four springs at a time give the bits of one at a time: eleven springs (two groups of
+    /// four and three left over) with their own rest lengths, stiffnesses and damping, on shared
+    /// nodes.
+    #[test]
+    fn four_springs_at_a_time_give_each_springs_own_bits() {
+        let mut nodes: Vec<Node> = (0..7)
+            .map(|i| {
+                let t = i as f64;
+                Node {
+                    mass: 1.0 + 0.1 * t,
+                    position: Vec3::new(0.37 * t, (1.3 * t).sin(), 0.21 * t * t),
+                    velocity: Vec3::new((0.7 * t).cos(), -0.3 * t, 0.11),
+                    fixed: false,
+                }
+            })
+            .collect();
+        nodes[6].position = nodes[5].position;
+        // Node 0 in all four springs of the first group, so that the order of the sums
+        // shows in their bits; the collapsed spring (5, 6) in a lane of the second.
+        let ends = [
+            (0, 1),
+            (2, 0),
+            (0, 3),
+            (4, 0),
+            (1, 2),
+            (5, 6),
+            (3, 4),
+            (2, 5),
+            (4, 5),
+            (6, 0),
+            (1, 3),
+        ];
+        let springs: Vec<Spring> = ends
+            .iter()
+            .enumerate()
+            .map(|(j, &(a, b))| Spring {
+                a,
+                b,
+                rest_length: 0.5 + 0.07 * j as f64,
+                stiffness: 1e3 * (1.0 + j as f64),
+                damping: 0.3 * j as f64,
+            })
+            .collect();
+        let system = MassSpringSystem::new(nodes, springs, Vec3::zeros()).unwrap();
+        let state = system.initial_state();
+        let mut f = vec![Vec3::zeros(); system.len()];
+        DampedSprings.accumulate(&system, &state, &mut f);
+        let bits = |f: &[Vec3]| {
+            f.iter()
+                .flat_map(|p| p.iter().map(|c| c.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&f), bits(&one_at_a_time(&system, &state)));
+    }
 }
