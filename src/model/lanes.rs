@@ -62,11 +62,86 @@ pub fn select<T: Lane>(cond: T::SimdBool, a: Vector3<T>, b: Vector3<T>) -> Vecto
     )
 }
 
+/// An element between two points, by their indices: a spring ([`crate::model::system::Spring`]
+/// implements it, so that this module need not import the model it serves).
+pub trait TwoEnds {
+    /// The indices of its two ends, a then b.
+    fn ends(&self) -> (usize, usize);
+}
+
+/// A spring's inputs to a force: one spring's at `f64`, four springs' side by side at
+/// [`Lanes4`] (lane `j` the `j`-th spring's).
+pub trait SpringInputs<S, T: Lane> {
+    /// The points of `points` at each spring's two ends, a then b.
+    fn ends(&self, points: &[Vec3]) -> (Vector3<T>, Vector3<T>);
+    /// Each spring's value `of`.
+    fn value(&self, of: fn(&S) -> f64) -> T;
+}
+
+impl<S: TwoEnds> SpringInputs<S, f64> for &S {
+    fn ends(&self, points: &[Vec3]) -> (Vec3, Vec3) {
+        let (a, b) = TwoEnds::ends(*self);
+        (points[a], points[b])
+    }
+
+    fn value(&self, of: fn(&S) -> f64) -> f64 {
+        of(self)
+    }
+}
+
+/// Written out and inlined always: through `map` and `from_fn` the compiler made each a call
+/// per lane, which cost more than the four springs' arithmetic they fed.
+impl<S: TwoEnds> SpringInputs<S, Lanes4> for [&S; 4] {
+    #[inline(always)]
+    fn ends(&self, points: &[Vec3]) -> (Vector3<Lanes4>, Vector3<Lanes4>) {
+        let [e0, e1, e2, e3] = self.map(TwoEnds::ends);
+        (
+            gather_points(points, [e0.0, e1.0, e2.0, e3.0]),
+            gather_points(points, [e0.1, e1.1, e2.1, e3.1]),
+        )
+    }
+
+    #[inline(always)]
+    fn value(&self, of: fn(&S) -> f64) -> Lanes4 {
+        let [s0, s1, s2, s3] = self;
+        Lanes4::from([of(s0), of(s1), of(s2), of(s3)])
+    }
+}
+
+/// A force on a spring's first end (its second end takes the negative), written once for
+/// every lane type.
+pub trait SpringForce<S> {
+    /// Implementations are inlined always (`#[inline(always)]`): a call returns the four
+    /// lanes' force through memory, which cost a quarter more than the arithmetic.
+    fn on_first_end<T: Lane>(&self, spring: &impl SpringInputs<S, T>) -> Vector3<T>;
+}
+
+/// Every spring's `force` on its first end, `sink(spring, force)` in spring order: computed
+/// four springs at a time as the lanes of one vector (the square roots and divisions of four
+/// springs in one instruction each), the springs left over one by one. Each lane's force has
+/// the bits of its spring's own (IEEE arithmetic, the module doc), so whatever `sink` sums in
+/// spring order has the bits of one spring at a time.
+pub fn each_spring_force<S: TwoEnds>(
+    springs: &[S],
+    force: &impl SpringForce<S>,
+    mut sink: impl FnMut(&S, Vec3),
+) {
+    let mut fours = springs.chunks_exact(4);
+    for four in &mut fours {
+        let four = [&four[0], &four[1], &four[2], &four[3]];
+        let f = force.on_first_end(&four);
+        for (lane, s) in four.into_iter().enumerate() {
+            sink(s, lane_point(&f, lane));
+        }
+    }
+    for s in fours.remainder() {
+        sink(s, force.on_first_end(&s));
+    }
+}
+
 /// The points `points[i]` at four indices as one point of four lanes (lane `j` from `at[j]`).
-/// Written out and inlined always: through `map` and `from_fn` the compiler made it a call
-/// per lane, which cost more than the four springs' arithmetic it fed.
 #[inline(always)]
-pub fn gather_points(points: &[Vec3], at: [usize; 4]) -> Vector3<Lanes4> {
+fn gather_points(points: &[Vec3], at: [usize; 4]) -> Vector3<Lanes4> {
     let [p0, p1, p2, p3] = [
         &points[at[0]],
         &points[at[1]],
@@ -82,7 +157,7 @@ pub fn gather_points(points: &[Vec3], at: [usize; 4]) -> Vector3<Lanes4> {
 
 /// Lane `lane` of a point of four lanes.
 #[inline(always)]
-pub fn lane_point(point: &Vector3<Lanes4>, lane: usize) -> Vec3 {
+fn lane_point(point: &Vector3<Lanes4>, lane: usize) -> Vec3 {
     Vec3::new(
         point.x.extract(lane),
         point.y.extract(lane),

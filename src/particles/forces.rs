@@ -4,7 +4,7 @@
 
 use super::{Force, Particles};
 use crate::error::{require_finite, require_non_negative, Result};
-use crate::model::lanes::{gather_points, lane_point, Lane, Lanes4};
+use crate::model::lanes::{each_spring_force, Lane, SpringForce, SpringInputs};
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, Spring, State, Vec3};
 use nalgebra::Vector3;
@@ -77,46 +77,31 @@ impl Force for DampedSprings {
         Ok(())
     }
 
-    /// Four springs' forces at a time, as the four lanes of one vector ([`Lanes4`]), then
-    /// their sums in spring order: the square roots and divisions of four springs in one
-    /// instruction each, and each lane's force the bits of the spring's own (the lanes'
-    /// arithmetic is IEEE's, [`crate::model::lanes`]), so the sums' bits are those of one
-    /// spring at a time.
+    /// Four springs at a time ([`each_spring_force`]), their sums in spring order.
     fn accumulate(&self, system: &MassSpringSystem, state: &State, f: &mut [Vec3]) {
-        let mut fours = system.springs().chunks_exact(4);
-        for four in &mut fours {
-            let [s0, s1, s2, s3] = [&four[0], &four[1], &four[2], &four[3]];
-            let each = |of: fn(&Spring) -> f64| Lanes4::from([of(s0), of(s1), of(s2), of(s3)]);
-            let (a, b) = ([s0.a, s1.a, s2.a, s3.a], [s0.b, s1.b, s2.b, s3.b]);
-            let f_a = damped_spring_force(
-                &gather_points(&state.x, a),
-                &gather_points(&state.x, b),
-                &gather_points(&state.v, a),
-                &gather_points(&state.v, b),
-                each(|s| s.rest_length),
-                each(|s| s.stiffness),
-                each(|s| s.damping),
-            );
-            for (lane, s) in four.iter().enumerate() {
-                let f_a = lane_point(&f_a, lane);
-                f[s.a] += f_a;
-                f[s.b] -= f_a;
-            }
-        }
-        for s in fours.remainder() {
-            let (x, v) = (&state.x, &state.v);
-            let f_a = damped_spring_force(
-                &x[s.a],
-                &x[s.b],
-                &v[s.a],
-                &v[s.b],
-                s.rest_length,
-                s.stiffness,
-                s.damping,
-            );
+        each_spring_force(system.springs(), &Damped(state), |s, f_a| {
             f[s.a] += f_a;
             f[s.b] -= f_a;
-        }
+        });
+    }
+}
+
+/// [`damped_spring_force`] at a state, for [`each_spring_force`].
+struct Damped<'a>(&'a State);
+
+impl SpringForce<Spring> for Damped<'_> {
+    #[inline(always)]
+    fn on_first_end<T: Lane>(&self, spring: &impl SpringInputs<Spring, T>) -> Vector3<T> {
+        let ((x_a, x_b), (v_a, v_b)) = (spring.ends(&self.0.x), spring.ends(&self.0.v));
+        damped_spring_force(
+            &x_a,
+            &x_b,
+            &v_a,
+            &v_b,
+            spring.value(|s| s.rest_length),
+            spring.value(|s| s.stiffness),
+            spring.value(|s| s.damping),
+        )
     }
 }
 
