@@ -95,10 +95,8 @@ impl BandedLdlt {
     /// The chain from row to row is $`d_{i-1} \to 1/d_{i-1} \to L_{i,i-1} \to d_i`$: its values
     /// stay in registers ($`1/d_{i-1}`$ carried over, $`d_i`$'s terms taken as each
     /// $`L_{ik}`$ is made, in the same ascending order), not stored and read back. Within a
-    /// row, the sums $`t_m`$ go in blocks of [`SUMS_TOGETHER`]: a block's sums take their
-    /// terms from the columns before the block side by side (four chains of additions
-    /// overlapping instead of one), then each its own terms within the block, in order; every
-    /// sum keeps its terms and their order.
+    /// row, the sums $`t_m`$ go in blocks of [`SUMS_TOGETHER`] ([`sums_together`]), the last
+    /// fewer; every sum keeps its terms and their order.
     #[inline(always)]
     fn factor(&mut self, p: usize, t: &mut [f64]) -> Result<()> {
         let w = p + 1;
@@ -119,45 +117,17 @@ impl BandedLdlt {
                     self.inverse_diagonal[i + m]
                 }
             };
-            // One sum after another: the first block (nothing before it to take side by
-            // side) and the last sums, fewer than a block.
-            let one_by_one = |m: usize, t: &mut [f64], l_i: &mut [f64], d: &mut f64| {
-                let mut s = l_i[m];
-                for (t_q, l_jq) in t[..m].iter().zip(row_j(m)) {
-                    s -= t_q * l_jq;
-                }
-                finish_sum(m, s, inverse(m), t, l_i, d);
-            };
-            for m in 0..p.min(SUMS_TOGETHER) {
-                one_by_one(m, t, l_i, &mut d);
-            }
-            let mut m0 = SUMS_TOGETHER;
+            let mut m0 = 0;
             while m0 + SUMS_TOGETHER <= p {
-                let [mut s0, mut s1, mut s2, mut s3]: [f64; SUMS_TOGETHER] =
-                    std::array::from_fn(|b| l_i[m0 + b]);
-                let (r0, r1, r2, r3) = (row_j(m0), row_j(m0 + 1), row_j(m0 + 2), row_j(m0 + 3));
-                // The columns before the block, side by side.
-                for ((((t_q, l0), l1), l2), l3) in t[..m0].iter().zip(r0).zip(r1).zip(r2).zip(r3) {
-                    s0 -= t_q * l0;
-                    s1 -= t_q * l1;
-                    s2 -= t_q * l2;
-                    s3 -= t_q * l3;
-                }
-                // The block's own columns, in order.
-                let t0 = finish_sum(m0, s0, inverse(m0), t, l_i, &mut d);
-                s1 -= t0 * r1[m0];
-                let t1 = finish_sum(m0 + 1, s1, inverse(m0 + 1), t, l_i, &mut d);
-                s2 -= t0 * r2[m0];
-                s2 -= t1 * r2[m0 + 1];
-                let t2 = finish_sum(m0 + 2, s2, inverse(m0 + 2), t, l_i, &mut d);
-                s3 -= t0 * r3[m0];
-                s3 -= t1 * r3[m0 + 1];
-                s3 -= t2 * r3[m0 + 2];
-                finish_sum(m0 + 3, s3, inverse(m0 + 3), t, l_i, &mut d);
+                sums_together::<SUMS_TOGETHER>(m0, t, l_i, &mut d, row_j, inverse);
                 m0 += SUMS_TOGETHER;
             }
-            for m in m0.min(p)..p {
-                one_by_one(m, t, l_i, &mut d);
+            // The last sums, fewer than a block, side by side too.
+            match p - m0 {
+                3 => sums_together::<3>(m0, t, l_i, &mut d, row_j, inverse),
+                2 => sums_together::<2>(m0, t, l_i, &mut d, row_j, inverse),
+                1 => sums_together::<1>(m0, t, l_i, &mut d, row_j, inverse),
+                _ => {}
             }
             inverse_before = inverse_pivot(i, d)?;
             self.inverse_diagonal[i + p] = inverse_before;
@@ -272,6 +242,34 @@ impl BandedLdlt {
             *newest = col[i] * inv - s;
             col[i] = *newest;
         }
+    }
+}
+
+/// Row i's sums $`t_{m_0}, \dots, t_{m_0 + B - 1}`$ (row j = i - p + m is `row_j(m)`, its
+/// $`1/d_j`$ `inverse(m)`): first the terms of the columns before the block, side by side (B
+/// chains of additions overlapping instead of one), then each sum's terms within the block, in
+/// order, and its end ([`finish_sum`]). Every sum keeps its terms and their order.
+#[inline(always)]
+fn sums_together<'a, const B: usize>(
+    m0: usize,
+    t: &mut [f64],
+    l_i: &mut [f64],
+    d: &mut f64,
+    row_j: impl Fn(usize) -> &'a [f64],
+    inverse: impl Fn(usize) -> f64,
+) {
+    let mut s: [f64; B] = std::array::from_fn(|b| l_i[m0 + b]);
+    let r: [&[f64]; B] = std::array::from_fn(|b| row_j(m0 + b));
+    for (q, t_q) in t[..m0].iter().enumerate() {
+        for (s, r) in s.iter_mut().zip(&r) {
+            *s -= t_q * r[q];
+        }
+    }
+    for b in 0..B {
+        for c in 0..b {
+            s[b] -= t[m0 + c] * r[b][m0 + c];
+        }
+        finish_sum(m0 + b, s[b], inverse(m0 + b), t, l_i, d);
     }
 }
 
