@@ -487,6 +487,13 @@ impl StageDissipation {
         }
     }
 
+    /// Whether [`Self::spring_block`] can be other than zero: not in the classical form without
+    /// $`\beta`$, whose blocks are $`(\beta\tau) H_i`$ with $`H_i`$ never set, +0 in every entry
+    /// (so that subtracting them leaves every value's bits as they were, -0 included).
+    pub fn has_spring_blocks(&self) -> bool {
+        !(self.dissipation.form == RayleighForm::Classical && self.dissipation.rayleigh.beta == 0.0)
+    }
+
     /// Spring `i`'s block of $`\tau^2\nabla^2\Psi`$ at `x`, entering as $`D_i^\top B_i D_i`$:
     /// $`\beta\tau H_i(x_D)`$ (classical), or the damping spring's Hessian times $`\tau^2`$
     /// (momentum-conserving; projected to the positive semidefinite cone when `definite`).
@@ -571,5 +578,65 @@ impl StageDissipation {
             return Matrix3::zeros();
         }
         self.dt * drag_curvature(c, p, self.velocity(x, i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::scene::thesis_rope;
+
+    /// Without spring blocks (the classical form at β = 0, mass-proportional damping and drag
+    /// allowed) every block is +0 in every entry, so that Backward Euler's assembly may skip
+    /// subtracting them; with β > 0, or the momentum-conserving form, it has them (and the
+    /// check: its blocks are not all +0).
+    #[test]
+    fn only_the_classical_form_without_beta_has_no_spring_blocks() {
+        let system = thesis_rope(1e3).unwrap();
+        let x: Vec<Vec3> = system
+            .nodes()
+            .iter()
+            .enumerate()
+            .map(|(i, n)| n.position + Vec3::new(0.01 * i as f64, -0.02, 0.0))
+            .collect();
+        let forms = [
+            (Dissipation::NONE, false),
+            (
+                Dissipation::rayleigh(RayleighDamping {
+                    alpha: 0.3,
+                    beta: 0.0,
+                }),
+                false,
+            ),
+            (
+                Dissipation::rayleigh(RayleighDamping {
+                    alpha: 0.0,
+                    beta: 0.01,
+                }),
+                true,
+            ),
+            (
+                Dissipation {
+                    form: RayleighForm::MomentumConserving,
+                    ..Dissipation::rayleigh(RayleighDamping {
+                        alpha: 0.0,
+                        beta: 0.01,
+                    })
+                },
+                true,
+            ),
+        ];
+        for (dissipation, has) in forms {
+            let mut stage = StageDissipation::new(&system, dissipation);
+            stage.start(&system, &x, &x, 1e-3);
+            assert_eq!(stage.has_spring_blocks(), has, "{dissipation:?}");
+            let all_positive_zero = (0..system.springs().len()).all(|i| {
+                stage
+                    .spring_block(&system, &x, i, false)
+                    .iter()
+                    .all(|v| v.to_bits() == 0)
+            });
+            assert_eq!(all_positive_zero, !has, "{dissipation:?}");
+        }
     }
 }

@@ -142,9 +142,13 @@ impl ImplicitMatrix {
             }
         }
         let dt2 = dt * dt;
+        let damping_blocks = dissipation.has_spring_blocks();
         for (i, ([aa, ab, ba, bb], jac)) in self.spring_blocks.iter().zip(jacobians).enumerate() {
             // The damping block enters like a force Jacobian of the opposite sign.
-            let jac = dt2 * jac - dissipation.spring_block(system, x, i, definite);
+            let mut jac = dt2 * jac;
+            if damping_blocks {
+                jac -= dissipation.spring_block(system, x, i, definite);
+            }
             // dF_a/dx_a = dF_b/dx_b = J and dF_a/dx_b = dF_b/dx_a = -J.
             for rc in 0..9 {
                 let dt2_j = jac[(rc / 3, rc % 3)];
