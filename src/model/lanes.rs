@@ -9,6 +9,9 @@
 //! generic step never calls `mul_add` (nor nalgebra's `axpy`, `gemv` and friends, which may):
 //! only the element-wise operators, `norm` (whose sum of the three squares nalgebra adds in
 //! index order for a 3-vector, as in a scalar run) and comparisons with `if_else`.
+//!
+//! The same lanes hold four springs of one run where their forces are independent
+//! ([`each_spring_force`]): the forces four at a time, their sums one spring at a time.
 
 use crate::model::Vec3;
 use nalgebra::Vector3;
@@ -89,8 +92,9 @@ impl<S: TwoEnds> SpringInputs<S, f64> for &S {
     }
 }
 
-/// Written out and inlined always: through `map` and `from_fn` the compiler made each a call
-/// per lane, which cost more than the four springs' arithmetic they fed.
+/// Inlined always, the points gathered written out ([`gather_points`]): through `map` and
+/// `from_fn` over the points the compiler made each lane a call, which cost more than the four
+/// springs' arithmetic they fed (the `map` over the four index pairs below did not).
 impl<S: TwoEnds> SpringInputs<S, Lanes4> for [&S; 4] {
     #[inline(always)]
     fn ends(&self, points: &[Vec3]) -> (Vector3<Lanes4>, Vector3<Lanes4>) {

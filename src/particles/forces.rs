@@ -113,7 +113,8 @@ impl SpringForce<Spring> for Damped<'_> {
 /// acts along the spring only, so it resists stretching and compression but not rotation. A
 /// collapsed spring ($`|l| = 0`$) has no axis and exerts no force.
 ///
-/// Generic over the [`Lane`] type: `f64` is one spring, [`Lanes4`] four.
+/// Generic over the [`Lane`] type: `f64` is one spring,
+/// [`Lanes4`](crate::model::lanes::Lanes4) four.
 pub fn damped_spring_force<T: Lane>(
     x_a: &Vector3<T>,
     x_b: &Vector3<T>,

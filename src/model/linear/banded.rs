@@ -47,9 +47,10 @@ pub struct BandedLdlt {
 }
 
 impl BandedLdlt {
-    /// Factors `a` with half-bandwidth p = `a.bandwidth()`. [`Factorization`] picks it up to
-    /// [`BANDED_MAX_BANDWIDTH`]; called directly it takes any p (its storage is $`(n + p)(p + 1)`$
-    /// values), for a solve that must stay scalar and deterministic (the sheet's equilibrium).
+    /// Factors `a` with half-bandwidth p = `a.bandwidth()`.
+    /// [`Factorization`](super::Factorization) picks it up to [`BANDED_MAX_BANDWIDTH`]; called
+    /// directly it takes any p (its storage is $`(n + p)(p + 1)`$ values), for a solve that must
+    /// stay scalar and deterministic (the sheet's equilibrium).
     pub fn new(a: &SymmetricMatrix) -> Result<Self> {
         let p = a.bandwidth();
         let w = p + 1;
