@@ -37,8 +37,8 @@ pub fn energy(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> f64 {
 /// (the force on $`x_2`$ is $`-F_1`$).
 ///
 /// Generic over the [`Lane`] type like Eq. (1): `f64` is one spring, [`lanes::Lanes4`] four
-/// (the tutorial's forces, [`crate::particles::DampedSprings`]); the product is the same either
-/// way (IEEE multiplication commutes).
+/// ([`lanes::each_spring_force`]: the system's forces and the tutorial's damped springs); the
+/// product is the same either way (IEEE multiplication commutes).
 pub fn force<T: Lane>(x1: &Vector3<T>, x2: &Vector3<T>, l0: T, k: T) -> Vector3<T> {
     constraint_gradient(x1, x2) * (-k * constraint(x1, x2, l0))
 }

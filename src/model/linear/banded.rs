@@ -24,11 +24,9 @@ const SUMS_TOGETHER: usize = 4;
 /// substitutions add the newest unknown last, and several right-hand sides are swept
 /// together, row by row, so that their independent chains overlap. The half-bandwidths the
 /// report factors most are dispatched as constants, so that their loops unroll: 5, that of
-/// Backward Euler's 3n×3n matrix of the rope (10 million factorisations and solves a report),
-/// 35, that of the 10×10 sheet's (65 thousand), and in the substitutions 11, that of the
-/// sheet's n×n projective matrix (a million three-column solves). Measured with a scratch
-/// program, one core, six alternating runs each (`docs/performance.md`): the sheet's
-/// factorisation 73 → 64 µs, its solve 15.1 → 12.9 µs, the projective solve 2.36 → 1.86 µs.
+/// Backward Euler's 3n×3n matrix of the rope, 35, that of the 10×10 sheet's, and in the
+/// substitutions 11, that of the sheet's n×n projective matrix (how often each is called, and
+/// what the constants gained: `docs/performance.md`, "Inner loops beside their floors").
 #[derive(Debug, Clone)]
 pub struct BandedLdlt {
     n: usize,
