@@ -263,25 +263,39 @@ impl<T: Lane> Coefficients<T> {
     pub fn sweep<G: SpringGraph>(&self, graph: &G, x: &mut [Vector3<T>], lambda: &mut [T]) {
         let x = &mut x[..graph.nodes()];
         for (j, lambda_j) in lambda[..graph.springs()].iter_mut().enumerate() {
-            let (a, b) = graph.ends(j);
-            let (w1, w2) = (self.w[a], self.w[b]);
-            // Eqs 48-49.
-            let c = spring::constraint(&x[a], &x[b], self.rest_length[j]);
-            let grad = spring::constraint_gradient(&x[a], &x[b]);
-            // Line 6, Eqs 18 and 50.
-            let delta_lambda = delta_lambda(
-                c,
-                self.alpha_tilde[j],
-                *lambda_j,
-                self.inverse_denominator[j],
-            );
-            // Line 7, Eqs 19 and 51.
-            let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, delta_lambda);
-            // Lines 8-9.
-            *lambda_j += delta_lambda;
-            x[a] += delta_x1;
-            x[b] += delta_x2;
+            self.project(j, graph.ends(j), x, lambda_j);
         }
+    }
+
+    /// Algorithm 2, lines 6-9 for spring `j` between nodes `a` and `b`: its constraint's
+    /// $`\Delta\lambda`$ and the position update it makes. A sweep is this for every spring
+    /// in index order ([`Self::sweep`]); the batches' rope makes the same projections in
+    /// another order that keeps what each one sees ([`crate::solvers::batch::xpbd`]).
+    #[inline(always)]
+    pub fn project(
+        &self,
+        j: usize,
+        (a, b): (usize, usize),
+        x: &mut [Vector3<T>],
+        lambda_j: &mut T,
+    ) {
+        let (w1, w2) = (self.w[a], self.w[b]);
+        // Eqs 48-49.
+        let c = spring::constraint(&x[a], &x[b], self.rest_length[j]);
+        let grad = spring::constraint_gradient(&x[a], &x[b]);
+        // Line 6, Eqs 18 and 50.
+        let delta_lambda = delta_lambda(
+            c,
+            self.alpha_tilde[j],
+            *lambda_j,
+            self.inverse_denominator[j],
+        );
+        // Line 7, Eqs 19 and 51.
+        let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, delta_lambda);
+        // Lines 8-9.
+        *lambda_j += delta_lambda;
+        x[a] += delta_x1;
+        x[b] += delta_x2;
     }
 
     /// Algorithm 2, lines 13-14: $`x^{n+1} = x_i`$ (already in place),
