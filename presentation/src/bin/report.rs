@@ -25,6 +25,7 @@ use mass_spring_report::tutorial::TutorialChapter;
 use mass_spring_report::{crate_root, render, repository_containing, ReportData, Sources};
 use mass_spring_solvers::error::Failure;
 use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::experiments::pool::yield_cores_to_other_threads;
 use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
 use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
 use mass_spring_solvers::Error;
@@ -132,10 +133,12 @@ fn run(args: Args) -> Result<String, Failure> {
     // nothing of this machine's.
     let wall = WallTiming::load(&root.join("report/timing")).map_err(Failure::Input)?;
     // The chapters beyond the thesis need nothing of its runs: they run beside them, on a
-    // thread of their own, so that while one group's pool waits for its longest job (the
-    // forensic bisection's rounds, the benchmark's exact motions) the other has the cores.
+    // thread of their own, so that while the thesis's pool waits for its longest job (the
+    // forensic bisection's rounds) the other has the cores. They yield the cores to the
+    // thesis's threads, which have them whenever they can use them.
     let (thesis, beyond_thesis) = std::thread::scope(|scope| {
         let beyond_thesis = scope.spawn(|| {
+            yield_cores_to_other_threads();
             let mut phases = Phases::default();
             let tutorial = phases.run("the tutorial's chapter", None, TutorialChapter::compute)?;
             let beyond = phases.run(

@@ -8,6 +8,7 @@ use std::cell::RefCell;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::{Scope, ScopedJoinHandle};
+use std::time::Instant;
 
 thread_local! {
     /// Where the threads this thread starts charge their CPU time, ns: the account of the
@@ -53,10 +54,31 @@ pub fn spawn_charged<'scope, T: Send + 'scope>(
     })
 }
 
+/// Gives the cores to the process's other threads first: the calling thread's scheduling
+/// priority drops to the lowest (nice 19), so that while a thread of the default priority
+/// waits for a core it gets it, and this thread runs on what they leave idle. On Linux a
+/// thread's nice value is its own, and the threads it starts inherit it; elsewhere (where it
+/// would be the whole process's) this does nothing. Work whose wall time nobody waits on
+/// first (the report's chapters beyond the thesis, beside the thesis's runs) calls it.
+pub fn yield_cores_to_other_threads() {
+    #[cfg(target_os = "linux")]
+    {
+        // Lowering one's own priority needs no privilege; failing, the thread keeps its own.
+        let _ = rustix::process::setpriority_process(None, 19);
+    }
+}
+
 /// Whether `MSS_PROFILE` is set (read once per process).
 fn profiling() -> bool {
     static ON: OnceLock<bool> = OnceLock::new();
     *ON.get_or_init(|| std::env::var_os("MSS_PROFILE").is_some())
+}
+
+/// Wall time since the first profiled job began, s (the profile's clock, so that its lines
+/// show which jobs ran when: the critical path).
+fn profile_clock() -> f64 {
+    static START: OnceLock<Instant> = OnceLock::new();
+    START.get_or_init(Instant::now).elapsed().as_secs_f64()
 }
 
 /// The CPU time of the calling thread, s; None where the platform has no such clock.
@@ -73,8 +95,9 @@ pub fn thread_cpu_seconds() -> Option<f64> {
 }
 
 /// Runs `work` on this thread and, when `MSS_PROFILE` is set, prints `profile: WHAT: CPU s`
-/// (and what `detail` says of the outcome) to stderr: the thread's CPU time is the cost of one
-/// job even when other jobs and processes share the cores.
+/// (and what `detail` says of the outcome, and the wall-clock interval it ran in) to stderr:
+/// the thread's CPU time is the cost of one job even when other jobs and processes share the
+/// cores.
 pub fn profiled<R>(
     what: impl FnOnce() -> String,
     detail: impl FnOnce(&R) -> String,
@@ -83,10 +106,15 @@ pub fn profiled<R>(
     if !profiling() {
         return work();
     }
-    let before = thread_cpu_seconds();
+    let (began, before) = (profile_clock(), thread_cpu_seconds());
     let out = work();
     if let Some(cpu) = before.zip(thread_cpu_seconds()).map(|(b, a)| a - b) {
-        eprintln!("profile: {}{}: {cpu:.4} s CPU", what(), detail(&out));
+        let ended = profile_clock();
+        eprintln!(
+            "profile: {}{}: {cpu:.4} s CPU, wall {began:.2}-{ended:.2} s",
+            what(),
+            detail(&out)
+        );
     }
     out
 }
@@ -144,6 +172,24 @@ mod tests {
             x = std::hint::black_box(x + 1.0);
         }
         x
+    }
+
+    /// A thread that yields its cores lowers its own priority and its new threads', not its
+    /// caller's (Linux: fails if the nice value were the process's).
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn yielding_the_cores_lowers_this_thread_and_its_children_only() {
+        use rustix::process::getpriority_process;
+        let caller = getpriority_process(None).unwrap();
+        let (own, child) = std::thread::spawn(|| {
+            yield_cores_to_other_threads();
+            let child = std::thread::spawn(|| getpriority_process(None).unwrap());
+            (getpriority_process(None).unwrap(), child.join().unwrap())
+        })
+        .join()
+        .unwrap();
+        assert_eq!((own, child), (19, 19));
+        assert_eq!(getpriority_process(None).unwrap(), caller);
     }
 
     /// The CPU time of a piece of work counts its pool's workers, and theirs in a nested pool
