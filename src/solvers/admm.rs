@@ -144,13 +144,7 @@ pub fn global_rhs_of<T: Lane, G: SpringGraph>(
     dt2_omega2: &[T],
     x: &mut [T],
 ) {
-    let (s, columns) = (d.springs(), 3 * d.nodes());
-    let x = &mut x[..columns];
-    x.copy_from_slice(&m_x_tilde[..columns]);
-    let per_spring = z[..s].iter().zip(&u_bar[..s]).zip(&dt2_omega2[..s]);
-    for (i, ((&z, &u_bar), &w)) in per_spring.enumerate() {
-        d.add_row_transposed(i, (z - u_bar) * w, x);
-    }
+    d.b_plus_transposed(m_x_tilde, |i| (z[i] - u_bar[i]) * dt2_omega2[i], x);
 }
 
 /// The iteration of Algorithm 4 within one step (lines 2.1-2.10): its iterate, its auxiliary

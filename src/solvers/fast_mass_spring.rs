@@ -290,12 +290,7 @@ pub fn global_rhs<T: Lane, G: SpringGraph>(
     dt2: T,
     x: &mut [T],
 ) {
-    let columns = 3 * j.nodes();
-    let x = &mut x[..columns];
-    x.copy_from_slice(&b[..columns]);
-    for (i, &d) in d[..j.springs()].iter().enumerate() {
-        j.add_row_transposed(i, d * dt2, x);
-    }
+    j.b_plus_transposed(b, |i| d[i] * dt2, x);
 }
 
 impl TimeStepper for FastMassSpring {

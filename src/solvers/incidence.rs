@@ -14,6 +14,8 @@ use nalgebra::Vector3;
 
 /// Which nodes each spring joins: the shape of a spring graph, apart from its weights.
 pub trait SpringGraph: Clone + std::fmt::Debug + PartialEq {
+    /// Whether every graph of the type is a chain, spring i joining nodes i and i + 1 ([`Chain`]).
+    const CHAIN: bool = false;
     /// Number of nodes n.
     fn nodes(&self) -> usize;
     /// Number of springs s.
@@ -71,6 +73,8 @@ impl<const N: usize> Chain<N> {
 }
 
 impl<const N: usize> SpringGraph for Chain<N> {
+    const CHAIN: bool = true;
+
     #[inline(always)]
     fn nodes(&self) -> usize {
         N
@@ -181,6 +185,40 @@ impl<T: Lane, G: SpringGraph> SpringIncidence<T, G> {
         let (a, b) = self.graph.ends(i);
         let [x, y, z] = coordinates(x, self.graph.nodes());
         Vector3::new(x[a] - x[b], y[a] - y[b], z[a] - z[b])
+    }
+
+    /// `out` $`= b + \sum_i`$ row i transposed times `values(i)`: `b` copied, then
+    /// [`Self::add_row_transposed`] for every spring in index order (the global right-hand
+    /// sides of Eqs (29) and (40)). On a [`Chain`] node by node instead, each node's sum in
+    /// registers: node j is the second end of spring j - 1 and the first of spring j, so its
+    /// sum takes their terms in that order, as the springs' order does (the same bits, without
+    /// the copy and the stores and loads between two springs that share a node).
+    #[inline(always)]
+    pub fn b_plus_transposed(&self, b: &[T], values: impl Fn(usize) -> Vector3<T>, out: &mut [T]) {
+        let n = self.nodes();
+        let (b, out) = (&b[..3 * n], &mut out[..3 * n]);
+        if !G::CHAIN {
+            out.copy_from_slice(b);
+            for i in 0..self.springs() {
+                self.add_row_transposed(i, values(i), out);
+            }
+            return;
+        }
+        let mut ending_here: Option<Vector3<T>> = None;
+        for j in 0..n {
+            let starting_here = (j + 1 < n).then(|| values(j) * self.weights[j]);
+            for c in 0..3 {
+                let mut sum = b[c * n + j];
+                if let Some(v) = ending_here {
+                    sum -= v[c];
+                }
+                if let Some(v) = starting_here {
+                    sum += v[c];
+                }
+                out[c * n + j] = sum;
+            }
+            ending_here = starting_here;
+        }
     }
 
     /// Adds row `i` transposed times `value` to the column-major `out` (length 3n):
