@@ -218,8 +218,9 @@ impl RunInfo {
         out += "\nA phase's CPU time is its own, over every thread it started (their thread CPU \
                 clocks); the total's is the process's user + system time. On a loaded machine \
                 CPU time, divided by the cores, is the figure to judge a phase by. The chapters \
-                beyond the thesis run beside the thesis's experiments and forensics, so the \
-                phases' wall times overlap and add up to more than the total.\n";
+                beyond the thesis run beside the thesis's experiments and forensics, at a lower \
+                priority (they have the cores the thesis's runs leave idle), so the phases' wall \
+                times overlap and add up to more than the total.\n";
         out += "\n| phase | wall time (s) | CPU time (s) | budget, wall on idle cores (s) |\n| --- | ---: | ---: | ---: |\n";
         let seconds =
             |d: Option<Duration>| d.map_or("–".into(), |d| format!("{:.2}", d.as_secs_f64()));

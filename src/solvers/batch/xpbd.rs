@@ -1,6 +1,7 @@
 //! XPBD (Algorithm 2) in lanes: [`crate::solvers::xpbd::Xpbd`]'s step at [`Lanes4`], four runs of the
 //! thesis rope's chain ([`super::projective::Rope`]; any dt, compliance, masses and iteration
-//! counts).
+//! counts), its projections ([`crate::solvers::xpbd::Coefficients::project`]) made in the
+//! wavefront order the chain allows (`sweeps_in_wavefront`), which keeps the sweeps' bits.
 
 use super::projective::Rope;
 use super::{lane_mask, Kept, LaneSolver, LaneStates, WIDTH};
