@@ -28,12 +28,26 @@ impl<T: SimdRealField<Element = f64> + Copy> Lane for T {}
 pub type Lanes4 = WideF64x4;
 
 /// Sets lane `lane` of every point of `into` to the matching point of `from`.
+///
+/// Each value is blended in (a broadcast, then a select by the lane's mask) rather than
+/// replaced through memory: a replacement stores the vector, writes one lane and loads it
+/// back, and the load waits for the narrower store to retire (a batch of damped runs loads
+/// every lane's velocities after every step).
 pub fn load_points<T: Lane>(into: &mut [Vector3<T>], lane: usize, from: &[Vec3]) {
+    let mask = lane_mask_of::<T>(lane);
     for (into, from) in into.iter_mut().zip(from) {
         for (into, &from) in into.iter_mut().zip(from.iter()) {
-            into.replace(lane, from);
+            *into = T::splat(from).select(mask, *into);
         }
     }
+}
+
+/// The mask that holds in lane `lane` only.
+fn lane_mask_of<T: Lane>(lane: usize) -> T::SimdBool {
+    let zero = T::splat(0.0);
+    let mut one = zero;
+    one.replace(lane, 1.0);
+    one.simd_gt(zero)
 }
 
 /// Lane `lane` of every point of `from`, into `into`.
