@@ -106,7 +106,7 @@ impl<S: TwoEnds> SpringInputs<S, f64> for &S {
     }
 }
 
-/// Inlined always, the points gathered written out ([`gather_points`]): through `map` and
+/// Inlined always, the points gathered written out (`gather_points`): through `map` and
 /// `from_fn` over the points the compiler made each lane a call, which cost more than the four
 /// springs' arithmetic they fed (the `map` over the four index pairs below did not).
 impl<S: TwoEnds> SpringInputs<S, Lanes4> for [&S; 4] {

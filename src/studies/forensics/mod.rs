@@ -209,7 +209,7 @@ impl Forensics {
     /// The faithful result set of `rows` and the forensics on it ([`Self::compute_with`]). The
     /// faithful runs go into one pool with every forensic run that needs nothing of their
     /// outcomes (the first forensic batch and the early gravity runs of
-    /// [`early_gravity_jobs`]), so that runs of one solver share the lanes of its batches and
+    /// `early_gravity_jobs`), so that runs of one solver share the lanes of its batches and
     /// the cores do not wait at a barrier between the faithful runs and the forensic ones.
     pub fn compute_with_faithful(
         rows: &[PublishedRow],
@@ -656,18 +656,18 @@ fn thesis_results() -> &'static (ResultSet, Forensics) {
     })
 }
 
-/// The faithful result set of all 56 rows ([`thesis_results`]).
+/// The faithful result set of all 56 rows (`thesis_results`).
 ///
 /// # Panics
-/// As [`thesis_results`].
+/// As `thesis_results`.
 pub fn faithful_results() -> &'static ResultSet {
     &thesis_results().0
 }
 
-/// The forensic results of all 56 rows ([`thesis_results`]).
+/// The forensic results of all 56 rows (`thesis_results`).
 ///
 /// # Panics
-/// As [`thesis_results`].
+/// As `thesis_results`.
 pub fn forensic_results() -> &'static Forensics {
     &thesis_results().1
 }
