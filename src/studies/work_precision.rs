@@ -14,6 +14,7 @@ use crate::model::system::MassSpringSystem;
 use crate::solvers::local_global::AdmmMerit;
 use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::studies::beyond::GridScene;
+use std::cell::OnceCell;
 
 /// The interval between the samples of the window, s: a multiple of every swept time step.
 pub const SAMPLE_INTERVAL_S: f64 = 0.1;
@@ -195,16 +196,47 @@ pub fn flops_solve(n: usize, p: usize, rhs: usize) -> f64 {
     (rhs * (4 * factor_nnz(n, p) + 2 * n)) as f64
 }
 
-/// The global solve of Liu 2013 and ADMM-PD: one node-graph matrix, three right-hand sides.
-fn flops_global_solve(system: &MassSpringSystem) -> f64 {
-    let a = spring_graph_matrix(system, 1);
-    flops_solve(a.dim(), a.bandwidth(), 3)
+/// The sizes (dimension, half-bandwidth) of the matrices the solvers factor on one system's
+/// spring graph, each found once: a count asks for them at every iteration of every run, and
+/// finding one builds the matrix's pattern.
+struct FactoredSizes<'a> {
+    system: &'a MassSpringSystem,
+    /// One unknown per node: the global solve of Liu 2013, ADMM-PD and L-BFGS.
+    node: OnceCell<(usize, usize)>,
+    /// Three unknowns per node: Newton's matrix.
+    block: OnceCell<(usize, usize)>,
 }
 
-/// [`flops_global_solve`]'s factorisation, once per run (dt and the stiffness are fixed).
-fn flops_global_factorization(system: &MassSpringSystem) -> f64 {
-    let a = spring_graph_matrix(system, 1);
-    flops_factorization(a.dim(), a.bandwidth())
+impl<'a> FactoredSizes<'a> {
+    fn new(system: &'a MassSpringSystem) -> Self {
+        Self {
+            system,
+            node: OnceCell::new(),
+            block: OnceCell::new(),
+        }
+    }
+
+    /// (dimension, half-bandwidth) with `block` (1 or 3) unknowns per node.
+    fn of(&self, block: usize) -> (usize, usize) {
+        let cell = if block == 1 { &self.node } else { &self.block };
+        *cell.get_or_init(|| {
+            let a = spring_graph_matrix(self.system, block);
+            (a.dim(), a.bandwidth())
+        })
+    }
+
+    /// The global solve of Liu 2013 and ADMM-PD: one node-graph matrix, three right-hand
+    /// sides.
+    fn global_solve(&self) -> f64 {
+        let (n, p) = self.of(1);
+        flops_solve(n, p, 3)
+    }
+
+    /// [`Self::global_solve`]'s factorisation, once per run (dt and the stiffness are fixed).
+    fn global_factorization(&self) -> f64 {
+        let (n, p) = self.of(1);
+        flops_factorization(n, p)
+    }
 }
 
 /// Floating-point operations before the first step: the factorisation of the global matrix
@@ -219,7 +251,7 @@ pub fn flops_setup(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
         | SolverId::AndersonLiu
         | SolverId::AndersonAdmm
         | SolverId::DampedAdmm
-        | SolverId::Lbfgs => flops_global_factorization(system),
+        | SolverId::Lbfgs => FactoredSizes::new(system).global_factorization(),
         _ => 0.0,
     }
 }
@@ -272,15 +304,20 @@ pub fn flops_per_step_overhead(spec: &SolverSpec, system: &MassSpringSystem) -> 
 /// at a direction below round-off ([`crate::solvers::quasi_newton::ROUND_OFF_STEP`]) is logged with
 /// that last iteration counted in full (an upper bound by its line search and gradient).
 pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize) -> f64 {
+    iteration_flops(spec, &FactoredSizes::new(system), j)
+}
+
+/// [`flops_of_iteration`] with the factored matrices' sizes found once for many iterations.
+fn iteration_flops(spec: &SolverSpec, sizes: &FactoredSizes, j: usize) -> f64 {
+    let system = sizes.system;
     let n = system.len() as f64;
     let s = system.springs().len() as f64;
     let c = 3.0 * n;
     let forces = s * FLOPS_SPRING_FORCE + c;
     let energy = s * FLOPS_SPRING_ENERGY + n * FLOPS_NODE_POTENTIAL;
-    let liu = s * (FLOPS_SPRING_PROJECTION + FLOPS_SPRING_RHS) + c + flops_global_solve(system);
-    let admm = s * (3.0 + 3.0 + FLOPS_SPRING_PROJECTION + 6.0 + 6.0 + 6.0)
-        + c
-        + flops_global_solve(system);
+    let liu = || s * (FLOPS_SPRING_PROJECTION + FLOPS_SPRING_RHS) + c + sizes.global_solve();
+    let admm =
+        || s * (3.0 + 3.0 + FLOPS_SPRING_PROJECTION + 6.0 + 6.0 + 6.0) + c + sizes.global_solve();
     let anderson = |base: f64, merit: f64| {
         let k = j.min(spec.params.window) as f64;
         let new_column = if j > 0 {
@@ -300,25 +337,25 @@ pub fn flops_of_iteration(spec: &SolverSpec, system: &MassSpringSystem, j: usize
     let chebyshev = |base: f64| base + 4.0 + 6.0 * c;
     match spec.id {
         SolverId::BackwardEuler | SolverId::DampedBackwardEuler => {
-            let a = spring_graph_matrix(system, 3);
+            let (dim, p) = sizes.of(3);
             s * (FLOPS_SPRING_FORCE + FLOPS_SPRING_JACOBIAN)
                 + 9.0 * c
-                + flops_factorization(a.dim(), a.bandwidth())
-                + flops_solve(a.dim(), a.bandwidth(), 1)
+                + flops_factorization(dim, p)
+                + flops_solve(dim, p, 1)
                 + 2.0 * c
         }
         SolverId::Pbd => s * (FLOPS_CONSTRAINT_PROJECTION - 2.0),
         SolverId::Xpbd => s * FLOPS_CONSTRAINT_PROJECTION,
         SolverId::XpbdSubsteps => s * FLOPS_CONSTRAINT_PROJECTION + 6.0 * c,
-        SolverId::FastMassSpring => liu,
-        SolverId::AdmmPd | SolverId::DampedAdmm => admm,
-        SolverId::ChebyshevLiu => chebyshev(liu),
-        SolverId::ChebyshevAdmm => chebyshev(admm),
-        SolverId::AndersonLiu => anderson(liu, energy),
-        SolverId::AndersonAdmm => anderson(admm, flops_admm_merit(spec, system)),
+        SolverId::FastMassSpring => liu(),
+        SolverId::AdmmPd | SolverId::DampedAdmm => admm(),
+        SolverId::ChebyshevLiu => chebyshev(liu()),
+        SolverId::ChebyshevAdmm => chebyshev(admm()),
+        SolverId::AndersonLiu => anderson(liu(), energy),
+        SolverId::AndersonAdmm => anderson(admm(), flops_admm_merit(spec, system)),
         SolverId::Lbfgs => {
             let k = j.min(spec.params.history) as f64;
-            let direction = 8.0 * k * c + 3.0 * k + flops_global_solve(system) + c;
+            let direction = 8.0 * k * c + 3.0 * k + sizes.global_solve() + c;
             let trial =
                 2.0 * c + s * FLOPS_SPRING_POTENTIAL_CHANGE + n * FLOPS_NODE_POTENTIAL_CHANGE;
             let gradient = s * FLOPS_SPRING_FORCE + 4.0 * c;
@@ -347,9 +384,10 @@ pub fn flops_per_iteration(spec: &SolverSpec, system: &MassSpringSystem) -> f64 
 
 /// A step: the overhead and each of its iterations.
 pub fn flops_per_step(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
+    let sizes = FactoredSizes::new(system);
     flops_per_step_overhead(spec, system)
         + (0..spec.iterations)
-            .map(|j| flops_of_iteration(spec, system, j))
+            .map(|j| iteration_flops(spec, &sizes, j))
             .sum::<f64>()
 }
 
@@ -423,12 +461,13 @@ pub fn flops_of_extra(spec: &SolverSpec, system: &MassSpringSystem) -> f64 {
 /// it is [`run_flops`].
 pub fn logged_flops(spec: &SolverSpec, system: &MassSpringSystem, log: &IterationLog) -> f64 {
     let overhead = flops_per_step_overhead(spec, system);
+    let sizes = FactoredSizes::new(system);
     let mut step_of = 0.0;
     let mut iterations = 0.0;
     let mut total = flops_setup(spec, system);
     for (m, &steps) in log.steps_by_iterations.iter().enumerate() {
         if m > 0 {
-            step_of += flops_of_iteration(spec, system, m - 1);
+            step_of += iteration_flops(spec, &sizes, m - 1);
         }
         iterations += (m as u64 * steps) as f64;
         total += steps as f64 * (overhead + step_of);
