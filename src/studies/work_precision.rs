@@ -216,11 +216,24 @@ impl<'a> FactoredSizes<'a> {
         }
     }
 
-    /// (dimension, half-bandwidth) with `block` (1 or 3) unknowns per node.
-    fn of(&self, block: usize) -> (usize, usize) {
-        let cell = if block == 1 { &self.node } else { &self.block };
+    /// (dimension, half-bandwidth) of the global solve's matrix, one unknown per node.
+    fn node(&self) -> (usize, usize) {
+        Self::found(&self.node, self.system, 1)
+    }
+
+    /// (dimension, half-bandwidth) of Newton's matrix, three unknowns per node.
+    fn newton(&self) -> (usize, usize) {
+        Self::found(&self.block, self.system, 3)
+    }
+
+    /// `cell`'s sizes, found from the matrix with `block` unknowns per node the first time.
+    fn found(
+        cell: &OnceCell<(usize, usize)>,
+        system: &MassSpringSystem,
+        block: usize,
+    ) -> (usize, usize) {
         *cell.get_or_init(|| {
-            let a = spring_graph_matrix(self.system, block);
+            let a = spring_graph_matrix(system, block);
             (a.dim(), a.bandwidth())
         })
     }
@@ -228,13 +241,13 @@ impl<'a> FactoredSizes<'a> {
     /// The global solve of Liu 2013 and ADMM-PD: one node-graph matrix, three right-hand
     /// sides.
     fn global_solve(&self) -> f64 {
-        let (n, p) = self.of(1);
+        let (n, p) = self.node();
         flops_solve(n, p, 3)
     }
 
     /// [`Self::global_solve`]'s factorisation, once per run (dt and the stiffness are fixed).
     fn global_factorization(&self) -> f64 {
-        let (n, p) = self.of(1);
+        let (n, p) = self.node();
         flops_factorization(n, p)
     }
 }
@@ -337,7 +350,7 @@ fn iteration_flops(spec: &SolverSpec, sizes: &FactoredSizes, j: usize) -> f64 {
     let chebyshev = |base: f64| base + 4.0 + 6.0 * c;
     match spec.id {
         SolverId::BackwardEuler | SolverId::DampedBackwardEuler => {
-            let (dim, p) = sizes.of(3);
+            let (dim, p) = sizes.newton();
             s * (FLOPS_SPRING_FORCE + FLOPS_SPRING_JACOBIAN)
                 + 9.0 * c
                 + flops_factorization(dim, p)

@@ -21,9 +21,8 @@ pub struct XpbdLanes {
     scratch: Scratch<Lanes4>,
     /// Iterations per step of each lane's run (0: no run).
     iterations: [usize; WIDTH],
-    /// Per count of sweeps k up to the most, the lanes that take k and keep their positions
-    /// while the others sweep on (None where none does).
-    keeps: Vec<Option<Mask>>,
+    /// Which lanes stop sweeping before the others, from `iterations`.
+    counts: SweepCounts,
     states: LaneStates,
     /// The positions of the lanes whose iterations are done, kept while the others sweep.
     done: Vec<Vector3<Lanes4>>,
@@ -48,7 +47,7 @@ impl XpbdLanes {
             scratch: Scratch::new(springs, nodes),
             rope,
             iterations: [0; WIDTH],
-            keeps: vec![None],
+            counts: SweepCounts::of(&[0; WIDTH]),
             states: LaneStates::new(nodes),
             done: vec![Vector3::zeros(); nodes],
         })
@@ -65,18 +64,19 @@ impl XpbdLanes {
 /// order (the same operations on the same values: the bits of the sweeps), and the CPU
 /// overlaps four or five projections instead of waiting on one chain of nine per sweep.
 ///
-/// `keeps[k]` holds the lanes whose runs take k < `most` sweeps (None where there are none):
-/// node j's positions after its last move of sweep k - 1 go to `done` for them, as
-/// [`super::iterate_lanes`] keeps a finished lane's iterate, and are put back at the end.
+/// For the lanes whose runs take k sweeps, fewer than the most ([`SweepCounts`]), node j's
+/// positions after its last move of sweep k - 1 go to `done`, as [`super::iterate_lanes`]
+/// keeps a finished lane's iterate, and are put back at the end.
 fn sweeps_in_wavefront(
     rope: &Rope,
     c: &Coefficients<Lanes4>,
-    keeps: &[Option<Mask>],
+    counts: &SweepCounts,
     x: &mut [Vector3<Lanes4>],
     done: &mut [Vector3<Lanes4>],
     lambda: &mut [Lanes4],
 ) {
-    let (springs, most) = (rope.springs(), keeps.len() - 1);
+    let (springs, keeps) = (rope.springs(), &counts.keeps);
+    let most = keeps.len() - 1;
     let keep = |mask: Mask,
                 nodes: std::ops::RangeInclusive<usize>,
                 x: &[Vector3<Lanes4>],
@@ -107,10 +107,9 @@ fn sweeps_in_wavefront(
             }
         }
     }
-    let short = lane_mask(|lane| keeps.iter().flatten().any(|m| m.extract(lane)));
-    if short.any() {
+    if counts.short.any() {
         for (x, &done) in x.iter_mut().zip(done.iter()) {
-            *x = done.kept_where(short, *x);
+            *x = done.kept_where(counts.short, *x);
         }
     }
 }
@@ -118,16 +117,32 @@ fn sweeps_in_wavefront(
 /// Per lane, a boolean.
 type Mask = <Lanes4 as SimdValue>::SimdBool;
 
-/// Per count of sweeps k from 0 to the most of `iterations`, the lanes that take k, where
-/// there are any and k is not the most ([`sweeps_in_wavefront`]'s `keeps`).
-fn keeps(iterations: &[usize; WIDTH]) -> Vec<Option<Mask>> {
-    let most = iterations.iter().copied().max().unwrap_or(0);
-    (0..=most)
-        .map(|k| {
-            let mask = lane_mask(|lane| iterations[lane] == k);
-            (k < most && mask.any()).then_some(mask)
-        })
-        .collect()
+/// Which lanes stop sweeping before the others ([`sweeps_in_wavefront`]), made when a lane is
+/// loaded or cleared rather than at every step.
+#[derive(Debug, Clone)]
+struct SweepCounts {
+    /// Per count of sweeps k from 0 to the most, the lanes that take k, where there are any
+    /// and k is not the most.
+    keeps: Vec<Option<Mask>>,
+    /// The lanes that take fewer sweeps than the most.
+    short: Mask,
+}
+
+impl SweepCounts {
+    /// From each lane's count of sweeps (0: no run).
+    fn of(iterations: &[usize; WIDTH]) -> Self {
+        let most = iterations.iter().copied().max().unwrap_or(0);
+        let keeps = (0..=most)
+            .map(|k| {
+                let mask = lane_mask(|lane| iterations[lane] == k);
+                (k < most && mask.any()).then_some(mask)
+            })
+            .collect();
+        Self {
+            keeps,
+            short: lane_mask(|lane| iterations[lane] < most),
+        }
+    }
 }
 
 /// `system`'s springs as the batches' [`Rope`], if they are its chain.
@@ -160,12 +175,12 @@ impl LaneSolver for XpbdLanes {
         );
         self.states.load(lane, state);
         self.iterations[lane] = run.iterations();
-        self.keeps = keeps(&self.iterations);
+        self.counts = SweepCounts::of(&self.iterations);
     }
 
     fn clear(&mut self, lane: usize) {
         self.iterations[lane] = 0;
-        self.keeps = keeps(&self.iterations);
+        self.counts = SweepCounts::of(&self.iterations);
     }
 
     /// [`Xpbd`]'s step in every lane; a lane whose iterations are done keeps its positions
@@ -176,7 +191,7 @@ impl LaneSolver for XpbdLanes {
         sweeps_in_wavefront(
             &self.rope,
             c,
-            &self.keeps,
+            &self.counts,
             &mut self.states.x,
             &mut self.done,
             &mut self.scratch.lambda,
