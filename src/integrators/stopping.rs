@@ -24,6 +24,25 @@
 use crate::error::{require_positive, Result};
 use crate::model::system::{MassSpringSystem, State, Vec3};
 
+/// Whether an iteration left its iterate as it was, bit for bit (`previous` against `next`).
+///
+/// **Fixed points.** An iteration whose result is a function of its iterate alone (the step's
+/// other inputs held) and that returns that iterate unchanged is at a fixed point: every later
+/// iteration of the step computes the same operations on the same operands and returns the same
+/// bits again. A step with a fixed count of iterations stops computing there and goes on with
+/// the same iterate, which is the result the remaining iterations would have given, bit for bit
+/// (the count itself, which the work-precision study's cost model reads, is unchanged). Bits,
+/// not `==`: −0 and +0 are different operands, and a NaN is its own bits.
+pub fn same_bits<'a>(
+    previous: impl IntoIterator<Item = &'a f64>,
+    next: impl IntoIterator<Item = &'a f64>,
+) -> bool {
+    previous
+        .into_iter()
+        .zip(next)
+        .all(|(p, n)| p.to_bits() == n.to_bits())
+}
+
 /// When a step stops iterating.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Stopping {

@@ -163,7 +163,7 @@ impl<R: AdmmRun> LaneSolver for AdmmLanes<R> {
         let (m_x_tilde, omega, dt2_omega2) = (&self.m_x_tilde, &self.omega, &self.dt2_omega2);
         let stiffness = &self.stiffness;
         let (z, u_bar, scale) = (&mut self.z, &mut self.u_bar, &mut self.scale);
-        core.iterate(|scene, x| {
+        core.iterate(false, |scene, x| {
             let springs = LocalStepSprings {
                 rest_lengths: scene.rest_lengths,
                 stiffness,

@@ -92,7 +92,9 @@ impl LaneSolver for LiuLanes {
         // 2.2-2.8.
         let dt2 = core.dt * core.dt;
         let (b, d, scale) = (&self.b, &mut self.d, &mut self.scale);
-        core.iterate(|scene, iterate| {
+        // The iteration reads the iterate alone (b and A are the step's): lanes stop at a
+        // fixed point.
+        core.iterate(true, |scene, iterate| {
             spring_directions(scene.incidence, iterate, scene.rest_lengths, d, scale);
             global_rhs(scene.incidence, b, d, dt2, iterate);
             scene.a.solve(iterate, scene.x_n);

@@ -78,8 +78,11 @@ impl LaneStates {
     }
 }
 
+/// A mask of lanes.
+pub type LaneMask = <Lanes4 as SimdValue>::SimdBool;
+
 /// Per lane, whether `lane_holds` holds of its index.
-pub fn lane_mask(lane_holds: impl Fn(usize) -> bool) -> <Lanes4 as SimdValue>::SimdBool {
+pub fn lane_mask(lane_holds: impl Fn(usize) -> bool) -> LaneMask {
     let ones = std::array::from_fn(|lane| if lane_holds(lane) { 1.0 } else { 0.0 });
     Lanes4::from(ones).simd_gt(Lanes4::splat(0.0))
 }
@@ -108,28 +111,65 @@ impl Kept for Vector3<Lanes4> {
 /// its own count. Each lane's values are saved into `done` once, at the iteration its count
 /// is reached, and put back after the last (its further iterations change only its own lane,
 /// unread), so a batch with a short or empty lane costs no copy per iteration.
-pub fn iterate_lanes<V: Kept>(
+///
+/// With `previous` (a buffer of `values`' length), for an iteration that reads nothing that
+/// changes but `values`: a lane whose iteration returns its values unchanged, bit for bit, is
+/// at a fixed point ([`same_bits`](crate::integrators::stopping::same_bits): its later iterations would return them again) and is done
+/// as a lane whose count is reached; once every lane is done the iterations stop.
+pub fn iterate_lanes(
     iterations: &[usize; WIDTH],
-    values: &mut [V],
-    done: &mut [V],
-    mut iterate: impl FnMut(&mut [V]),
+    values: &mut [Lanes4],
+    done: &mut [Lanes4],
+    mut previous: Option<&mut [Lanes4]>,
+    mut iterate: impl FnMut(&mut [Lanes4]),
 ) {
     let most = iterations.iter().copied().max().unwrap_or(0);
-    for iteration in 0..most {
-        let reached = lane_mask(|lane| iterations[lane] == iteration);
-        if reached.any() {
-            for (done, &value) in done.iter_mut().zip(values.iter()) {
-                *done = value.kept_where(reached, *done);
+    let mut saved = lane_mask(|_| false);
+    let mut save = |lanes: LaneMask, saved: &mut LaneMask, values: &[Lanes4]| {
+        let lanes = lanes & !*saved;
+        if lanes.any() {
+            for (done, &value) in done.iter_mut().zip(values) {
+                *done = value.kept_where(lanes, *done);
             }
+            *saved = *saved | lanes;
         }
-        iterate(values);
+    };
+    for iteration in 0..most {
+        save(
+            lane_mask(|lane| iterations[lane] == iteration),
+            &mut saved,
+            values,
+        );
+        if saved.all() {
+            break;
+        }
+        match previous.as_deref_mut() {
+            Some(previous) => {
+                previous.copy_from_slice(values);
+                iterate(values);
+                let moved = moved_lanes(previous, values);
+                save(lane_mask(|lane| moved[lane] == 0), &mut saved, values);
+            }
+            None => iterate(values),
+        }
     }
-    let short = lane_mask(|lane| iterations[lane] < most);
-    if short.any() {
+    if saved.any() {
         for (value, &done) in values.iter_mut().zip(done.iter()) {
-            *value = done.kept_where(short, *value);
+            *value = done.kept_where(saved, *value);
         }
     }
+}
+
+/// Per lane, the bits in which `previous` and `next` differ anywhere (zero: the same bits).
+fn moved_lanes(previous: &[Lanes4], next: &[Lanes4]) -> [u64; WIDTH] {
+    let mut moved = [0; WIDTH];
+    for (p, n) in previous.iter().zip(next) {
+        let (p, n) = (p.0.to_array(), n.0.to_array());
+        for lane in 0..WIDTH {
+            moved[lane] |= p[lane].to_bits() ^ n[lane].to_bits();
+        }
+    }
+    moved
 }
 
 /// How full a batch's lanes were: the steps the lanes took together, and the runs' steps
@@ -328,6 +368,34 @@ mod tests {
     /// (`(-alpha_tilde).mul_add(lambda, -c) * inverse_denominator`) in a build without FMA
     /// (fused at `f64`, not in the lanes); in the host-CPU build (`.cargo/config.toml`) the
     /// lanes fuse as well, so that variant no longer tells them apart.
+    /// [`iterate_lanes`] with fixed points, on x ← min(x + 1, cap) per lane from 0: a lane
+    /// at a fixed point before its count (cap 3, 50 iterations), one that reaches its count
+    /// first (cap 100, 20), one that reaches both at once (8, 8) and an empty lane each end
+    /// with its own count's value, as without fixed points, and the iterations stop at the
+    /// 20th, once every lane is done. Fails (checked) with the iterations stopped once any
+    /// lane is done.
+    #[test]
+    fn lanes_stop_at_fixed_points_with_their_counts_values() {
+        let caps = Lanes4::from([3.0, 100.0, 8.0, 5.0]);
+        let counts = [50, 20, 8, 0];
+        let run = |fixed_points: bool| {
+            let (mut values, mut done, mut previous) = (
+                [Lanes4::splat(0.0)],
+                [Lanes4::splat(0.0)],
+                [Lanes4::splat(0.0)],
+            );
+            let mut calls = 0;
+            let previous = fixed_points.then_some(&mut previous[..]);
+            iterate_lanes(&counts, &mut values, &mut done, previous, |v| {
+                calls += 1;
+                v[0] = (v[0] + Lanes4::splat(1.0)).simd_min(caps);
+            });
+            (values[0].0.to_array(), calls)
+        };
+        assert_eq!(run(false), ([3.0, 20.0, 8.0, 0.0], 50));
+        assert_eq!(run(true), ([3.0, 20.0, 8.0, 0.0], 20));
+    }
+
     #[test]
     fn every_lane_is_its_run_alone_bit_for_bit() {
         let runs: Vec<(Xpbd, State, RunOptions)> = [

@@ -44,6 +44,9 @@ pub struct ProjectiveLanes {
     iterate: Vec<Lanes4>,
     /// The iterate of the lanes whose iterations are done, kept while the others iterate.
     done: Vec<Lanes4>,
+    /// The iterate before the current iteration, for a solver whose iteration reads nothing
+    /// else that changes ([`Self::iterate`]).
+    previous: Vec<Lanes4>,
 }
 
 impl ProjectiveLanes {
@@ -71,6 +74,7 @@ impl ProjectiveLanes {
             x_n: vec![zero; 3 * n],
             iterate: vec![zero; 3 * n],
             done: vec![zero; 3 * n],
+            previous: vec![zero; 3 * n],
         })
     }
 
@@ -154,7 +158,14 @@ impl ProjectiveLanes {
 
     /// The step's iterations: `iteration` on the column-major iterate as many times as the
     /// lane that takes the most, each lane ending with its own count's ([`iterate_lanes`]).
-    pub fn iterate(&mut self, mut iteration: impl FnMut(&Iteration<'_>, &mut [Lanes4])) {
+    /// With `fixed_points`, for an iteration that reads nothing that changes but the iterate
+    /// (Liu's; not ADMM-PD's, which carries $`z`$ and $`\bar u`$), a lane stops at a fixed
+    /// point, its result the same bits.
+    pub fn iterate(
+        &mut self,
+        fixed_points: bool,
+        mut iteration: impl FnMut(&Iteration<'_>, &mut [Lanes4]),
+    ) {
         let data = Iteration {
             incidence: &self.incidence,
             a: &self.a,
@@ -162,9 +173,14 @@ impl ProjectiveLanes {
             rest_lengths: &self.rest_lengths,
             dt: self.dt,
         };
-        iterate_lanes(&self.iterations, &mut self.iterate, &mut self.done, |x| {
-            iteration(&data, x)
-        });
+        let previous = fixed_points.then_some(&mut self.previous[..]);
+        iterate_lanes(
+            &self.iterations,
+            &mut self.iterate,
+            &mut self.done,
+            previous,
+            |x| iteration(&data, x),
+        );
     }
 
     /// The step's end: positions from the iterate, velocities from them over dt (the
