@@ -33,14 +33,52 @@ use crate::model::system::{MassSpringSystem, State, Vec3};
 /// the same iterate, which is the result the remaining iterations would have given, bit for bit
 /// (the count itself, which the work-precision study's cost model reads, is unchanged). Bits,
 /// not `==`: −0 and +0 are different operands, and a NaN is its own bits.
-pub fn same_bits<'a>(
-    previous: impl IntoIterator<Item = &'a f64>,
-    next: impl IntoIterator<Item = &'a f64>,
+pub fn same_bits(
+    previous: impl IntoIterator<Item = f64>,
+    next: impl IntoIterator<Item = f64>,
 ) -> bool {
     previous
         .into_iter()
         .zip(next)
         .all(|(p, n)| p.to_bits() == n.to_bits())
+}
+
+/// The coordinates of `points`, in order (an iterate of points as [`FixedPoint`] keeps it).
+pub fn coordinates(points: &[Vec3]) -> impl Iterator<Item = f64> + '_ {
+    points.iter().flat_map(|p| p.iter().copied())
+}
+
+/// Tells when a step's iterations reach a fixed point ([`same_bits`]), for a solver whose
+/// iteration reads nothing that changes but its iterate: the iterate is kept before each
+/// iteration and compared after it.
+#[derive(Debug, Clone, Default)]
+pub struct FixedPoint {
+    previous: Vec<f64>,
+    reached: bool,
+}
+
+impl FixedPoint {
+    /// A new step: no fixed point yet.
+    pub fn begin_step(&mut self) {
+        self.reached = false;
+    }
+
+    /// Whether an iteration of this step returned its iterate unchanged: the step's
+    /// iterations left would return it again, and need not be computed.
+    pub fn reached(&self) -> bool {
+        self.reached
+    }
+
+    /// Keeps the iterate `values` before an iteration.
+    pub fn keep(&mut self, values: impl IntoIterator<Item = f64>) {
+        self.previous.clear();
+        self.previous.extend(values);
+    }
+
+    /// Compares the iterate `values` after the iteration with the one kept.
+    pub fn compare(&mut self, values: impl IntoIterator<Item = f64>) {
+        self.reached = same_bits(self.previous.iter().copied(), values);
+    }
 }
 
 /// When a step stops iterating.

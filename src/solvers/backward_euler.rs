@@ -319,7 +319,7 @@ impl BackwardEuler {
             let mut fixed = true;
             for (i, v_k) in self.v_k.iter_mut().enumerate() {
                 let v_next = next(i);
-                fixed &= same_bits(v_k.iter(), v_next.iter());
+                fixed &= same_bits(v_k.iter().copied(), v_next.iter().copied());
                 *v_k = v_next;
             }
             return Ok(fixed);
@@ -356,8 +356,8 @@ impl BackwardEuler {
             v = trial(alpha);
         }
         let fixed = same_bits(
-            self.v_k.iter().flat_map(|p| p.iter()),
-            v.iter().flat_map(|p| p.iter()),
+            self.v_k.iter().flat_map(|p| p.iter().copied()),
+            v.iter().flat_map(|p| p.iter().copied()),
         );
         self.v_k = v;
         Ok(fixed)

@@ -31,7 +31,7 @@
 use crate::error::{require_positive, Error, Result};
 use crate::integrators::first_iterate::StepStart;
 use crate::integrators::optimization_integrator::{MinimizingSolver, PerStageStep, StageProblem};
-use crate::integrators::stopping::{same_bits, Convergence};
+use crate::integrators::stopping::{Convergence, FixedPoint};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::Lane;
 use crate::model::system::{MassSpringSystem, State, Vec3};
@@ -65,8 +65,8 @@ pub struct FastMassSpring {
     x_n: Vec<f64>,
     b: Vec<f64>,
     x: Vec<f64>,
-    /// The iterate before the current iteration (whether it moved: [`same_bits`]).
-    previous: Vec<f64>,
+    /// Whether the step's iterations have reached a fixed point.
+    fixed_point: FixedPoint,
     /// One $`d_i`$ per spring.
     d: Vec<Vec3>,
     /// Scratch of the local step, one entry per spring.
@@ -122,7 +122,7 @@ impl FastMassSpring {
             x_n: vec![0.0; 3 * n],
             b: vec![0.0; 3 * n],
             x: vec![0.0; 3 * n],
-            previous: vec![0.0; 3 * n],
+            fixed_point: FixedPoint::default(),
             d: vec![Vec3::zeros(); system.springs().len()],
             scale: vec![0.0; system.springs().len()],
             convergence: Convergence::default(),
@@ -331,14 +331,14 @@ impl MinimizingSolver for FastMassSpring {
         self.convergence
             .begin_stage(state, problem.tau, nodes_of_columns(&self.x));
         // 2.2-2.8, stopping early only in the tolerance mode; at a fixed point the iterations
-        // left are not computed ([`same_bits`]: an iteration reads nothing of the solver's
+        // left are not computed ([`FixedPoint`]: an iteration reads nothing of the solver's
         // but its iterate and the step's b and A, and its result is known).
-        let mut fixed = false;
+        self.fixed_point.begin_step();
         for _ in 0..self.iterations {
-            if !fixed {
-                self.previous.copy_from_slice(&self.x);
+            if !self.fixed_point.reached() {
+                self.fixed_point.keep(self.x.iter().copied());
                 self.iterate();
-                fixed = same_bits(&self.previous, &self.x);
+                self.fixed_point.compare(self.x.iter().copied());
             }
             if self.convergence.converged(nodes_of_columns(&self.x)) {
                 break;

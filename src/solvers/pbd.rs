@@ -20,7 +20,7 @@
 //! is XPBD with zero compliance (§2.2.1), bit for bit: [`crate::solvers::xpbd::Xpbd::with_compliance`].
 
 use crate::error::{require_positive, Error, Result};
-use crate::integrators::stopping::Convergence;
+use crate::integrators::stopping::{coordinates, Convergence, FixedPoint};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, State, Vec3};
@@ -62,6 +62,8 @@ pub struct Pbd {
     p: Vec<Vec3>,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
+    /// Whether the step's sweeps have reached a fixed point.
+    fixed_point: FixedPoint,
 }
 
 impl Pbd {
@@ -119,6 +121,7 @@ impl Pbd {
             external_acceleration,
             p: vec![Vec3::zeros(); system.len()],
             convergence: Convergence::default(),
+            fixed_point: FixedPoint::default(),
         })
     }
 
@@ -186,19 +189,25 @@ impl TimeStepper for Pbd {
         }
         self.convergence.begin(p.iter().copied());
         // Lines 3-9: Gauss-Seidel over the springs in index order, stopping early only in the
-        // tolerance mode.
+        // tolerance mode; at a fixed point the sweeps left are not computed ([`FixedPoint`]:
+        // a sweep reads nothing that changes but p).
+        self.fixed_point.begin_step();
         for _ in 0..self.iterations {
-            for (j, s) in self.system.springs().iter().enumerate() {
-                let (w1, w2) = (self.w[s.a], self.w[s.b]);
-                let c = spring::constraint(&p[s.a], &p[s.b], s.rest_length);
-                let grad = spring::constraint_gradient(&p[s.a], &p[s.b]);
-                // Line 5, Eqs 13-14.
-                let s_j = self::s(c, self.inverse_w[j]);
-                let stiffness_factor = self.stiffness_factors[j];
-                let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, s_j, stiffness_factor);
-                // Line 6 (erratum: on p).
-                p[s.a] += delta_x1;
-                p[s.b] += delta_x2;
+            if !self.fixed_point.reached() {
+                self.fixed_point.keep(coordinates(p));
+                for (j, s) in self.system.springs().iter().enumerate() {
+                    let (w1, w2) = (self.w[s.a], self.w[s.b]);
+                    let c = spring::constraint(&p[s.a], &p[s.b], s.rest_length);
+                    let grad = spring::constraint_gradient(&p[s.a], &p[s.b]);
+                    // Line 5, Eqs 13-14.
+                    let s_j = self::s(c, self.inverse_w[j]);
+                    let stiffness_factor = self.stiffness_factors[j];
+                    let (delta_x1, delta_x2) = delta_x(&grad, w1, w2, s_j, stiffness_factor);
+                    // Line 6 (erratum: on p).
+                    p[s.a] += delta_x1;
+                    p[s.b] += delta_x2;
+                }
+                self.fixed_point.compare(coordinates(p));
             }
             let converged = if self.convergence.wants_value() {
                 // PBD's constraints are XPBD's with zero compliance.

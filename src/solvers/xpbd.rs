@@ -58,7 +58,7 @@
 //! (`tests/xpbd.rs`) measures both.
 
 use crate::error::{require_non_negative, require_positive, Error, Result};
-use crate::integrators::stopping::Convergence;
+use crate::integrators::stopping::{coordinates, Convergence, FixedPoint};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{self, Lane};
 use crate::model::spring;
@@ -320,6 +320,8 @@ pub struct Xpbd {
     graph: Ends,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
+    /// Whether the step's sweeps have reached a fixed point.
+    fixed_point: FixedPoint,
 }
 
 impl Xpbd {
@@ -391,6 +393,7 @@ impl Xpbd {
             scratch: Scratch::new(system.springs().len(), system.len()),
             graph: Ends::of(system),
             convergence: Convergence::default(),
+            fixed_point: FixedPoint::default(),
         })
     }
 
@@ -464,10 +467,18 @@ impl TimeStepper for Xpbd {
         self.coefficients.predict(x, &state.v, &mut self.scratch);
         self.convergence.begin(x.iter().copied());
         // Lines 4-12: Gauss-Seidel over the springs in index order, stopping early only in the
-        // tolerance mode.
+        // tolerance mode; at a fixed point the sweeps left are not computed ([`FixedPoint`]:
+        // a sweep reads nothing that changes but x and λ).
+        self.fixed_point.begin_step();
         for _ in 0..self.iterations {
-            self.coefficients
-                .sweep(&self.graph, x, &mut self.scratch.lambda);
+            if !self.fixed_point.reached() {
+                let lambda = &mut self.scratch.lambda;
+                self.fixed_point
+                    .keep(coordinates(x).chain(lambda.iter().copied()));
+                self.coefficients.sweep(&self.graph, x, lambda);
+                self.fixed_point
+                    .compare(coordinates(x).chain(lambda.iter().copied()));
+            }
             let converged = if self.convergence.wants_value() {
                 let r = constraint_residual(
                     &self.system,

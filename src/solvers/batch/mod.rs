@@ -163,13 +163,19 @@ pub fn iterate_lanes(
 /// Per lane, the bits in which `previous` and `next` differ anywhere (zero: the same bits).
 fn moved_lanes(previous: &[Lanes4], next: &[Lanes4]) -> [u64; WIDTH] {
     let mut moved = [0; WIDTH];
-    for (p, n) in previous.iter().zip(next) {
-        let (p, n) = (p.0.to_array(), n.0.to_array());
-        for lane in 0..WIDTH {
-            moved[lane] |= p[lane].to_bits() ^ n[lane].to_bits();
-        }
+    for (&p, &n) in previous.iter().zip(next) {
+        add_moved_bits(&mut moved, p, n);
     }
     moved
+}
+
+/// Adds to `moved`, per lane, the bits in which `previous` and `next` differ.
+#[inline(always)]
+pub fn add_moved_bits(moved: &mut [u64; WIDTH], previous: Lanes4, next: Lanes4) {
+    let (p, n) = (previous.0.to_array(), next.0.to_array());
+    for lane in 0..WIDTH {
+        moved[lane] |= p[lane].to_bits() ^ n[lane].to_bits();
+    }
 }
 
 /// How full a batch's lanes were: the steps the lanes took together, and the runs' steps

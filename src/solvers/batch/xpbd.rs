@@ -4,7 +4,7 @@
 //! wavefront order the chain allows (`sweeps_in_wavefront`), which keeps the sweeps' bits.
 
 use super::projective::Rope;
-use super::{lane_mask, Kept, LaneSolver, LaneStates, WIDTH};
+use super::{add_moved_bits, lane_mask, Kept, LaneSolver, LaneStates, WIDTH};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{MassSpringSystem, State};
@@ -26,6 +26,8 @@ pub struct XpbdLanes {
     states: LaneStates,
     /// The positions of the lanes whose iterations are done, kept while the others sweep.
     done: Vec<Vector3<Lanes4>>,
+    /// Per sweep of the step, per lane, the bits its projections changed (zero: a fixed point).
+    moved: Vec<[u64; WIDTH]>,
 }
 
 impl XpbdLanes {
@@ -50,6 +52,7 @@ impl XpbdLanes {
             counts: SweepCounts::of(&[0; WIDTH]),
             states: LaneStates::new(nodes),
             done: vec![Vector3::zeros(); nodes],
+            moved: Vec::new(),
         })
     }
 }
@@ -67,6 +70,13 @@ impl XpbdLanes {
 /// For the lanes whose runs take k sweeps, fewer than the most ([`SweepCounts`]), node j's
 /// positions after its last move of sweep k - 1 go to `done`, as [`super::iterate_lanes`]
 /// keeps a finished lane's iterate, and are put back at the end.
+///
+/// A lane whose sweep i, still within its count, changed no bit of its positions and
+/// multipliers is at a fixed point ([`crate::integrators::stopping::same_bits`]): every later
+/// projection sees what it saw in sweep i and changes nothing either, those of later sweeps
+/// already made too. Its positions go to `done` when sweep i's last projection is made, and
+/// once every lane is done (at a fixed point, or its count's sweeps made) the sweeps stop.
+/// `moved` holds, per sweep and lane, the bits its projections changed.
 fn sweeps_in_wavefront(
     rope: &Rope,
     c: &Coefficients<Lanes4>,
@@ -74,9 +84,13 @@ fn sweeps_in_wavefront(
     x: &mut [Vector3<Lanes4>],
     done: &mut [Vector3<Lanes4>],
     lambda: &mut [Lanes4],
+    moved: &mut Vec<[u64; WIDTH]>,
 ) {
     let (springs, keeps) = (rope.springs(), &counts.keeps);
     let most = keeps.len() - 1;
+    moved.clear();
+    moved.resize(most, [0; WIDTH]);
+    let mut fixed = lane_mask(|_| false);
     let keep = |mask: Mask,
                 nodes: std::ops::RangeInclusive<usize>,
                 x: &[Vector3<Lanes4>],
@@ -89,7 +103,7 @@ fn sweeps_in_wavefront(
         keep(mask, 0..=springs, x, done);
     }
     let half = (springs - 1) / 2;
-    for tau in 0..most + half {
+    'diagonals: for tau in 0..most + half {
         // From τ = half to most - 1 every spring has a sweep on the diagonal.
         let every_spring = (half..most).contains(&tau);
         for parity in [0, 1] {
@@ -99,17 +113,40 @@ fn sweeps_in_wavefront(
                 if !every_spring && i >= most {
                     continue;
                 }
-                c.project(j, rope.ends(j), x, &mut lambda[j]);
+                let (a, b) = rope.ends(j);
+                let before = (lambda[j], x[a], x[b]);
+                c.project(j, (a, b), x, &mut lambda[j]);
+                let moved = &mut moved[i];
+                add_moved_bits(moved, before.0, lambda[j]);
+                for (p, n) in [(before.1, x[a]), (before.2, x[b])] {
+                    for k in 0..3 {
+                        add_moved_bits(moved, p[k], n[k]);
+                    }
+                }
                 // Node j has had its last move of sweep i, and the last node with it.
                 if let Some(mask) = keeps[i + 1] {
                     keep(mask, j..=if j + 1 == springs { j + 1 } else { j }, x, done);
                 }
+                if j + 1 == springs {
+                    // Sweep i is whole.
+                    let still = lane_mask(|lane| counts.iterations[lane] > i);
+                    let at_rest = lane_mask(|lane| moved[lane] == 0) & still & !fixed;
+                    if at_rest.any() {
+                        keep(at_rest, 0..=springs, x, done);
+                        fixed = fixed | at_rest;
+                    }
+                    let finished = fixed | lane_mask(|lane| counts.iterations[lane] <= i + 1);
+                    if finished.all() {
+                        break 'diagonals;
+                    }
+                }
             }
         }
     }
-    if counts.short.any() {
+    let kept = counts.short | fixed;
+    if kept.any() {
         for (x, &done) in x.iter_mut().zip(done.iter()) {
-            *x = done.kept_where(counts.short, *x);
+            *x = done.kept_where(kept, *x);
         }
     }
 }
@@ -126,6 +163,8 @@ struct SweepCounts {
     keeps: Vec<Option<Mask>>,
     /// The lanes that take fewer sweeps than the most.
     short: Mask,
+    /// Each lane's count of sweeps.
+    iterations: [usize; WIDTH],
 }
 
 impl SweepCounts {
@@ -141,6 +180,7 @@ impl SweepCounts {
         Self {
             keeps,
             short: lane_mask(|lane| iterations[lane] < most),
+            iterations: *iterations,
         }
     }
 }
@@ -195,6 +235,7 @@ impl LaneSolver for XpbdLanes {
             &mut self.states.x,
             &mut self.done,
             &mut self.scratch.lambda,
+            &mut self.moved,
         );
         c.velocities(&self.states.x, &mut self.states.v, &self.scratch);
     }
