@@ -43,14 +43,9 @@ pub fn same_bits(
         .all(|(p, n)| p.to_bits() == n.to_bits())
 }
 
-/// The coordinates of `points`, in order (an iterate of points as [`FixedPoint`] keeps it).
-pub fn coordinates(points: &[Vec3]) -> impl Iterator<Item = f64> + '_ {
-    points.iter().flat_map(|p| p.iter().copied())
-}
-
 /// Tells when a step's iterations reach a fixed point ([`same_bits`]), for a solver whose
-/// iteration reads nothing that changes but its iterate: the iterate is kept before each
-/// iteration and compared after it.
+/// iteration reads nothing that changes but its iterate (some points and some values): the
+/// iterate is kept before each iteration and compared after it.
 #[derive(Debug, Clone, Default)]
 pub struct FixedPoint {
     previous: Vec<f64>,
@@ -69,15 +64,29 @@ impl FixedPoint {
         self.reached
     }
 
-    /// Keeps the iterate `values` before an iteration.
-    pub fn keep(&mut self, values: impl IntoIterator<Item = f64>) {
+    /// Keeps the iterate, `points` and `values`, before an iteration.
+    pub fn keep(&mut self, points: &[Vec3], values: &[f64]) {
         self.previous.clear();
-        self.previous.extend(values);
+        for p in points {
+            self.previous.extend_from_slice(p.as_slice());
+        }
+        self.previous.extend_from_slice(values);
     }
 
-    /// Compares the iterate `values` after the iteration with the one kept.
-    pub fn compare(&mut self, values: impl IntoIterator<Item = f64>) {
-        self.reached = same_bits(self.previous.iter().copied(), values);
+    /// Compares the iterate after the iteration with the one kept: [`same_bits`], every bit
+    /// compared (no early exit, so that the comparison is a few vector operations).
+    pub fn compare(&mut self, points: &[Vec3], values: &[f64]) {
+        let (kept_points, kept_values) = self.previous.split_at(3 * points.len());
+        let mut moved = 0;
+        for (kept, p) in kept_points.chunks_exact(3).zip(points) {
+            for c in 0..3 {
+                moved |= kept[c].to_bits() ^ p[c].to_bits();
+            }
+        }
+        for (kept, v) in kept_values.iter().zip(values) {
+            moved |= kept.to_bits() ^ v.to_bits();
+        }
+        self.reached = moved == 0;
     }
 }
 

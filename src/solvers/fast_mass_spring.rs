@@ -336,9 +336,9 @@ impl MinimizingSolver for FastMassSpring {
         self.fixed_point.begin_step();
         for _ in 0..self.iterations {
             if !self.fixed_point.reached() {
-                self.fixed_point.keep(self.x.iter().copied());
+                self.fixed_point.keep(&[], &self.x);
                 self.iterate();
-                self.fixed_point.compare(self.x.iter().copied());
+                self.fixed_point.compare(&[], &self.x);
             }
             if self.convergence.converged(nodes_of_columns(&self.x)) {
                 break;

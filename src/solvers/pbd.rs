@@ -20,7 +20,7 @@
 //! is XPBD with zero compliance (§2.2.1), bit for bit: [`crate::solvers::xpbd::Xpbd::with_compliance`].
 
 use crate::error::{require_positive, Error, Result};
-use crate::integrators::stopping::{coordinates, Convergence, FixedPoint};
+use crate::integrators::stopping::{Convergence, FixedPoint};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, State, Vec3};
@@ -194,7 +194,7 @@ impl TimeStepper for Pbd {
         self.fixed_point.begin_step();
         for _ in 0..self.iterations {
             if !self.fixed_point.reached() {
-                self.fixed_point.keep(coordinates(p));
+                self.fixed_point.keep(p, &[]);
                 for (j, s) in self.system.springs().iter().enumerate() {
                     let (w1, w2) = (self.w[s.a], self.w[s.b]);
                     let c = spring::constraint(&p[s.a], &p[s.b], s.rest_length);
@@ -207,7 +207,7 @@ impl TimeStepper for Pbd {
                     p[s.a] += delta_x1;
                     p[s.b] += delta_x2;
                 }
-                self.fixed_point.compare(coordinates(p));
+                self.fixed_point.compare(p, &[]);
             }
             let converged = if self.convergence.wants_value() {
                 // PBD's constraints are XPBD's with zero compliance.

@@ -58,7 +58,7 @@
 //! (`tests/xpbd.rs`) measures both.
 
 use crate::error::{require_non_negative, require_positive, Error, Result};
-use crate::integrators::stopping::{coordinates, Convergence, FixedPoint};
+use crate::integrators::stopping::{Convergence, FixedPoint};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{self, Lane};
 use crate::model::spring;
@@ -473,11 +473,9 @@ impl TimeStepper for Xpbd {
         for _ in 0..self.iterations {
             if !self.fixed_point.reached() {
                 let lambda = &mut self.scratch.lambda;
-                self.fixed_point
-                    .keep(coordinates(x).chain(lambda.iter().copied()));
+                self.fixed_point.keep(x, lambda);
                 self.coefficients.sweep(&self.graph, x, lambda);
-                self.fixed_point
-                    .compare(coordinates(x).chain(lambda.iter().copied()));
+                self.fixed_point.compare(x, lambda);
             }
             let converged = if self.convergence.wants_value() {
                 let r = constraint_residual(
