@@ -18,7 +18,7 @@ use crate::model::lanes::{load_points, read_points, select, Lanes4};
 use crate::model::system::State;
 use crate::solvers::projective::finish_step_of;
 use nalgebra::Vector3;
-use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
+use simba::simd::{SimdBool, SimdPartialOrd, SimdValue, WideF64x4};
 
 /// Lanes in a batch.
 pub const WIDTH: usize = 4;
@@ -106,6 +106,11 @@ impl Kept for Vector3<Lanes4> {
     }
 }
 
+/// How often [`iterate_lanes`] checks for fixed points: after every fourth iteration (a scratch
+/// program, four lanes of Liu at k = 1e6 and 70 iterations, none at a fixed point: 95 ns an
+/// iteration without the check, 120-130 ns with it after every iteration).
+pub const FIXED_POINT_CHECK: usize = 4;
+
 /// The iterations of one step in lanes whose runs take `iterations` each: `iterate` is run on
 /// `values` as many times as the most any lane takes, and every lane ends with the values of
 /// its own count. Each lane's values are saved into `done` once, at the iteration its count
@@ -114,8 +119,11 @@ impl Kept for Vector3<Lanes4> {
 ///
 /// With `previous` (a buffer of `values`' length), for an iteration that reads nothing that
 /// changes but `values`: a lane whose iteration returns its values unchanged, bit for bit, is
-/// at a fixed point ([`same_bits`](crate::integrators::stopping::same_bits): its later iterations would return them again) and is done
-/// as a lane whose count is reached; once every lane is done the iterations stop.
+/// at a fixed point ([`same_bits`](crate::integrators::stopping::same_bits): its later
+/// iterations would return them again) and is done as a lane whose count is reached; once every
+/// lane is done the iterations stop. Every [`FIXED_POINT_CHECK`]th iteration is checked: the
+/// check (a copy and a comparison of the iterate) costs a quarter of a Liu iteration in four
+/// lanes, and a fixed point, once reached, is found by the next check.
 pub fn iterate_lanes(
     iterations: &[usize; WIDTH],
     values: &mut [Lanes4],
@@ -144,13 +152,13 @@ pub fn iterate_lanes(
             break;
         }
         match previous.as_deref_mut() {
-            Some(previous) => {
+            Some(previous) if iteration % FIXED_POINT_CHECK == FIXED_POINT_CHECK - 1 => {
                 previous.copy_from_slice(values);
                 iterate(values);
                 let moved = moved_lanes(previous, values);
-                save(lane_mask(|lane| moved[lane] == 0), &mut saved, values);
+                save(moved.unchanged(), &mut saved, values);
             }
-            None => iterate(values),
+            _ => iterate(values),
         }
     }
     if saved.any() {
@@ -160,21 +168,37 @@ pub fn iterate_lanes(
     }
 }
 
-/// Per lane, the bits in which `previous` and `next` differ anywhere (zero: the same bits).
-fn moved_lanes(previous: &[Lanes4], next: &[Lanes4]) -> [u64; WIDTH] {
-    let mut moved = [0; WIDTH];
+/// Per lane, the bits in which `previous` and `next` differ anywhere ([`MovedBits`]).
+fn moved_lanes(previous: &[Lanes4], next: &[Lanes4]) -> MovedBits {
+    let mut moved = MovedBits::default();
     for (&p, &n) in previous.iter().zip(next) {
-        add_moved_bits(&mut moved, p, n);
+        moved.add(p, n);
     }
     moved
 }
 
-/// Adds to `moved`, per lane, the bits in which `previous` and `next` differ.
-#[inline(always)]
-pub fn add_moved_bits(moved: &mut [u64; WIDTH], previous: Lanes4, next: Lanes4) {
-    let (p, n) = (previous.0.to_array(), next.0.to_array());
-    for lane in 0..WIDTH {
-        moved[lane] |= p[lane].to_bits() ^ n[lane].to_bits();
+/// Per lane, the OR of the bits in which pairs of values differ, held as the bits of an `f64`
+/// lane (a vector XOR and OR per pair, not a lane at a time).
+#[derive(Debug, Clone, Copy)]
+pub struct MovedBits(Lanes4);
+
+impl Default for MovedBits {
+    fn default() -> Self {
+        Self(Lanes4::splat(0.0))
+    }
+}
+
+impl MovedBits {
+    /// Adds the bits in which `previous` and `next` differ.
+    #[inline(always)]
+    pub fn add(&mut self, previous: Lanes4, next: Lanes4) {
+        self.0 = WideF64x4(self.0 .0 | (previous.0 ^ next.0));
+    }
+
+    /// The lanes in which no bit differed.
+    pub fn unchanged(self) -> LaneMask {
+        let bits = self.0 .0.to_array();
+        lane_mask(|lane| bits[lane].to_bits() == 0)
     }
 }
 

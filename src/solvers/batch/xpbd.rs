@@ -4,7 +4,7 @@
 //! wavefront order the chain allows (`sweeps_in_wavefront`), which keeps the sweeps' bits.
 
 use super::projective::Rope;
-use super::{add_moved_bits, lane_mask, Kept, LaneSolver, LaneStates, WIDTH};
+use super::{lane_mask, Kept, LaneSolver, LaneStates, MovedBits, FIXED_POINT_CHECK, WIDTH};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{MassSpringSystem, State};
@@ -27,7 +27,7 @@ pub struct XpbdLanes {
     /// The positions of the lanes whose iterations are done, kept while the others sweep.
     done: Vec<Vector3<Lanes4>>,
     /// Per sweep of the step, per lane, the bits its projections changed (zero: a fixed point).
-    moved: Vec<[u64; WIDTH]>,
+    moved: Vec<MovedBits>,
 }
 
 impl XpbdLanes {
@@ -72,7 +72,7 @@ impl XpbdLanes {
 /// keeps a finished lane's iterate, and are put back at the end.
 ///
 /// A lane whose sweep i, still within its count, changed no bit of its positions and
-/// multipliers is at a fixed point ([`crate::integrators::stopping::same_bits`]): every later
+/// multipliers (checked every [`FIXED_POINT_CHECK`]th sweep) is at a fixed point ([`crate::integrators::stopping::same_bits`]): every later
 /// projection sees what it saw in sweep i and changes nothing either, those of later sweeps
 /// already made too. Its positions go to `done` when sweep i's last projection is made, and
 /// once every lane is done (at a fixed point, or its count's sweeps made) the sweeps stop.
@@ -84,12 +84,12 @@ fn sweeps_in_wavefront(
     x: &mut [Vector3<Lanes4>],
     done: &mut [Vector3<Lanes4>],
     lambda: &mut [Lanes4],
-    moved: &mut Vec<[u64; WIDTH]>,
+    moved: &mut Vec<MovedBits>,
 ) {
     let (springs, keeps) = (rope.springs(), &counts.keeps);
     let most = keeps.len() - 1;
     moved.clear();
-    moved.resize(most, [0; WIDTH]);
+    moved.resize(most, MovedBits::default());
     let mut fixed = lane_mask(|_| false);
     let keep = |mask: Mask,
                 nodes: std::ops::RangeInclusive<usize>,
@@ -114,14 +114,19 @@ fn sweeps_in_wavefront(
                     continue;
                 }
                 let (a, b) = rope.ends(j);
-                let before = (lambda[j], x[a], x[b]);
-                c.project(j, (a, b), x, &mut lambda[j]);
-                let moved = &mut moved[i];
-                add_moved_bits(moved, before.0, lambda[j]);
-                for (p, n) in [(before.1, x[a]), (before.2, x[b])] {
-                    for k in 0..3 {
-                        add_moved_bits(moved, p[k], n[k]);
+                let checked = i % FIXED_POINT_CHECK == FIXED_POINT_CHECK - 1;
+                if checked {
+                    let before = (lambda[j], x[a], x[b]);
+                    c.project(j, (a, b), x, &mut lambda[j]);
+                    let moved = &mut moved[i];
+                    moved.add(before.0, lambda[j]);
+                    for (p, n) in [(before.1, x[a]), (before.2, x[b])] {
+                        for k in 0..3 {
+                            moved.add(p[k], n[k]);
+                        }
                     }
+                } else {
+                    c.project(j, (a, b), x, &mut lambda[j]);
                 }
                 // Node j has had its last move of sweep i, and the last node with it.
                 if let Some(mask) = keeps[i + 1] {
@@ -129,11 +134,13 @@ fn sweeps_in_wavefront(
                 }
                 if j + 1 == springs {
                     // Sweep i is whole.
-                    let still = lane_mask(|lane| counts.iterations[lane] > i);
-                    let at_rest = lane_mask(|lane| moved[lane] == 0) & still & !fixed;
-                    if at_rest.any() {
-                        keep(at_rest, 0..=springs, x, done);
-                        fixed = fixed | at_rest;
+                    if checked {
+                        let still = lane_mask(|lane| counts.iterations[lane] > i);
+                        let at_rest = moved[i].unchanged() & still & !fixed;
+                        if at_rest.any() {
+                            keep(at_rest, 0..=springs, x, done);
+                            fixed = fixed | at_rest;
+                        }
                     }
                     let finished = fixed | lane_mask(|lane| counts.iterations[lane] <= i + 1);
                     if finished.all() {
