@@ -13,6 +13,7 @@ pub mod projective;
 pub mod xpbd;
 
 use crate::error::Result;
+use crate::integrators::stopping::FIXED_POINT_CHECK;
 use crate::integrators::time_stepper::{InMemory, Run, RunOptions, TimeStepper, Watch};
 use crate::model::lanes::{load_points, read_points, select, Lanes4};
 use crate::model::system::State;
@@ -106,11 +107,6 @@ impl Kept for Vector3<Lanes4> {
     }
 }
 
-/// How often [`iterate_lanes`] checks for fixed points: after every fourth iteration (a scratch
-/// program, four lanes of Liu at k = 1e6 and 70 iterations, none at a fixed point: 95 ns an
-/// iteration without the check, 120-130 ns with it after every iteration).
-pub const FIXED_POINT_CHECK: usize = 4;
-
 /// The iterations of one step in lanes whose runs take `iterations` each: `iterate` is run on
 /// `values` as many times as the most any lane takes, and every lane ends with the values of
 /// its own count. Each lane's values are saved into `done` once, at the iteration its count
@@ -121,9 +117,7 @@ pub const FIXED_POINT_CHECK: usize = 4;
 /// changes but `values`: a lane whose iteration returns its values unchanged, bit for bit, is
 /// at a fixed point ([`same_bits`](crate::integrators::stopping::same_bits): its later
 /// iterations would return them again) and is done as a lane whose count is reached; once every
-/// lane is done the iterations stop. Every [`FIXED_POINT_CHECK`]th iteration is checked: the
-/// check (a copy and a comparison of the iterate) costs a quarter of a Liu iteration in four
-/// lanes, and a fixed point, once reached, is found by the next check.
+/// lane is done the iterations stop. Every [`FIXED_POINT_CHECK`]th iteration is checked.
 pub fn iterate_lanes(
     iterations: &[usize; WIDTH],
     values: &mut [Lanes4],

@@ -4,7 +4,8 @@
 //! wavefront order the chain allows (`sweeps_in_wavefront`), which keeps the sweeps' bits.
 
 use super::projective::Rope;
-use super::{lane_mask, Kept, LaneSolver, LaneStates, MovedBits, FIXED_POINT_CHECK, WIDTH};
+use super::{lane_mask, Kept, LaneSolver, LaneStates, MovedBits, WIDTH};
+use crate::integrators::stopping::FIXED_POINT_CHECK;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{MassSpringSystem, State};
