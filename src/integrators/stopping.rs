@@ -52,6 +52,12 @@ pub fn same_bits(
 /// 115-120 and 108-111 ns; XPBD's lanes 70-73, 93-146 and 77-117 ns).
 pub const FIXED_POINT_CHECK: usize = 4;
 
+/// Whether iteration `iteration` of a step (from 0) is checked for a fixed point: every
+/// [`FIXED_POINT_CHECK`]th.
+pub fn checks_for_fixed_point(iteration: usize) -> bool {
+    iteration % FIXED_POINT_CHECK == FIXED_POINT_CHECK - 1
+}
+
 /// Tells when a step's iterations reach a fixed point ([`same_bits`]), for a solver whose
 /// iteration reads nothing that changes but its iterate (some points and some values): the
 /// iterate is kept before every [`FIXED_POINT_CHECK`]th iteration and compared after it.
@@ -70,11 +76,6 @@ impl FixedPoint {
         self.iteration = 0;
     }
 
-    /// Whether the current iteration is checked.
-    fn checked(&self) -> bool {
-        self.iteration % FIXED_POINT_CHECK == FIXED_POINT_CHECK - 1
-    }
-
     /// Whether an iteration of this step returned its iterate unchanged: the step's
     /// iterations left would return it again, and need not be computed.
     pub fn reached(&self) -> bool {
@@ -83,7 +84,7 @@ impl FixedPoint {
 
     /// Keeps the iterate, `points` and `values`, before an iteration (a checked one).
     pub fn keep(&mut self, points: &[Vec3], values: &[f64]) {
-        if !self.checked() {
+        if !checks_for_fixed_point(self.iteration) {
             return;
         }
         self.previous.clear();
@@ -97,7 +98,7 @@ impl FixedPoint {
     /// [`same_bits`], every bit compared (no early exit, so that the comparison is a few vector
     /// operations).
     pub fn compare(&mut self, points: &[Vec3], values: &[f64]) {
-        let checked = self.checked();
+        let checked = checks_for_fixed_point(self.iteration);
         self.iteration += 1;
         if !checked {
             return;

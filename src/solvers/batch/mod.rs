@@ -13,7 +13,7 @@ pub mod projective;
 pub mod xpbd;
 
 use crate::error::Result;
-use crate::integrators::stopping::FIXED_POINT_CHECK;
+use crate::integrators::stopping::checks_for_fixed_point;
 use crate::integrators::time_stepper::{InMemory, Run, RunOptions, TimeStepper, Watch};
 use crate::model::lanes::{load_points, read_points, select, Lanes4};
 use crate::model::system::State;
@@ -117,7 +117,8 @@ impl Kept for Vector3<Lanes4> {
 /// changes but `values`: a lane whose iteration returns its values unchanged, bit for bit, is
 /// at a fixed point ([`same_bits`](crate::integrators::stopping::same_bits): its later
 /// iterations would return them again) and is done as a lane whose count is reached; once every
-/// lane is done the iterations stop. Every [`FIXED_POINT_CHECK`]th iteration is checked.
+/// lane is done the iterations stop. Every
+/// [`FIXED_POINT_CHECK`](crate::integrators::stopping::FIXED_POINT_CHECK)th iteration is checked.
 pub fn iterate_lanes(
     iterations: &[usize; WIDTH],
     values: &mut [Lanes4],
@@ -146,7 +147,7 @@ pub fn iterate_lanes(
             break;
         }
         match previous.as_deref_mut() {
-            Some(previous) if iteration % FIXED_POINT_CHECK == FIXED_POINT_CHECK - 1 => {
+            Some(previous) if checks_for_fixed_point(iteration) => {
                 previous.copy_from_slice(values);
                 iterate(values);
                 let moved = moved_lanes(previous, values);

@@ -5,7 +5,7 @@
 
 use super::projective::Rope;
 use super::{lane_mask, Kept, LaneSolver, LaneStates, MovedBits, WIDTH};
-use crate::integrators::stopping::FIXED_POINT_CHECK;
+use crate::integrators::stopping::checks_for_fixed_point;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{MassSpringSystem, State};
@@ -73,7 +73,7 @@ impl XpbdLanes {
 /// keeps a finished lane's iterate, and are put back at the end.
 ///
 /// A lane whose sweep i, still within its count, changed no bit of its positions and
-/// multipliers (checked every [`FIXED_POINT_CHECK`]th sweep) is at a fixed point ([`crate::integrators::stopping::same_bits`]): every later
+/// multipliers (checked every [`FIXED_POINT_CHECK`](crate::integrators::stopping::FIXED_POINT_CHECK)th sweep) is at a fixed point ([`crate::integrators::stopping::same_bits`]): every later
 /// projection sees what it saw in sweep i and changes nothing either, those of later sweeps
 /// already made too. Its positions go to `done` when sweep i's last projection is made, and
 /// once every lane is done (at a fixed point, or its count's sweeps made) the sweeps stop.
@@ -115,7 +115,7 @@ fn sweeps_in_wavefront(
                     continue;
                 }
                 let (a, b) = rope.ends(j);
-                let checked = i % FIXED_POINT_CHECK == FIXED_POINT_CHECK - 1;
+                let checked = checks_for_fixed_point(i);
                 if checked {
                     let before = (lambda[j], x[a], x[b]);
                     c.project(j, (a, b), x, &mut lambda[j]);
