@@ -49,7 +49,9 @@ pub fn same_bits(
 /// programs, the k = 1e6 rope, where no iteration reaches one, thread CPU per iteration, best
 /// of five, three or four alternating rounds: XPBD run alone 141-145 ns without the check,
 /// 184-188 ns checked after every sweep, 155-158 ns after every fourth; Liu alone 107-109,
-/// 115-120 and 108-111 ns; XPBD's lanes 70-73, 93-146 and 77-117 ns).
+/// 115-120 and 108-111 ns; XPBD's lanes 70-73, 93-146 and 77-117 ns). Backward Euler's Newton
+/// loop is the exception: it compares each velocity as it writes it (no copy, five iterations a
+/// step), so it checks every iteration.
 pub const FIXED_POINT_CHECK: usize = 4;
 
 /// Whether iteration `iteration` of a step (from 0) is checked for a fixed point: every

@@ -73,9 +73,10 @@ impl XpbdLanes {
 /// keeps a finished lane's iterate, and are put back at the end.
 ///
 /// A lane whose sweep i, still within its count, changed no bit of its positions and
-/// multipliers (checked every [`FIXED_POINT_CHECK`](crate::integrators::stopping::FIXED_POINT_CHECK)th sweep) is at a fixed point ([`crate::integrators::stopping::same_bits`]): every later
-/// projection sees what it saw in sweep i and changes nothing either, those of later sweeps
-/// already made too. Its positions go to `done` when sweep i's last projection is made, and
+/// multipliers is at a fixed point ([`crate::integrators::stopping::same_bits`]; checked every
+/// [`FIXED_POINT_CHECK`](crate::integrators::stopping::FIXED_POINT_CHECK)th sweep): every
+/// later projection sees what it saw in sweep i and changes nothing either, those of later
+/// sweeps already made too. Its positions go to `done` when sweep i's last projection is made, and
 /// once every lane is done (at a fixed point, or its count's sweeps made) the sweeps stop.
 /// `moved` holds, per sweep and lane, the bits its projections changed.
 fn sweeps_in_wavefront(
