@@ -236,8 +236,8 @@ mod tests {
             a.add(i, i, 0.01);
         }
         let f = SparseCholesky::new(&a).unwrap();
-        let columns = f.columns.as_ref().expect("a simplicial factor");
-        assert!(columns
+        let panels = f.panels.as_ref().expect("a simplicial factor");
+        assert!(panels
             .permutation
             .iter()
             .enumerate()
@@ -296,7 +296,8 @@ mod tests {
     }
 
     /// The three-column solve of a simplicial factor ([`SparseCholesky::solve_three`], the one
-    /// Liu's and ADMM's large sheets use) against a dense Cholesky solve: on Liu's matrix
+    /// Liu's and ADMM's large sheets use, in panels of one to four columns) against a dense
+    /// Cholesky solve: on Liu's matrix
     /// $`M + dt^2 L`$ of a 20 × 20 sheet at k = 1e6 N/m, dt = 0.01 s, and on a constructed
     /// matrix with an irregular pattern (random edges, unequal weights).
     #[test]
@@ -315,9 +316,16 @@ mod tests {
             liu.add(s.a, s.b, -w);
             liu.add(s.b, s.a, -w);
         }
-        for a in [liu, irregular(300)] {
+        for (a, widths) in [(liu, 1..=4), (irregular(300), 1..=1)] {
             let f = SparseCholesky::simplicial(&a).unwrap();
-            assert!(f.columns.is_some(), "a simplicial factor");
+            let panels = f.panels.as_ref().expect("a simplicial factor");
+            // The sheet's factor has panels of every width, each with its own kernel.
+            for width in widths {
+                assert!(
+                    panels.panels.iter().any(|p| p.width == width),
+                    "width {width}"
+                );
+            }
             let n = a.dim();
             let b: Vec<f64> = (0..3 * n).map(|i| (i as f64 * 0.71).cos()).collect();
             let expected = dense_solve(&a, &b);
@@ -337,13 +345,13 @@ mod tests {
     fn sparse_three_column_solve_has_the_bits_of_the_baseline_build() {
         let a = irregular(300);
         let f = SparseCholesky::simplicial(&a).unwrap();
-        let columns = f.columns.as_ref().expect("a simplicial factor");
+        let panels = f.panels.as_ref().expect("a simplicial factor");
         let y: Vec<[f64; 4]> = (0..a.dim())
             .map(|i| std::array::from_fn(|c| ((4 * i + c) as f64 * 0.37).sin()))
             .collect();
         let (mut baseline, mut dispatched) = (y.clone(), y);
-        sparse::substitute_three(columns, &f.values, &mut baseline);
-        sparse::solve_three_dispatched(columns, &f.values, &mut dispatched);
+        sparse::substitute_three(panels, &mut baseline);
+        sparse::solve_three_dispatched(panels, &mut dispatched);
         for (p, q) in baseline.iter().flatten().zip(dispatched.iter().flatten()) {
             assert_eq!(p.to_bits(), q.to_bits(), "{p} vs {q}");
         }

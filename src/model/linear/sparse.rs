@@ -21,11 +21,12 @@ use faer::{Conj, MatMut, Par, Side};
 /// `SparseCholesky::solve_three`, not by faer: faer sweeps the three columns of the column-major
 /// right-hand side, so every entry of $`L`$ touches three cache lines n values apart, and it
 /// permutes through a fresh buffer each solve; interleaving the coordinates makes it one line
-/// and a reused buffer, and the backward substitution sums in four partial sums: 1.6 ms to
-/// 0.65 ms on the 100 × 100 sheet (`make timing`). Each node's coordinates are padded to four
-/// (x, y, z, 0), one 256-bit vector, and the substitutions run in AVX2 registers where the CPU
-/// has them (`solve_three_dispatched`, the same bits): the global step 0.89 ms to 0.71 ms of
-/// thread CPU on a loaded Xeon (`docs/performance.md`, "The sheet").
+/// and a reused buffer: 1.6 ms to 0.65 ms on the 100 × 100 sheet (`make timing`). Each node's
+/// coordinates are padded to four (x, y, z, 0), one 256-bit vector, and the substitutions run
+/// in AVX2 registers where the CPU has them (`solve_three_dispatched`, the same bits): the
+/// global step 0.89 ms to 0.71 ms of thread CPU on a loaded Xeon. The columns are taken in
+/// panels of up to four columns of a supernode ([`Panels`]), each row below a panel loaded
+/// once for all its columns (`docs/performance.md`, "The sheet").
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
     pub(super) n: usize,
@@ -34,50 +35,145 @@ pub struct SparseCholesky {
     pub(super) symbolic: std::sync::Arc<SymbolicCholesky<usize>>,
     /// The values of $`L`$, in the layout of `symbolic`.
     pub(super) values: Vec<f64>,
-    /// The simplicial factor's structure, for [`Self::solve_three`]; `None` for a supernodal one.
-    pub(super) columns: Option<SimplicialColumns>,
+    /// The simplicial factor in panels, for [`Self::solve_three`]; `None` for a supernodal one.
+    pub(super) panels: Option<Panels>,
 }
 
-/// A simplicial factor's structure in the form [`SparseCholesky::solve_three`] reads: column j
-/// of $`L`$ is `values[col_ptr[j]..col_ptr[j + 1]]`, its diagonal first, at rows `row`.
+/// A simplicial factor in the form [`SparseCholesky::solve_three`] reads: its columns in
+/// panels of at most [`PANEL_WIDTH`] consecutive columns with the same rows below them (a
+/// fundamental supernode: column j + 1 is the parent of column j and has the rows of j but
+/// itself), so that a row below a panel is read and written once for all its columns.
 #[derive(Debug, Clone)]
-pub(super) struct SimplicialColumns {
-    pub(super) col_ptr: Vec<usize>,
-    pub(super) row: Vec<u32>,
+pub(super) struct Panels {
+    pub(super) panels: Vec<Panel>,
+    /// The rows below each panel, panel after panel.
+    row: Vec<u32>,
+    /// Per panel: the inverses of its diagonal entries, its strict lower triangle column by
+    /// column, then its rows below, row-major (one value per column); refreshed by every
+    /// factorisation.
+    values: Vec<f64>,
+    /// Where each entry of `values` is in the factor's values (the diagonal itself for the
+    /// inverses).
+    source: Vec<u32>,
     /// Row i of the permuted system is row `permutation[i]` of the matrix.
     pub(super) permutation: Vec<u32>,
-    /// $`1/L_{jj}`$, refreshed by every factorisation.
-    pub(super) inverse_diagonal: Vec<f64>,
 }
 
-impl SimplicialColumns {
-    /// The structure of `symbolic` if it is simplicial, each column's diagonal first, and the
-    /// dimension fits 32-bit rows.
+/// A panel of [`Panels`]: columns `first..first + width` of $`L`$.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Panel {
+    first: usize,
+    pub(super) width: usize,
+    /// Its rows below, `row[rows.0..rows.1]`.
+    rows: (usize, usize),
+    /// Where its values start in `values`.
+    values: usize,
+}
+
+/// The widest panel. A row below a panel costs a load and a store of its four lanes (forward)
+/// or a load (backward) shared by the panel's columns: on the 100 × 100 sheet (10,000 columns,
+/// 5,128 fundamental supernodes; 87 % of the entries in supernodes of three columns or more)
+/// the two substitutions took 0.23 ms in panels of four against 0.40 ms column by column
+/// (scratch program, thread CPU, least of eight rounds); six or eight were no faster, and
+/// panels relaxed to take in neighbouring columns with explicit zeros were slower.
+const PANEL_WIDTH: usize = 4;
+
+impl Panels {
+    /// The panels of `symbolic` if it is simplicial with each column's diagonal first, its
+    /// rows ascending and in 32-bit range (`None` otherwise: faer's solve is used).
     fn new(symbolic: &SymbolicCholesky<usize>) -> Option<Self> {
         let SymbolicCholeskyRaw::Simplicial(simplicial) = symbolic.raw() else {
             return None;
         };
         let factor = simplicial.factor();
         let n = factor.ncols();
+        let col_ptr = factor.col_ptr();
         let row: Vec<u32> = factor
             .row_idx()
             .iter()
             .map(|&i| u32::try_from(i).ok())
             .collect::<Option<_>>()?;
-        let col_ptr = factor.col_ptr().to_vec();
-        if (0..n).any(|j| col_ptr[j] == col_ptr[j + 1] || row[col_ptr[j]] as usize != j) {
+        let column = |j: usize| &row[col_ptr[j]..col_ptr[j + 1]];
+        if (0..n).any(|j| column(j).first() != Some(&(j as u32)) || !column(j).is_sorted()) {
             return None;
         }
-        let permutation = match symbolic.perm() {
-            Some(perm) => perm.arrays().0.iter().map(|&i| i as u32).collect(),
-            None => (0..n as u32).collect(),
+        // Column j + 1 continues j's supernode when it is j's parent (the first row below j's
+        // diagonal) and has one row fewer: then its rows are j's but itself.
+        let continues = |j: usize| {
+            column(j).get(1) == Some(&(j as u32 + 1)) && column(j).len() == column(j + 1).len() + 1
         };
-        Some(Self {
-            col_ptr,
-            row,
-            permutation,
-            inverse_diagonal: vec![0.0; n],
-        })
+        let mut panels = Self {
+            panels: Vec::new(),
+            row: Vec::new(),
+            values: Vec::new(),
+            source: Vec::new(),
+            permutation: match symbolic.perm() {
+                Some(perm) => perm.arrays().0.iter().map(|&i| i as u32).collect(),
+                None => (0..n as u32).collect(),
+            },
+        };
+        let mut first = 0;
+        while first < n {
+            let mut width = 1;
+            while width < PANEL_WIDTH && first + width < n && continues(first + width - 1) {
+                width += 1;
+            }
+            if !panels.push(first, width, &col_ptr[first..=first + width], &row) {
+                return None;
+            }
+            first += width;
+        }
+        Some(panels)
+    }
+
+    /// Appends the panel of columns `first..first + width` of a supernode, whose entries
+    /// start at `col_ptr[c]` (the diagonal) in the factor, at rows `row`; false if a column's
+    /// rows are not the panel's (which a supernode's are).
+    fn push(&mut self, first: usize, width: usize, col_ptr: &[usize], row: &[u32]) -> bool {
+        // The rows below the panel: its last column's below its diagonal, which every column
+        // of a supernode has after the panel's own rows.
+        let below = &row[col_ptr[width - 1] + 1..col_ptr[width]];
+        let panel_rows = |c: usize| (first + c..first + width).map(|i| i as u32);
+        if (0..width).any(|c| {
+            !row[col_ptr[c]..col_ptr[c + 1]]
+                .iter()
+                .copied()
+                .eq(panel_rows(c).chain(below.iter().copied()))
+        }) {
+            return false;
+        }
+        let start = self.row.len();
+        self.row.extend_from_slice(below);
+        self.panels.push(Panel {
+            first,
+            width,
+            rows: (start, self.row.len()),
+            values: self.source.len(),
+        });
+        let entry = |c: usize, k: usize| (col_ptr[c] + k) as u32;
+        self.source.extend((0..width).map(|c| entry(c, 0)));
+        for c in 0..width {
+            self.source.extend((1..width - c).map(|k| entry(c, k)));
+        }
+        for r in 0..below.len() {
+            self.source
+                .extend((0..width).map(|c| entry(c, width - c + r)));
+        }
+        self.values.resize(self.source.len(), 0.0);
+        true
+    }
+
+    /// Takes the values of a new factorisation (in the layout of the structure these panels
+    /// were made from).
+    fn load(&mut self, factor: &[f64]) {
+        for (v, &k) in self.values.iter_mut().zip(&self.source) {
+            *v = factor[k as usize];
+        }
+        for p in &self.panels {
+            for d in &mut self.values[p.values..p.values + p.width] {
+                *d = 1.0 / *d;
+            }
+        }
     }
 }
 
@@ -116,7 +212,7 @@ impl SparseCholesky {
         let mut f = Self {
             n: a.n,
             values: vec![0.0; symbolic.len_val()],
-            columns: SimplicialColumns::new(&symbolic),
+            panels: Panels::new(&symbolic),
             col_ptr,
             row_idx,
             symbolic: std::sync::Arc::new(symbolic),
@@ -150,18 +246,16 @@ impl SparseCholesky {
             )
             // The pivot's index is in the fill-reducing order: meaningless to the caller.
             .map_err(|_| not_positive_definite(usize::MAX, f64::NAN))?;
-        if let Some(columns) = &mut self.columns {
-            for (inv, &k) in columns.inverse_diagonal.iter_mut().zip(&columns.col_ptr) {
-                *inv = 1.0 / self.values[k];
-            }
+        if let Some(panels) = &mut self.panels {
+            panels.load(&self.values);
         }
         Ok(())
     }
 
     /// Solves all right-hand sides at once (the three coordinates of Liu and ADMM together).
     pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
-        if let (3, Some(columns)) = (ncols, &self.columns) {
-            return self.solve_three(columns, &mut b[..3 * self.n]);
+        if let (3, Some(panels)) = (ncols, &self.panels) {
+            return self.solve_three(panels, &mut b[..3 * self.n]);
         }
         let rhs = MatMut::from_column_major_slice_mut(&mut b[..self.n * ncols], self.n, ncols);
         let mut scratch =
@@ -174,20 +268,20 @@ impl SparseCholesky {
         );
     }
 
-    /// $`L y = P b`$ column by column (each column of $`L`$ scatters into the rows below),
-    /// then $`L^\top z = y`$ (each row gathers), $`x = P^\top z`$, for the three columns of `b`
-    /// interleaved: node i's three coordinates side by side, and a fourth lane of zeros.
-    fn solve_three(&self, s: &SimplicialColumns, b: &mut [f64]) {
+    /// $`L y = P b`$ panel by panel (each panel's columns scatter into the rows below), then
+    /// $`L^\top z = y`$ (each panel's columns gather), $`x = P^\top z`$, for the three columns
+    /// of `b` interleaved: node i's three coordinates side by side, and a fourth lane of zeros.
+    fn solve_three(&self, panels: &Panels, b: &mut [f64]) {
         let n = self.n;
         INTERLEAVED.with(|cell| {
             let mut y = cell.borrow_mut();
             y.resize(n, [0.0; 4]);
-            for (y, &p) in y.iter_mut().zip(&s.permutation) {
+            for (y, &p) in y.iter_mut().zip(&panels.permutation) {
                 let p = p as usize;
                 *y = [b[p], b[n + p], b[2 * n + p], 0.0];
             }
-            solve_three_dispatched(s, &self.values, &mut y);
-            for (y, &p) in y.iter().zip(&s.permutation) {
+            solve_three_dispatched(panels, &mut y);
+            for (y, &p) in y.iter().zip(&panels.permutation) {
                 let p = p as usize;
                 [b[p], b[n + p], b[2 * n + p]] = [y[0], y[1], y[2]];
             }
@@ -199,65 +293,121 @@ impl SparseCholesky {
 /// 256-bit vector; AVX-512 measured no faster), chosen at run time. The bits do not depend on
 /// the choice: each lane adds and multiplies in the same order whatever the vector width, and
 /// Rust never fuses a multiplication and an addition into one rounding.
-pub(super) fn solve_three_dispatched(s: &SimplicialColumns, values: &[f64], y: &mut [[f64; 4]]) {
+pub(super) fn solve_three_dispatched(panels: &Panels, y: &mut [[f64; 4]]) {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
         #[target_feature(enable = "avx2")]
-        unsafe fn avx2(s: &SimplicialColumns, values: &[f64], y: &mut [[f64; 4]]) {
-            substitute_three(s, values, y)
+        unsafe fn avx2(panels: &Panels, y: &mut [[f64; 4]]) {
+            substitute_three(panels, y)
         }
         // SAFETY: the CPU has AVX2, detected above.
-        return unsafe { avx2(s, values, y) };
+        return unsafe { avx2(panels, y) };
     }
-    substitute_three(s, values, y)
+    substitute_three(panels, y)
 }
 
-/// The two substitutions of [`SparseCholesky::solve_three`] on the permuted, interleaved `y`.
+/// The two substitutions of [`SparseCholesky::solve_three`] on the permuted, interleaved `y`,
+/// each panel by the kernel of its width.
 #[inline(always)]
-pub(super) fn substitute_three(s: &SimplicialColumns, values: &[f64], y: &mut [[f64; 4]]) {
-    let n = y.len();
-    for j in 0..n {
-        let (k0, k1) = (s.col_ptr[j] + 1, s.col_ptr[j + 1]);
-        let d = s.inverse_diagonal[j];
-        let yj = y[j].map(|v| v * d);
-        y[j] = yj;
-        for (&i, &l) in s.row[k0..k1].iter().zip(&values[k0..k1]) {
-            let yi = &mut y[i as usize];
-            for c in 0..4 {
-                yi[c] -= l * yj[c];
+pub(super) fn substitute_three(panels: &Panels, y: &mut [[f64; 4]]) {
+    let (row, values) = (&panels.row[..], &panels.values[..]);
+    for p in &panels.panels {
+        match p.width {
+            1 => forward_panel::<1>(p, row, values, y),
+            2 => forward_panel::<2>(p, row, values, y),
+            3 => forward_panel::<3>(p, row, values, y),
+            _ => forward_panel::<PANEL_WIDTH>(p, row, values, y),
+        }
+    }
+    for p in panels.panels.iter().rev() {
+        match p.width {
+            1 => backward_panel::<1>(p, row, values, y),
+            2 => backward_panel::<2>(p, row, values, y),
+            3 => backward_panel::<3>(p, row, values, y),
+            _ => backward_panel::<PANEL_WIDTH>(p, row, values, y),
+        }
+    }
+}
+
+/// A panel's values: the inverses of its diagonal, its strict lower triangle (column by
+/// column) and its rows below (row-major, `W` values a row).
+#[inline(always)]
+fn panel_values<'v, const W: usize>(p: &Panel, values: &'v [f64]) -> [&'v [f64]; 3] {
+    let rows = p.rows.1 - p.rows.0;
+    let v = &values[p.values..p.values + W * (W + 1) / 2 + W * rows];
+    let (inverse_diagonal, v) = v.split_at(W);
+    let (triangle, below) = v.split_at(W * (W - 1) / 2);
+    [inverse_diagonal, triangle, below]
+}
+
+/// $`y_i - l\,y_c`$ for a node's four lanes.
+#[inline(always)]
+fn minus_product(y_i: [f64; 4], l: f64, y_c: [f64; 4]) -> [f64; 4] {
+    std::array::from_fn(|k| y_i[k] - l * y_c[k])
+}
+
+/// $`s + l\,y_i`$ for a node's four lanes.
+#[inline(always)]
+fn plus_product(s: [f64; 4], l: f64, y_i: [f64; 4]) -> [f64; 4] {
+    std::array::from_fn(|k| s[k] + l * y_i[k])
+}
+
+/// The forward substitution of one panel of `W` columns: its columns in order, each divided by
+/// its diagonal and taken from the panel's later columns, then every row below loaded once,
+/// every column's term taken from it in column order (the order of a column-by-column
+/// substitution), and stored once.
+#[inline(always)]
+fn forward_panel<const W: usize>(p: &Panel, row: &[u32], values: &[f64], y: &mut [[f64; 4]]) {
+    let [inverse_diagonal, triangle, below] = panel_values::<W>(p, values);
+    let mut y_c: [[f64; 4]; W] = std::array::from_fn(|c| y[p.first + c]);
+    let mut entry = triangle.iter();
+    for c in 0..W {
+        y_c[c] = y_c[c].map(|v| v * inverse_diagonal[c]);
+        for later in c + 1..W {
+            y_c[later] = minus_product(y_c[later], *entry.next().unwrap(), y_c[c]);
+        }
+    }
+    y[p.first..p.first + W].copy_from_slice(&y_c);
+    for (&i, l) in row[p.rows.0..p.rows.1].iter().zip(below.chunks_exact(W)) {
+        let y_i = &mut y[i as usize];
+        *y_i = (0..W).fold(*y_i, |y_i, c| minus_product(y_i, l[c], y_c[c]));
+    }
+}
+
+/// The backward substitution of one panel of `W` columns: every row below loaded once, its
+/// term added to each column's sum (two partial sums a column, alternate rows, so that
+/// consecutive additions overlap), then the columns from the last, each taking its panel's
+/// later columns and its diagonal.
+#[inline(always)]
+fn backward_panel<const W: usize>(p: &Panel, row: &[u32], values: &[f64], y: &mut [[f64; 4]]) {
+    let [inverse_diagonal, triangle, below] = panel_values::<W>(p, values);
+    let rows = &row[p.rows.0..p.rows.1];
+    let mut partial = [[[0.0; 4]; W]; 2];
+    let (pairs, pair_values) = (rows.chunks_exact(2), below.chunks_exact(2 * W));
+    let (last, last_values) = (pairs.remainder(), pair_values.remainder());
+    for (i, l) in pairs.zip(pair_values) {
+        for (half, partial) in partial.iter_mut().enumerate() {
+            let y_i = y[i[half] as usize];
+            for c in 0..W {
+                partial[c] = plus_product(partial[c], l[half * W + c], y_i);
             }
         }
     }
-    for j in (0..n).rev() {
-        let (k0, k1) = (s.col_ptr[j] + 1, s.col_ptr[j + 1]);
-        let sum = gather_four(&s.row[k0..k1], &values[k0..k1], y);
-        let d = s.inverse_diagonal[j];
-        let z = y[j];
-        y[j] = std::array::from_fn(|c| (z[c] - sum[c]) * d);
-    }
-}
-
-/// $`\sum_k l_k\,y_{i_k}`$ for the interleaved coordinates, in four interleaved partial sums:
-/// one running sum would make every addition wait for the one before (a chain as long as the
-/// column), four let the additions of consecutive entries overlap.
-#[inline(always)]
-fn gather_four(rows: &[u32], values: &[f64], y: &[[f64; 4]]) -> [f64; 4] {
-    let mut partial = [[0.0; 4]; 4];
-    let (rows4, values4) = (rows.chunks_exact(4), values.chunks_exact(4));
-    let (rows_left, values_left) = (rows4.remainder(), values4.remainder());
-    for (i, l) in rows4.zip(values4) {
-        for k in 0..4 {
-            let yi = y[i[k] as usize];
-            for c in 0..4 {
-                partial[k][c] += l[k] * yi[c];
-            }
+    if let [i] = last {
+        let y_i = y[*i as usize];
+        for c in 0..W {
+            partial[0][c] = plus_product(partial[0][c], last_values[c], y_i);
         }
     }
-    for (k, (&i, &l)) in rows_left.iter().zip(values_left).enumerate() {
-        let yi = y[i as usize];
-        for c in 0..4 {
-            partial[k][c] += l * yi[c];
+    let mut y_c: [[f64; 4]; W] = std::array::from_fn(|c| y[p.first + c]);
+    for c in (0..W).rev() {
+        let mut sum: [f64; 4] = std::array::from_fn(|k| partial[0][c][k] + partial[1][c][k]);
+        // Column c's entries of the triangle follow those of the columns before it.
+        let column = (0..c).map(|before| W - 1 - before).sum::<usize>();
+        for later in c + 1..W {
+            sum = plus_product(sum, triangle[column + later - c - 1], y_c[later]);
         }
+        y_c[c] = std::array::from_fn(|k| (y_c[c][k] - sum[k]) * inverse_diagonal[c]);
     }
-    std::array::from_fn(|c| (partial[0][c] + partial[1][c]) + (partial[2][c] + partial[3][c]))
+    y[p.first..p.first + W].copy_from_slice(&y_c);
 }
