@@ -346,13 +346,14 @@ mod tests {
         let a = irregular(300);
         let f = SparseCholesky::simplicial(&a).unwrap();
         let panels = f.panels.as_ref().expect("a simplicial factor");
-        let y: Vec<[f64; 4]> = (0..a.dim())
-            .map(|i| std::array::from_fn(|c| ((4 * i + c) as f64 * 0.37).sin()))
+        let y: Vec<sparse::Node> = (0..a.dim())
+            .map(|i| sparse::Node(std::array::from_fn(|c| ((4 * i + c) as f64 * 0.37).sin())))
             .collect();
         let (mut baseline, mut dispatched) = (y.clone(), y);
         sparse::substitute_three(panels, &mut baseline);
         sparse::solve_three_dispatched(panels, &mut dispatched);
-        for (p, q) in baseline.iter().flatten().zip(dispatched.iter().flatten()) {
+        let lanes = |y: &[sparse::Node]| y.iter().flat_map(|node| node.0).collect::<Vec<_>>();
+        for (p, q) in lanes(&baseline).iter().zip(lanes(&dispatched)) {
             assert_eq!(p.to_bits(), q.to_bits(), "{p} vs {q}");
         }
     }
