@@ -92,7 +92,7 @@ pub struct LocalStepSprings<'a, T> {
 /// from the column-major iterate `x`. [`z_minimisation`]'s arithmetic, with every spring's
 /// square root and division of Eq (55) gathered in one pass over `scale` (scratch, one per
 /// spring; `z` holds $`D_i x`$ until its update), as Liu's local step gathers its own
-/// ([`crate::solvers::projective::project_on_spheres`]): the same operations on the same
+/// ([`crate::solvers::fast_mass_spring::spring_directions`]): the same operations on the same
 /// operands, so the same bits, several springs' at a time.
 #[inline]
 pub fn local_step_of<T: Lane, G: SpringGraph>(

@@ -36,7 +36,7 @@ use crate::integrators::time_stepper::TimeStepper;
 use crate::model::lanes::Lane;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::projective::{
-    finish_step, incidence_matrix, nodes_of_columns, project_on_spheres, to_columns, GlobalSolve,
+    finish_step, incidence_matrix, nodes_of_columns, sphere_scales, to_columns, GlobalSolve,
     SpringGraph, SpringIncidence,
 };
 use nalgebra::Vector3;
@@ -264,9 +264,13 @@ pub fn inertial_rhs<T: Lane>(
 }
 
 /// Eq. (28): $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for every spring of `j` at the
-/// column-major iterate `x` (`scale`: scratch, one entry per spring). The loops run over the
-/// graph's springs and nodes, so that on a [`crate::solvers::projective::Chain`] every index
-/// is known where the code is compiled.
+/// column-major iterate `x` (`scale`: scratch, one entry per spring), with the arithmetic of
+/// [`crate::solvers::projective::project_on_sphere`]: each spring's difference and its
+/// squared length in one pass, then every square root and division at once
+/// ([`sphere_scales`], several springs at a time in SIMD registers), then the scaling (on the
+/// 100 × 100 sheet the pass over the differences apart cost 14 % of the local step). The loops
+/// run over the graph's springs and nodes, so that on a
+/// [`crate::solvers::projective::Chain`] every index is known where the code is compiled.
 #[inline]
 pub fn spring_directions<T: Lane, G: SpringGraph>(
     j: &SpringIncidence<T, G>,
@@ -277,11 +281,15 @@ pub fn spring_directions<T: Lane, G: SpringGraph>(
 ) {
     let springs = j.springs();
     let x = &x[..3 * j.nodes()];
-    let d = &mut d[..springs];
-    for (i, d) in d.iter_mut().enumerate() {
+    let (d, scale) = (&mut d[..springs], &mut scale[..springs]);
+    for (i, (d, r)) in d.iter_mut().zip(scale.iter_mut()).enumerate() {
         *d = j.difference(i, x);
+        *r = d.norm_squared();
     }
-    project_on_spheres(d, &rest_lengths[..springs], &mut scale[..springs]);
+    sphere_scales(scale, &rest_lengths[..springs]);
+    for (d, &r) in d.iter_mut().zip(scale.iter()) {
+        *d *= r;
+    }
 }
 
 /// Eq. (29), the right-hand side of the consistent form: $`x \leftarrow b + dt^2 J d`$.

@@ -138,25 +138,11 @@ pub fn project_on_sphere<T: Lane>(q: Vector3<T>, l0: T) -> Vector3<T> {
     q * sphere_scale(q.norm_squared(), l0)
 }
 
-/// Eqs. (28), (55): $`q_i \leftarrow l_{0,i}\,q_i/|q_i|`$ for every spring at once, with the
-/// arithmetic of [`project_on_sphere`]. A square root and a division per spring are most of a
-/// local step's cost; gathered in one loop over `scale` (scratch, one entry per spring) they
-/// run several at a time in SIMD registers.
-#[inline]
-pub fn project_on_spheres<T: Lane>(q: &mut [Vector3<T>], l0: &[T], scale: &mut [T]) {
-    for (r, q) in scale.iter_mut().zip(q.iter()) {
-        *r = q.norm_squared();
-    }
-    sphere_scales(scale, l0);
-    for (q, &r) in q.iter_mut().zip(scale.iter()) {
-        *q *= r;
-    }
-}
-
 /// Eqs. (28), (55): every spring's factor $`l_{0,i}/|q_i|`$ of the projection
 /// ([`project_on_sphere`]) at once: `scale` holds $`|q_i|^2`$ on entry and the factor on
-/// return, so that the square roots and divisions of a local step run several at a time
-/// (ADMM-PD's local step multiplies by it itself, [`crate::solvers::admm::local_step_of`]).
+/// return, so that the square roots and divisions of a local step run several at a time in
+/// SIMD registers (Liu's local step, [`crate::solvers::fast_mass_spring::spring_directions`],
+/// and ADMM-PD's, [`crate::solvers::admm::local_step_of`], multiply by it themselves).
 #[inline]
 pub fn sphere_scales<T: Lane>(scale: &mut [T], l0: &[T]) {
     for (r, &l0) in scale.iter_mut().zip(l0) {
