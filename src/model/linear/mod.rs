@@ -299,7 +299,8 @@ mod tests {
     /// Liu's and ADMM's large sheets use, in panels of one to four columns) against a dense
     /// Cholesky solve: on Liu's matrix
     /// $`M + dt^2 L`$ of a 20 × 20 sheet at k = 1e6 N/m, dt = 0.01 s, and on a constructed
-    /// matrix with an irregular pattern (random edges, unequal weights).
+    /// matrix with an irregular pattern (random edges, unequal weights), each as built and
+    /// refactored. (Fails with the panels' values left as the first factorisation's.)
     #[test]
     fn sparse_three_column_solve_matches_a_dense_solve() {
         use crate::model::scene::SheetParams;
@@ -316,8 +317,8 @@ mod tests {
             liu.add(s.a, s.b, -w);
             liu.add(s.b, s.a, -w);
         }
-        for (a, widths) in [(liu, 1..=4), (irregular(300), 1..=1)] {
-            let f = SparseCholesky::simplicial(&a).unwrap();
+        for (mut a, widths) in [(liu, 1..=4), (irregular(300), 1..=1)] {
+            let mut f = SparseCholesky::simplicial(&a).unwrap();
             let panels = f.panels.as_ref().expect("a simplicial factor");
             // The sheet's factor has panels of every width, each with its own kernel.
             for width in widths {
@@ -328,12 +329,25 @@ mod tests {
             }
             let n = a.dim();
             let b: Vec<f64> = (0..3 * n).map(|i| (i as f64 * 0.71).cos()).collect();
-            let expected = dense_solve(&a, &b);
-            let mut x = b.clone();
-            f.solve_in_place(&mut x, 3);
-            let scale = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            for (x, e) in x.iter().zip(&expected) {
-                assert!((x - e).abs() <= 1e-9 * scale, "{x} vs {e} (n = {n})");
+            // As built, then refactored for a heavier diagonal (another time step's matrix):
+            // the panels take the new factor's values.
+            for refactored in [false, true] {
+                if refactored {
+                    for i in 0..n {
+                        a.add(i, i, 1.0 + (i % 7) as f64);
+                    }
+                    f.refactor(&a).unwrap();
+                }
+                let expected = dense_solve(&a, &b);
+                let mut x = b.clone();
+                f.solve_in_place(&mut x, 3);
+                let scale = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                for (x, e) in x.iter().zip(&expected) {
+                    assert!(
+                        (x - e).abs() <= 1e-9 * scale,
+                        "{x} vs {e} (n = {n}, refactored: {refactored})"
+                    );
+                }
             }
         }
     }
