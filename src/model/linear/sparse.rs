@@ -80,7 +80,8 @@ const PANEL_WIDTH: usize = 4;
 
 impl Panels {
     /// The panels of `symbolic` if it is simplicial with each column's diagonal first, its
-    /// rows ascending and in 32-bit range (`None` otherwise: faer's solve is used).
+    /// rows ascending, and its rows and entries counted in 32 bits (`None` otherwise: faer's
+    /// solve is used).
     fn new(symbolic: &SymbolicCholesky<usize>) -> Option<Self> {
         let SymbolicCholeskyRaw::Simplicial(simplicial) = symbolic.raw() else {
             return None;
@@ -93,6 +94,8 @@ impl Panels {
             .iter()
             .map(|&i| u32::try_from(i).ok())
             .collect::<Option<_>>()?;
+        // `source` holds an entry's index in 32 bits.
+        u32::try_from(row.len()).ok()?;
         let column = |j: usize| &row[col_ptr[j]..col_ptr[j + 1]];
         if (0..n).any(|j| column(j).first() != Some(&(j as u32)) || !column(j).is_sorted()) {
             return None;
