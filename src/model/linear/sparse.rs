@@ -1,5 +1,6 @@
-//! The sparse Cholesky factorisation of the larger sheets (simplicial, supernodes by column
-//! groups), with three right-hand sides solved together.
+//! The sparse Cholesky factorisation of the larger sheets (faer's, simplicial or supernodal),
+//! with three right-hand sides solved together on a simplicial factor, in panels of a
+//! supernode's columns.
 
 use super::pivot::*;
 use super::symmetric::SymmetricMatrix;
