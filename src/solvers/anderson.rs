@@ -52,7 +52,11 @@
 //! Measured: the report's section 10 (iterations to 1e-6 m from the inertial prediction, and
 //! what each ADMM safeguard rejects and costs), `tests/accelerated.rs`.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::allocator::Allocator;
+use nalgebra::{
+    DMatrix, DVector, DefaultAllocator, DimDiff, DimMin, DimSub, Matrix5, OMatrix, OVector,
+    Vector5, U1,
+};
 
 use crate::error::{Error, Result};
 use crate::integrators::first_iterate::FirstIterate;
@@ -229,15 +233,36 @@ impl AndersonMixing {
         }
         let mut rhs = DVector::zeros(c);
         dots(&self.delta_f[..c], &self.f, rhs.as_mut_slice());
-        let svd = self
-            .normal
-            .view((0, 0), (c, c))
-            .into_owned()
-            .svd(true, true);
-        let eps = 1e-14 * svd.singular_values.max();
-        svd.solve(&rhs, eps)
-            .expect("the SVD was computed with U and V")
+        let normal = self.normal.view((0, 0), (c, c));
+        if c == DEFAULT_WINDOW {
+            // The same SVD on the stack, its size known where it is compiled (a full default
+            // window is most of a step's iterations): the bits of the dynamic one.
+            let theta = least_squares(
+                Matrix5::from_fn(|i, j| normal[(i, j)]),
+                &Vector5::from_column_slice(rhs.as_slice()),
+            );
+            return DVector::from_column_slice(theta.as_slice());
+        }
+        least_squares(normal.into_owned(), &rhs)
     }
+}
+
+/// The default window, $`m = 5`$ (AASolver's `Options.txt`).
+const DEFAULT_WINDOW: usize = 5;
+
+/// The minimiser of [`AndersonMixing::theta`] from its normal equations `normal θ = rhs`, by
+/// nalgebra's SVD, singular values below $`10^{-14}`$ of the largest dropped. Of any size but
+/// 2 and 3 the algorithm, and so the bits, are the same for a fixed-size matrix as for a
+/// dynamic one (nalgebra solves those two fixed sizes by formulas of their own).
+fn least_squares<D>(normal: OMatrix<f64, D, D>, rhs: &OVector<f64, D>) -> OVector<f64, D>
+where
+    D: DimMin<D, Output = D> + DimSub<U1>,
+    DefaultAllocator: Allocator<D, D> + Allocator<D> + Allocator<DimDiff<D, U1>>,
+{
+    let svd = normal.svd(true, true);
+    let eps = 1e-14 * svd.singular_values.max();
+    svd.solve(rhs, eps)
+        .expect("the SVD was computed with U and V")
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -458,6 +483,39 @@ impl MinimizingSolver for Anderson {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The default window's SVD on the stack has the bits of the dynamic one, on normal
+    /// matrices of unit columns from well conditioned to rank deficient (two columns equal up
+    /// to round-off, one a combination of two others). Checked failing: the same comparison at
+    /// size 3, where nalgebra's fixed-size SVD is another algorithm.
+    #[test]
+    fn the_default_windows_svd_on_the_stack_has_the_bits_of_the_dynamic_one() {
+        let c = DEFAULT_WINDOW;
+        for (case, seed) in [0.37, 1.1, 2.9].into_iter().enumerate() {
+            let mut columns = DMatrix::from_fn(24, c, |i, j| ((i * c + j) as f64 * seed).sin());
+            if case == 1 {
+                let near = columns.column(0) * (1.0 + 1e-15);
+                columns.set_column(1, &near);
+            }
+            if case == 2 {
+                let combination = columns.column(0) + columns.column(2) * 0.5;
+                columns.set_column(3, &combination);
+            }
+            for mut column in columns.column_iter_mut() {
+                column /= column.norm();
+            }
+            let normal = columns.transpose() * &columns;
+            let rhs = DVector::from_fn(c, |i, _| (i as f64 * seed).cos());
+            let fixed = least_squares(
+                Matrix5::from_fn(|i, j| normal[(i, j)]),
+                &Vector5::from_column_slice(rhs.as_slice()),
+            );
+            let dynamic = least_squares(normal, &rhs);
+            for (a, b) in fixed.iter().zip(dynamic.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits(), "case {case}");
+            }
+        }
+    }
 
     /// Each of `dots`'s sums has the bits of `dot`, four at once and fewer, on vectors whose
     /// terms span magnitudes (so that another order of addition rounds differently: one sum
