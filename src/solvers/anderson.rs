@@ -54,8 +54,8 @@
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{
-    DMatrix, DVector, DefaultAllocator, DimDiff, DimMin, DimSub, Matrix5, OMatrix, OVector,
-    Vector5, U1,
+    DMatrix, DVector, DefaultAllocator, DimDiff, DimMin, DimSub, OMatrix, OVector, SMatrix,
+    SVector, U1,
 };
 
 use crate::error::{Error, Result};
@@ -68,6 +68,9 @@ use crate::solvers::local_global::{AdmmMerit, Base, LocalGlobal, Merit};
 
 /// Largest window accepted.
 pub const MAX_WINDOW: usize = 20;
+
+/// The default window, $`m = 5`$ (AASolver's `Options.txt`, `AndersonM 5`).
+pub const DEFAULT_WINDOW: usize = 5;
 
 /// The parameters of [`Anderson`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,7 +91,7 @@ impl Default for AndersonParams {
     fn default() -> Self {
         Self {
             base: Base::Liu,
-            window: 5,
+            window: DEFAULT_WINDOW,
             safeguard: AdmmMerit::PrimalResidual,
             first_iterate: FirstIterate::InertialPrediction,
         }
@@ -238,8 +241,8 @@ impl AndersonMixing {
             // The same SVD on the stack, its size known where it is compiled (a full default
             // window is most of a step's iterations): the bits of the dynamic one.
             let theta = least_squares(
-                Matrix5::from_fn(|i, j| normal[(i, j)]),
-                &Vector5::from_column_slice(rhs.as_slice()),
+                SMatrix::<f64, DEFAULT_WINDOW, DEFAULT_WINDOW>::from_fn(|i, j| normal[(i, j)]),
+                &SVector::<f64, DEFAULT_WINDOW>::from_column_slice(rhs.as_slice()),
             );
             return DVector::from_column_slice(theta.as_slice());
         }
@@ -247,16 +250,13 @@ impl AndersonMixing {
     }
 }
 
-/// The default window, $`m = 5`$ (AASolver's `Options.txt`).
-const DEFAULT_WINDOW: usize = 5;
-
 /// The minimiser of [`AndersonMixing::theta`] from its normal equations `normal θ = rhs`, by
 /// nalgebra's SVD, singular values below $`10^{-14}`$ of the largest dropped. A fixed-size
 /// matrix does not always give the dynamic one's bits: nalgebra has formulas of its own for an
 /// SVD of size 2 or 3 and for a product of vectors of length 2, 3 or 4 (scratch program,
 /// 4,000 normal matrices of unit columns of length 30 a size: 3,761, 3,990 and 3,657 of sizes
-/// 2, 3 and 4 differ in θ's bits, none of sizes 1 and 5), so only size 5 is taken on the stack
-/// (tested).
+/// 2, 3 and 4 differ in θ's bits, none of sizes 1 and 5), so only the default window's size,
+/// 5, is taken on the stack (tested).
 fn least_squares<D>(normal: OMatrix<f64, D, D>, rhs: &OVector<f64, D>) -> OVector<f64, D>
 where
     D: DimMin<D, Output = D> + DimSub<U1>,
@@ -511,8 +511,8 @@ mod tests {
             let normal = columns.transpose() * &columns;
             let rhs = DVector::from_fn(c, |i, _| (i as f64 * seed).cos());
             let fixed = least_squares(
-                Matrix5::from_fn(|i, j| normal[(i, j)]),
-                &Vector5::from_column_slice(rhs.as_slice()),
+                SMatrix::<f64, DEFAULT_WINDOW, DEFAULT_WINDOW>::from_fn(|i, j| normal[(i, j)]),
+                &SVector::<f64, DEFAULT_WINDOW>::from_column_slice(rhs.as_slice()),
             );
             let dynamic = least_squares(normal, &rhs);
             for (a, b) in fixed.iter().zip(dynamic.iter()) {
