@@ -154,33 +154,33 @@ impl<T: Lane, const N: usize> SpringIncidence<T, Chain<N>> {
 
 impl<T: Lane, G: SpringGraph> SpringIncidence<T, G> {
     /// Number of springs s (rows).
-    #[inline]
+    #[inline(always)]
     pub fn springs(&self) -> usize {
         self.graph.springs()
     }
 
     /// Number of nodes n (columns).
-    #[inline]
+    #[inline(always)]
     pub fn nodes(&self) -> usize {
         self.graph.nodes()
     }
 
     /// The nodes $`(a_i, b_i)`$ of spring `i`.
-    #[inline]
+    #[inline(always)]
     pub fn ends(&self, i: usize) -> (usize, usize) {
         self.graph.ends(i)
     }
 
     /// Row `i` applied to column-major positions `x` (length 3n): $`w_i\,(x_{a_i} - x_{b_i})`$
     /// ($`D_i x`$ for the reduction matrix).
-    #[inline]
+    #[inline(always)]
     pub fn apply_row(&self, i: usize, x: &[T]) -> Vector3<T> {
         self.difference(i, x) * self.weights[i]
     }
 
     /// The unweighted difference $`x_{a_i} - x_{b_i}`$ of spring `i`'s ends in column-major
     /// positions `x` ($`x_1 - x_2`$ of Eqs 21-28).
-    #[inline]
+    #[inline(always)]
     pub fn difference(&self, i: usize, x: &[T]) -> Vector3<T> {
         let (a, b) = self.graph.ends(i);
         let [x, y, z] = coordinates(x, self.graph.nodes());
@@ -224,7 +224,7 @@ impl<T: Lane, G: SpringGraph> SpringIncidence<T, G> {
     /// Adds row `i` transposed times `value` to the column-major `out` (length 3n):
     /// $`out_{a_i} \mathrel{+}= w_i\,value`$, $`out_{b_i} \mathrel{-}= w_i\,value`$ (column $`i`$
     /// of $`J`$ times $`d_i`$; $`D_i^\top`$ times a per-spring vector).
-    #[inline]
+    #[inline(always)]
     pub fn add_row_transposed(&self, i: usize, value: Vector3<T>, out: &mut [T]) {
         let (a, b) = self.graph.ends(i);
         let v = value * self.weights[i];
@@ -239,13 +239,13 @@ impl<T: Lane, G: SpringGraph> SpringIncidence<T, G> {
 }
 
 /// The three coordinate columns (x, y, z) of column-major positions over `n` nodes.
-#[inline]
+#[inline(always)]
 fn coordinates<T>(columns: &[T], n: usize) -> [&[T]; 3] {
     [&columns[..n], &columns[n..2 * n], &columns[2 * n..3 * n]]
 }
 
 /// [`coordinates`], mutable.
-#[inline]
+#[inline(always)]
 fn coordinates_mut<T>(columns: &mut [T], n: usize) -> [&mut [T]; 3] {
     let (x, rest) = columns.split_at_mut(n);
     let (y, rest) = rest.split_at_mut(n);
