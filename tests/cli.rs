@@ -594,3 +594,57 @@ fn a_run_to_a_tolerance_reports_the_iterations_taken() {
     assert_eq!(fixed["stop_tolerance_m"], Value::Null);
     assert_eq!(fixed["iterations_mean"], 7.0);
 }
+
+/// The tutorial's adaptive integrator from the command line (chapter 9 of the report): a
+/// tolerance runs Dormand-Prince 5(4); a tolerance out of range, or one given to a fixed-step
+/// integrator, exits 2 naming `--tolerance`.
+#[test]
+fn mss_runs_rk45_and_rejects_a_bad_tolerance() {
+    let output = mss(&[
+        "--scene",
+        "pendulum",
+        "--solver",
+        "rk45",
+        "--tolerance",
+        "1e-6",
+        "--dt",
+        "0.01",
+        "--max-time",
+        "1",
+    ]);
+    assert_eq!(output.status.code(), Some(0));
+    assert!(
+        stdout(&output).contains("Dormand-Prince 5(4)"),
+        "{}",
+        stdout(&output)
+    );
+    for bad in ["0", "-0.001", "nan", "inf"] {
+        let output = mss(&[
+            "--scene",
+            "pendulum",
+            "--solver",
+            "rk45",
+            &format!("--tolerance={bad}"),
+        ]);
+        assert_eq!(output.status.code(), Some(2), "--tolerance {bad}");
+        assert!(
+            stderr(&output).contains("--tolerance"),
+            "{}",
+            stderr(&output)
+        );
+    }
+    let output = mss(&[
+        "--scene",
+        "pendulum",
+        "--solver",
+        "rk4",
+        "--tolerance",
+        "1e-6",
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains("--tolerance"),
+        "{}",
+        stderr(&output)
+    );
+}

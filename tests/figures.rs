@@ -1,6 +1,6 @@
 //! The figure test on synthetic charts: it passes a clean chart and fails each defect it
 //! guards against (a legend over data, a mark outside its axes, overlapping labels), so a
-//! pass on the report's figures (`tests/report.rs`) means something.
+//! pass on the report's figures (`tests/thesis/report.rs`) means something.
 
 mod figure_check;
 #[path = "figure_check/numbering.rs"]
@@ -9,6 +9,7 @@ mod numbering;
 mod scale;
 
 use figure_check::problems;
+use mass_spring_report::crate_root;
 use mass_spring_report::plot::{
     layout, Align, Axis, Chart, Corner, LegendPlace, Line, Marker, Panel, Rgb, Series,
     COLUMN_WIDTH_MM, FULL_WIDTH_MM,
@@ -243,8 +244,7 @@ fn a_rope_not_drawn_to_scale_has_an_exaggeration_above_one() {
 /// cited; the failing cases are those of the test above.
 #[test]
 fn the_timing_figures_are_numbered_in_one_sequence_and_each_is_cited() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/report/timing/TIMING.md");
-    let md = std::fs::read_to_string(path).unwrap();
+    let md = std::fs::read_to_string(crate_root().join("report/timing/TIMING.md")).unwrap();
     let problems = numbering::numbering_problems(&md, 1);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert_eq!(numbering::uncited(&md), Vec::<u32>::new());

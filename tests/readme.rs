@@ -165,3 +165,47 @@ fn make_test_runs_every_test_target() {
         );
     }
 }
+
+/// The files of `tests/` are test targets listed in the two manifests (the root's `autotests =
+/// false`; the tests that read the report are the presentation crate's): each must be a target
+/// of exactly one package, or cargo would not build it, or would build it twice.
+#[test]
+fn each_test_file_is_a_target_of_one_package() {
+    let root_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let manifest = |path: &str| -> toml::Table {
+        toml::from_str(&std::fs::read_to_string(root_dir.join(path)).unwrap()).unwrap()
+    };
+    let targets = |table: &toml::Table| -> Vec<toml::Table> {
+        table
+            .get("test")
+            .and_then(|t| t.as_array())
+            .map_or(Vec::new(), |a| {
+                a.iter().map(|t| t.as_table().unwrap().clone()).collect()
+            })
+    };
+    // A root target's file follows from its name; a presentation target's is written out.
+    let mut listed: Vec<String> = targets(&manifest("Cargo.toml"))
+        .iter()
+        .map(|t| format!("tests/{}.rs", t["name"].as_str().unwrap()))
+        .collect();
+    for t in targets(&manifest("presentation/Cargo.toml")) {
+        let path = t["path"].as_str().unwrap();
+        listed.push(path.strip_prefix("../").unwrap().to_string());
+    }
+    listed.sort();
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(root_dir.join("tests")).unwrap() {
+        let path = entry.unwrap().path();
+        let relative = path.strip_prefix(root_dir).unwrap();
+        if path.extension().is_some_and(|e| e == "rs") {
+            files.push(relative.display().to_string());
+        } else if path.join("main.rs").is_file() {
+            files.push(relative.join("main.rs").display().to_string());
+        }
+    }
+    files.sort();
+    assert_eq!(
+        listed, files,
+        "each file of tests/ is a test target of one package"
+    );
+}

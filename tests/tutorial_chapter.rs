@@ -10,7 +10,6 @@ use mass_spring_solvers::studies::tutorial::{
     DROP, GROWTH_THRESHOLD,
 };
 use mass_spring_solvers::{TimeStepper, Vec3};
-use std::process::Command;
 use std::sync::OnceLock;
 
 /// The chapter, computed once per test process.
@@ -403,55 +402,4 @@ fn the_chapter_is_deterministic() {
     let (a, b) = (again.figures().unwrap(), chapter().figures().unwrap());
     assert_eq!(again.section(9, &a), chapter().section(9, &b));
     assert_eq!(again.files(&a), chapter().files(&b));
-}
-
-fn mss(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_mss"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-#[test]
-fn mss_runs_rk45_and_rejects_a_bad_tolerance() {
-    let (code, stdout, _) = mss(&[
-        "--scene",
-        "pendulum",
-        "--solver",
-        "rk45",
-        "--tolerance",
-        "1e-6",
-        "--dt",
-        "0.01",
-        "--max-time",
-        "1",
-    ]);
-    assert_eq!(code, 0);
-    assert!(stdout.contains("Dormand-Prince 5(4)"), "{stdout}");
-    for bad in ["0", "-0.001", "nan", "inf"] {
-        let (code, _, stderr) = mss(&[
-            "--scene",
-            "pendulum",
-            "--solver",
-            "rk45",
-            &format!("--tolerance={bad}"),
-        ]);
-        assert_eq!(code, 2, "--tolerance {bad}");
-        assert!(stderr.contains("--tolerance"), "{stderr}");
-    }
-    let (code, _, stderr) = mss(&[
-        "--scene",
-        "pendulum",
-        "--solver",
-        "rk4",
-        "--tolerance",
-        "1e-6",
-    ]);
-    assert_eq!(code, 2);
-    assert!(stderr.contains("--tolerance"), "{stderr}");
 }

@@ -8,6 +8,7 @@
 //! significant digits and their round-off as bounds (`lock.rs`, `docs/snapshots.md`); review a
 //! change with `cargo insta review`.
 
+use mass_spring_report::crate_root;
 use mass_spring_report::forensics::damping_scan;
 use mass_spring_report::format::sig4;
 use mass_spring_report::tables::explanations;
@@ -336,7 +337,7 @@ fn admm_variants_converge_where_they_should() {
 fn faithful_constructors_take_no_forensic_option() {
     let _: fn(&MassSpringSystem, f64, usize) -> Result<AdmmPd> = AdmmPd::new;
     let _: fn(&MassSpringSystem, f64, usize) -> Result<FastMassSpring> = FastMassSpring::new;
-    let root = env!("CARGO_MANIFEST_DIR");
+    let root = crate_root();
     for (file, words) in [
         (
             "src/solvers/admm.rs",
@@ -353,7 +354,7 @@ fn faithful_constructors_take_no_forensic_option() {
             &["variant", "damping", "threshold"][..],
         ),
     ] {
-        let code: String = std::fs::read_to_string(format!("{root}/{file}"))
+        let code: String = std::fs::read_to_string(root.join(file))
             .unwrap()
             .lines()
             .filter(|l| !l.trim_start().starts_with("//"))
