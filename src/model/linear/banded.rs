@@ -271,11 +271,16 @@ fn sums_together<'a, const B: usize>(
             *s -= t_q * r[q];
         }
     }
+    // The block's finished sums are read back from registers, not from `t`, which has just
+    // stored them: two of them loaded from `t` as one vector wait for both stores (a
+    // store-forwarding stall, 15 % of the sheet's refactorisation when the compiler paired
+    // them so).
+    let mut finished = [0.0; B];
     for b in 0..B {
         for c in 0..b {
-            s[b] -= t[m0 + c] * r[b][m0 + c];
+            s[b] -= finished[c] * r[b][m0 + c];
         }
-        finish_sum(m0 + b, s[b], inverse(m0 + b), t, l_i, d);
+        finished[b] = finish_sum(m0 + b, s[b], inverse(m0 + b), t, l_i, d);
     }
 }
 
