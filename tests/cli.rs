@@ -619,32 +619,17 @@ fn mss_runs_rk45_and_rejects_a_bad_tolerance() {
         stdout(&output)
     );
     for bad in ["0", "-0.001", "nan", "inf"] {
-        let output = mss(&[
-            "--scene",
-            "pendulum",
-            "--solver",
-            "rk45",
-            &format!("--tolerance={bad}"),
-        ]);
-        assert_eq!(output.status.code(), Some(2), "--tolerance {bad}");
-        assert!(
-            stderr(&output).contains("--tolerance"),
-            "{}",
-            stderr(&output)
-        );
+        let tolerance = format!("--tolerance={bad}");
+        let args = ["--scene", "pendulum", "--solver", "rk45", &tolerance];
+        assert_bad_input(&args, &["--tolerance"]);
     }
-    let output = mss(&[
+    let fixed_step = [
         "--scene",
         "pendulum",
         "--solver",
         "rk4",
         "--tolerance",
         "1e-6",
-    ]);
-    assert_eq!(output.status.code(), Some(2));
-    assert!(
-        stderr(&output).contains("--tolerance"),
-        "{}",
-        stderr(&output)
-    );
+    ];
+    assert_bad_input(&fixed_step, &["--tolerance"]);
 }
