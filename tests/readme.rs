@@ -171,32 +171,20 @@ fn make_test_runs_every_test_target() {
 /// of exactly one package, or cargo would not build it, or would build it twice.
 #[test]
 fn each_test_file_is_a_target_of_one_package() {
-    let root_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let manifest = |path: &str| -> toml::Table {
-        toml::from_str(&std::fs::read_to_string(root_dir.join(path)).unwrap()).unwrap()
-    };
-    let targets = |table: &toml::Table| -> Vec<toml::Table> {
-        table
-            .get("test")
-            .and_then(|t| t.as_array())
-            .map_or(Vec::new(), |a| {
-                a.iter().map(|t| t.as_table().unwrap().clone()).collect()
-            })
-    };
     // A root target's file follows from its name; a presentation target's is written out.
-    let mut listed: Vec<String> = targets(&manifest("Cargo.toml"))
+    let mut listed: Vec<String> = test_targets("Cargo.toml")
         .iter()
         .map(|t| format!("tests/{}.rs", t["name"].as_str().unwrap()))
         .collect();
-    for t in targets(&manifest("presentation/Cargo.toml")) {
+    for t in test_targets("presentation/Cargo.toml") {
         let path = t["path"].as_str().unwrap();
         listed.push(path.strip_prefix("../").unwrap().to_string());
     }
     listed.sort();
     let mut files = Vec::new();
-    for entry in std::fs::read_dir(root_dir.join("tests")).unwrap() {
+    for entry in std::fs::read_dir(root().join("tests")).unwrap() {
         let path = entry.unwrap().path();
-        let relative = path.strip_prefix(root_dir).unwrap();
+        let relative = path.strip_prefix(root()).unwrap();
         if path.extension().is_some_and(|e| e == "rs") {
             files.push(relative.display().to_string());
         } else if path.join("main.rs").is_file() {
@@ -208,4 +196,19 @@ fn each_test_file_is_a_target_of_one_package() {
         listed, files,
         "each file of tests/ is a test target of one package"
     );
+}
+
+/// The `[[test]]` tables of the manifest at `path` (relative to the repository).
+fn test_targets(path: &str) -> Vec<toml::Table> {
+    let text = std::fs::read_to_string(root().join(path)).unwrap();
+    let manifest: toml::Table = toml::from_str(&text).unwrap();
+    manifest
+        .get("test")
+        .and_then(|t| t.as_array())
+        .map_or(Vec::new(), |targets| {
+            targets
+                .iter()
+                .map(|t| t.as_table().unwrap().clone())
+                .collect()
+        })
 }
