@@ -84,9 +84,27 @@ impl State {
     }
 }
 
+/// The most nodes a system may have: a node's index fits in 32 bits, as the solvers keep
+/// the springs' ends ([`crate::solvers::projective::Ends`]: half the bytes of `usize` ends,
+/// the 100 × 100 sheet's local step 101-111 → 95-98 µs).
+pub const MAX_NODES: usize = u32::MAX as usize;
+
+/// Rejects a node count above [`MAX_NODES`].
+fn require_node_count(nodes: usize) -> Result<()> {
+    if nodes > MAX_NODES {
+        return Err(Error::invalid(
+            "nodes",
+            nodes,
+            &format!("at most {MAX_NODES} nodes (a node's index is kept in 32 bits)"),
+        ));
+    }
+    Ok(())
+}
+
 impl MassSpringSystem {
     /// Builds a system, rejecting any value outside its range with the field's name.
     pub fn new(nodes: Vec<Node>, springs: Vec<Spring>, gravity: Vec3) -> Result<Self> {
+        require_node_count(nodes.len())?;
         for (i, node) in nodes.iter().enumerate() {
             require_positive(format!("nodes[{i}].mass"), node.mass)?;
             for c in 0..3 {
@@ -341,5 +359,17 @@ mod tests {
             };
             assert_eq!(bits(&f), bits(&one_at_a_time));
         }
+    }
+
+    /// A node count past [`MAX_NODES`] is refused naming the field (it cannot be built here:
+    /// the check is on the count alone), and the largest allowed count passes.
+    #[test]
+    fn a_node_count_past_32_bits_is_refused() {
+        let err = require_node_count(MAX_NODES + 1).unwrap_err().to_string();
+        assert!(
+            err.contains("nodes") && err.contains(&MAX_NODES.to_string()),
+            "{err}"
+        );
+        assert!(require_node_count(MAX_NODES).is_ok());
     }
 }
