@@ -15,7 +15,7 @@
 
 use crate::model::Vec3;
 use nalgebra::Vector3;
-use simba::simd::{SimdRealField, SimdValue, WideF64x4};
+use simba::simd::{SimdPartialOrd, SimdRealField, SimdValue, WideF64x4};
 
 /// A value per run: `f64` for one run, [`Lanes4`] for four. Every [`SimdRealField`] whose lanes
 /// are `f64` is one; a step generic over it must keep to the operations the module doc lists.
@@ -33,21 +33,22 @@ pub type Lanes4 = WideF64x4;
 /// replaced through memory: a replacement stores the vector, writes one lane and loads it
 /// back, and the load waits for the narrower store to retire (a batch of damped runs loads
 /// every lane's velocities after every step).
-pub fn load_points<T: Lane>(into: &mut [Vector3<T>], lane: usize, from: &[Vec3]) {
-    let mask = lane_mask_of::<T>(lane);
+pub fn load_points(into: &mut [Vector3<Lanes4>], lane: usize, from: &[Vec3]) {
+    let mask = lane_mask(|l| l == lane);
     for (into, from) in into.iter_mut().zip(from) {
         for (into, &from) in into.iter_mut().zip(from.iter()) {
-            *into = T::splat(from).select(mask, *into);
+            *into = Lanes4::splat(from).select(mask, *into);
         }
     }
 }
 
-/// The mask that holds in lane `lane` only.
-fn lane_mask_of<T: Lane>(lane: usize) -> T::SimdBool {
-    let zero = T::splat(0.0);
-    let mut one = zero;
-    one.replace(lane, 1.0);
-    one.simd_gt(zero)
+/// A mask of lanes.
+pub type LaneMask = <Lanes4 as SimdValue>::SimdBool;
+
+/// Per lane, whether `lane_holds` holds of its index.
+pub fn lane_mask(lane_holds: impl Fn(usize) -> bool) -> LaneMask {
+    let ones = std::array::from_fn(|lane| if lane_holds(lane) { 1.0 } else { 0.0 });
+    Lanes4::from(ones).simd_gt(Lanes4::splat(0.0))
 }
 
 /// Lane `lane` of every point of `from`, into `into`.

@@ -318,26 +318,29 @@ pub(super) fn solve_three_dispatched(panels: &Panels, y: &mut [Node]) {
     substitute_three(panels, y)
 }
 
+/// `kernel::<W>(args)` for a panel of `width` columns (1 to [`PANEL_WIDTH`]), so that each
+/// width's loops are compiled with `W` a constant.
+macro_rules! by_width {
+    ($width:expr, $kernel:ident($($arg:expr),*)) => {
+        match $width {
+            1 => $kernel::<1>($($arg),*),
+            2 => $kernel::<2>($($arg),*),
+            3 => $kernel::<3>($($arg),*),
+            _ => $kernel::<PANEL_WIDTH>($($arg),*),
+        }
+    };
+}
+
 /// The two substitutions of [`SparseCholesky::solve_three`] on the permuted, interleaved `y`,
 /// each panel by the kernel of its width.
 #[inline(always)]
 pub(super) fn substitute_three(panels: &Panels, y: &mut [Node]) {
     let (row, values) = (&panels.row[..], &panels.values[..]);
     for p in &panels.panels {
-        match p.width {
-            1 => forward_panel::<1>(p, row, values, y),
-            2 => forward_panel::<2>(p, row, values, y),
-            3 => forward_panel::<3>(p, row, values, y),
-            _ => forward_panel::<PANEL_WIDTH>(p, row, values, y),
-        }
+        by_width!(p.width, forward_panel(p, row, values, y));
     }
     for p in panels.panels.iter().rev() {
-        match p.width {
-            1 => backward_panel::<1>(p, row, values, y),
-            2 => backward_panel::<2>(p, row, values, y),
-            3 => backward_panel::<3>(p, row, values, y),
-            _ => backward_panel::<PANEL_WIDTH>(p, row, values, y),
-        }
+        by_width!(p.width, backward_panel(p, row, values, y));
     }
 }
 

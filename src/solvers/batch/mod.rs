@@ -15,11 +15,11 @@ pub mod xpbd;
 use crate::error::Result;
 use crate::integrators::stopping::checks_for_fixed_point;
 use crate::integrators::time_stepper::{InMemory, Run, RunOptions, TimeStepper, Watch};
-use crate::model::lanes::{load_points, read_points, select, Lanes4};
+use crate::model::lanes::{lane_mask, load_points, read_points, select, LaneMask, Lanes4};
 use crate::model::system::State;
 use crate::solvers::projective::finish_step_of;
 use nalgebra::Vector3;
-use simba::simd::{SimdBool, SimdPartialOrd, SimdValue, WideF64x4};
+use simba::simd::{SimdBool, SimdValue, WideF64x4};
 
 /// Lanes in a batch.
 pub const WIDTH: usize = 4;
@@ -77,15 +77,6 @@ impl LaneStates {
     pub fn finish_step(&mut self, iterate: &[Lanes4], dt: Lanes4) {
         finish_step_of(&mut self.x, &mut self.v, iterate, dt);
     }
-}
-
-/// A mask of lanes.
-pub type LaneMask = <Lanes4 as SimdValue>::SimdBool;
-
-/// Per lane, whether `lane_holds` holds of its index.
-pub fn lane_mask(lane_holds: impl Fn(usize) -> bool) -> LaneMask {
-    let ones = std::array::from_fn(|lane| if lane_holds(lane) { 1.0 } else { 0.0 });
-    Lanes4::from(ones).simd_gt(Lanes4::splat(0.0))
 }
 
 /// A value of a step's iterate in lanes ([`Lanes4`] or a point of them), of which some lanes
@@ -333,6 +324,7 @@ mod tests {
     use crate::model::metrics::StoppingRule;
     use crate::model::scene::thesis_rope;
     use crate::solvers::xpbd::Xpbd;
+    use simba::simd::SimdPartialOrd;
 
     /// Every bit a run's outcome holds: steps, the stop, the peaks and the final state.
     fn bits(run: &Run) -> Vec<u64> {

@@ -4,8 +4,9 @@
 //! first iterate of line 2.1, the iterations and the finish of the step. Each solver adds its
 //! own per-spring data and buffers, and its iteration.
 
-use super::{iterate_lanes, lane_mask, LaneStates, WIDTH};
+use super::{iterate_lanes, LaneStates, WIDTH};
 use crate::integrators::first_iterate::{inertia, FirstIterate};
+use crate::model::lanes::lane_mask;
 use crate::model::lanes::{load_values, select, Lanes4};
 use crate::model::scene::THESIS_NODES;
 use crate::model::system::{MassSpringSystem, State};

@@ -4,9 +4,10 @@
 //! wavefront order the chain allows (`sweeps_in_wavefront`), which keeps the sweeps' bits.
 
 use super::projective::Rope;
-use super::{lane_mask, Kept, LaneSolver, LaneStates, MovedBits, WIDTH};
+use super::{Kept, LaneSolver, LaneStates, MovedBits, WIDTH};
 use crate::integrators::stopping::checks_for_fixed_point;
 use crate::integrators::time_stepper::TimeStepper;
+use crate::model::lanes::lane_mask;
 use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::system::{MassSpringSystem, State};
 use crate::solvers::incidence::{Ends, SpringGraph};
