@@ -8,7 +8,9 @@ use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::solvers::admm::{z_minimisation, z_update, AdmmPd};
 use mass_spring_solvers::solvers::backward_euler::{BackwardEuler, ConvergedStepOptions};
 use mass_spring_solvers::solvers::converged_stage::converged_step;
-use mass_spring_solvers::solvers::fast_mass_spring::{spring_directions, FastMassSpring};
+use mass_spring_solvers::solvers::fast_mass_spring::{
+    spring_directions, FastMassSpring, SPRING_BLOCK,
+};
 use mass_spring_solvers::solvers::projective::{
     finish_step, incidence_matrix, mass_matrix, project_on_sphere, reduction_matrix,
     stiffness_laplacian, system_matrix, weighted_laplacian,
@@ -183,22 +185,22 @@ fn local_steps_solve_their_minimisations() {
     assert!((p.norm() - l0).abs() < 1e-15 && p.cross(&q).norm() < 1e-15 && p.dot(&q) > 0.0);
     assert_eq!(project_on_sphere(Vec3::zeros(), l0), Vec3::zeros());
     // Liu's local step over a whole graph is the same arithmetic, spring by spring: on a
-    // cloth of more springs than three of the step's blocks of 64 (the last one partly
-    // filled), one of its springs, in the second block, of zero length (its two nodes at one
-    // point).
+    // cloth of more springs than three of the step's blocks (the last one partly filled),
+    // one of its springs, in the second block, of zero length (its two nodes at one point).
     let system = cloth(10, 9, 1e3);
     let j = incidence_matrix(&system);
-    assert!(j.springs() > 3 * 64 && j.springs() % 64 != 0);
+    assert!(j.springs() > 3 * SPRING_BLOCK && j.springs() % SPRING_BLOCK != 0);
     let n = system.len();
     let mut x: Vec<f64> = (0..3 * n).map(|k| (k as f64 * 0.37).sin()).collect();
-    let (a, b) = j.ends(70);
+    let zero_length = SPRING_BLOCK + 6;
+    let (a, b) = j.ends(zero_length);
     for c in 0..3 {
         x[c * n + b] = x[c * n + a];
     }
     let l0s: Vec<f64> = system.springs().iter().map(|s| s.rest_length).collect();
     let mut d = vec![Vec3::zeros(); l0s.len()];
     spring_directions(&j, &x, &l0s, &mut d, &mut vec![0.0; l0s.len()]);
-    assert_eq!(d[70], Vec3::zeros());
+    assert_eq!(d[zero_length], Vec3::zeros());
     for (i, (d, &l0)) in d.iter().zip(&l0s).enumerate() {
         assert_eq!(*d, project_on_sphere(j.difference(i, &x), l0), "spring {i}");
     }

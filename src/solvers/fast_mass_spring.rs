@@ -271,7 +271,7 @@ pub fn inertial_rhs<T: Lane>(
 /// fast_mass_spring 100`; 32 the same, 16 and 256 slower). ADMM-PD's local step
 /// ([`crate::solvers::admm::local_step_of`]) in blocks of 64 was slower (182 against 171 µs,
 /// least of 8 alternating runs), and runs a pass at a time.
-const SPRING_BLOCK: usize = 64;
+pub const SPRING_BLOCK: usize = 64;
 
 /// Eq. (28): $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for every spring of `j` at the
 /// column-major iterate `x` (`scale`: scratch, one entry per spring), with the arithmetic of
