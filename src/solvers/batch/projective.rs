@@ -6,8 +6,7 @@
 
 use super::{iterate_lanes, LaneStates, WIDTH};
 use crate::integrators::first_iterate::{inertia, FirstIterate};
-use crate::model::lanes::lane_mask;
-use crate::model::lanes::{load_values, select, Lanes4};
+use crate::model::lanes::{lane_mask, load_values, select, Lanes4};
 use crate::model::scene::THESIS_NODES;
 use crate::model::system::{MassSpringSystem, State};
 use crate::solvers::projective::{
