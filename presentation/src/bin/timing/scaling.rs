@@ -17,6 +17,7 @@ use crate::measure::{seconds, thread_cpu, time_batches, Time, BATCH_SECONDS, REP
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::model::linear::{SymmetricMatrix, BANDED_MAX_BANDWIDTH};
 use mass_spring_solvers::model::scene::SheetParams;
+use mass_spring_solvers::platform::floors;
 use mass_spring_solvers::solvers::admm::AdmmPd;
 use mass_spring_solvers::solvers::backward_euler::BackwardEuler;
 use mass_spring_solvers::solvers::fast_mass_spring::FastMassSpring;
@@ -211,10 +212,14 @@ impl Point {
     }
 }
 
-/// A step of `solver` from `initial`, timed.
+/// A step of `solver` from `initial`, timed. The state is reset by two slice copies (a
+/// `memcpy` each), not cloned: this crate is built unoptimised (`Cargo.toml`), and a clone's
+/// element-by-element code took 3-5 µs of a 50 µs step of XPBD on the 10 × 10 sheet.
 fn step_time<S: TimeStepper + ?Sized>(solver: &mut S, initial: &State) -> Result<Time> {
+    let mut state = initial.clone();
     time(|| {
-        let mut state = initial.clone();
+        state.x.copy_from_slice(&initial.x);
+        state.v.copy_from_slice(&initial.v);
         solver.step(&mut state)
     })
 }
@@ -375,8 +380,8 @@ pub fn scaling_study(sides: &[usize]) -> Result<Scaling> {
             points.push(p);
         }
     }
-    let sqrt_div = sqrt_div_seconds();
-    let multiply_add = multiply_add_seconds();
+    let sqrt_div = floors::sqrt_div_seconds(thread_cpu, REPEATS);
+    let multiply_add = floors::multiply_add_seconds(thread_cpu, REPEATS);
     let bandwidth = points
         .iter()
         .filter(|p| p.solver == SolverId::FastMassSpring.id())
@@ -385,7 +390,12 @@ pub fn scaling_study(sides: &[usize]) -> Result<Scaling> {
             Bandwidth {
                 n: p.n,
                 factor_bytes: bytes,
-                read_bandwidth_bytes_per_s: read_bandwidth(bytes),
+                read_bandwidth_bytes_per_s: floors::read_bandwidth(
+                    bytes,
+                    thread_cpu,
+                    REPEATS,
+                    BATCH_SECONDS,
+                ),
             }
         })
         .collect();
@@ -416,106 +426,4 @@ impl Scaling {
             p.springs as f64 * self.sqrt_div,
         ))
     }
-}
-/// Read bandwidth of a buffer of `bytes`, B/s: the best of [`REPEATS`] batches of sums over it
-/// in eight independent lanes (vectorised), each batch at least [`BATCH_SECONDS`].
-fn read_bandwidth(bytes: usize) -> f64 {
-    let buffer: Vec<f64> = (0..(bytes / 8).max(64)).map(|i| (i % 7) as f64).collect();
-    let sum = |v: &[f64]| {
-        let mut lanes = [0.0; 8];
-        for chunk in v.chunks_exact(8) {
-            for (l, x) in lanes.iter_mut().zip(chunk) {
-                *l += x;
-            }
-        }
-        lanes.iter().sum::<f64>()
-    };
-    let mut best = f64::INFINITY;
-    let mut sink = 0.0;
-    let once = {
-        let t = Instant::now();
-        sink += sum(&buffer);
-        t.elapsed().as_secs_f64()
-    };
-    let batch = ((BATCH_SECONDS / once.max(1e-9)).ceil() as usize).clamp(1, 1 << 20);
-    for _ in 0..REPEATS {
-        let c = thread_cpu();
-        for _ in 0..batch {
-            sink += std::hint::black_box(sum(std::hint::black_box(&buffer)));
-        }
-        best = best.min((thread_cpu() - c) / batch as f64);
-    }
-    std::hint::black_box(sink);
-    (buffer.len() * 8) as f64 / best
-}
-
-/// Throughput of the local step's arithmetic, s per spring: $`l_0/\sqrt{q}`$ over an in-cache
-/// array, the square root and division that [`mass_spring_solvers::solvers::projective::project_on_spheres`]
-/// does per spring (CPU time).
-fn sqrt_div_seconds() -> f64 {
-    let q: Vec<f64> = (0..4096).map(|i| 1.0 + i as f64 * 1e-3).collect();
-    let mut out = vec![0.0; q.len()];
-    let batch = 2000;
-    let mut best = f64::INFINITY;
-    for _ in 0..REPEATS {
-        let c = thread_cpu();
-        for _ in 0..batch {
-            for (o, q) in out.iter_mut().zip(std::hint::black_box(&q)) {
-                *o = 1.5 / q.sqrt();
-            }
-            std::hint::black_box(&mut out);
-        }
-        best = best.min((thread_cpu() - c) / (batch * q.len()) as f64);
-    }
-    best
-}
-
-/// Throughput of the substitutions' arithmetic, s per entry of the factor: a multiplication
-/// and an addition of four lanes (a node's x, y, z and padding, one AVX2 vector where the CPU
-/// has it, 32-byte aligned, as in `SparseCholesky::solve_three`) into eight independent sums
-/// over an in-cache array (CPU time).
-fn multiply_add_seconds() -> f64 {
-    /// A node's four lanes, aligned as the solve's (an unaligned array measured 12 % slower).
-    #[derive(Clone, Copy)]
-    #[repr(align(32))]
-    struct Node([f64; 4]);
-    /// Eight sums of `l[k] * y[k]` over four lanes, the sums independent so that only the
-    /// throughput counts.
-    #[inline(always)]
-    fn sums(l: &[f64], y: &[Node]) -> [[f64; 4]; 8] {
-        let mut acc = [[0.0; 4]; 8];
-        for (l, y) in l.chunks_exact(8).zip(y.chunks_exact(8)) {
-            for k in 0..8 {
-                for (acc, y) in acc[k].iter_mut().zip(y[k].0) {
-                    *acc += l[k] * y;
-                }
-            }
-        }
-        acc
-    }
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn sums_avx2(l: &[f64], y: &[Node]) -> [[f64; 4]; 8] {
-        sums(l, y)
-    }
-    let run = |l: &[f64], y: &[Node]| {
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, detected above.
-            return unsafe { sums_avx2(l, y) };
-        }
-        sums(l, y)
-    };
-    let l: Vec<f64> = (0..1024).map(|i| 1.0 + i as f64 * 1e-6).collect();
-    let y: Vec<Node> = (0..1024).map(|i| Node([i as f64 * 1e-3; 4])).collect();
-    let batch = 4000;
-    let mut best = f64::INFINITY;
-    for _ in 0..REPEATS {
-        let c = thread_cpu();
-        for _ in 0..batch {
-            std::hint::black_box(run(std::hint::black_box(&l), std::hint::black_box(&y)));
-        }
-        best = best.min((thread_cpu() - c) / (batch * l.len()) as f64);
-    }
-    best
 }
