@@ -85,8 +85,7 @@ impl State {
 }
 
 /// The most nodes a system may have: a node's index fits in 32 bits, as the solvers keep
-/// the springs' ends ([`crate::solvers::projective::Ends`]: half the bytes of `usize` ends,
-/// the 100 × 100 sheet's local step 101-111 → 95-98 µs).
+/// the springs' ends ([`crate::solvers::projective::Ends`], which says why).
 pub const MAX_NODES: usize = u32::MAX as usize;
 
 /// Rejects a node count above [`MAX_NODES`].

@@ -26,7 +26,7 @@ use faer::{Conj, MatMut, Par, Side};
 /// coordinates are padded to four (x, y, z, 0), one 256-bit vector, and the substitutions run
 /// in AVX2 registers where the CPU has them (`solve_three_dispatched`, the same bits): the
 /// global step 0.89 ms to 0.71 ms of thread CPU on a loaded Xeon. The columns are taken in
-/// panels of up to four columns of a supernode ([`Panels`]), each row below a panel loaded
+/// panels of up to four columns of a supernode (`Panels`), each row below a panel loaded
 /// once for all its columns (`docs/performance.md`, "The sheet").
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
