@@ -15,12 +15,19 @@ use crate::model::system::MassSpringSystem;
 /// A factored system $`Ax = b`$ whose fixed unknowns are imposed by Eqs 44-47.
 #[derive(Debug, Clone)]
 pub struct ConstrainedSystem {
+    imposition: Imposition,
+    factorization: Factorization,
+}
+
+/// Eqs. 44-47 for matrices of one pattern and fixed set, without their factorisation: at `f64`
+/// one matrix's, in lanes one per lane ([`crate::solvers::batch::backward_euler`]).
+#[derive(Debug, Clone)]
+pub struct Imposition<T = f64> {
     fixed: Vec<usize>,
     /// The block $`A_2`$ of Eq (43): $`(i, j, A_{ij})`$ for free rows $`i`$ and fixed columns
     /// $`j`$, saved before Eq (44) zeroes it, so that Eq (46) can form $`A u`$.
-    coupling: Vec<(usize, usize, f64)>,
+    coupling: Vec<(usize, usize, T)>,
     slots: ImpositionSlots,
-    factorization: Factorization,
 }
 
 /// Where Eq (44) reads and writes in the matrix's values, found once so that a
@@ -53,6 +60,50 @@ impl ConstrainedSystem {
         fixed: &[usize],
         factor: fn(&SymmetricMatrix) -> Result<Factorization>,
     ) -> Result<Self> {
+        let mut imposition = Imposition::new(a, fixed);
+        imposition.impose_on_matrix(a.values_mut());
+        Ok(Self {
+            imposition,
+            factorization: factor(a)?,
+        })
+    }
+
+    /// Eq. (44) again for new values of a matrix with the same pattern and fixed set, and a
+    /// numeric refactorisation that reuses the pattern's analysis.
+    pub fn refactor(&mut self, a: &mut SymmetricMatrix) -> Result<()> {
+        self.imposition.impose_on_matrix(a.values_mut());
+        self.factorization.refactor(a)
+    }
+
+    /// Eq. (43): solves $`A x = b`$ with $`x_j = \bar x_j`$ on the fixed unknowns, for `ncols`
+    /// right-hand sides stored column after column. `x_bar` has the layout of `b` and is
+    /// read only at fixed unknowns. The solution overwrites `b`.
+    #[inline]
+    pub fn solve(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
+        self.imposition.impose_on_rhs(b, x_bar, ncols);
+        self.factorization.solve_in_place(b, ncols);
+    }
+
+    /// The fixed unknowns.
+    pub fn fixed(&self) -> &[usize] {
+        &self.imposition.fixed
+    }
+
+    /// The block $`A_2`$ of Eq (43) as $`(i, j, A_{ij})`$, free rows $`i`$, fixed columns $`j`$.
+    pub fn coupling(&self) -> &[(usize, usize, f64)] {
+        &self.imposition.coupling
+    }
+
+    /// The factorisation of the imposed matrix of Eq (44).
+    pub fn factorization(&self) -> &Factorization {
+        &self.factorization
+    }
+}
+
+impl<T: Lane> Imposition<T> {
+    /// The imposition of the `fixed` unknowns on matrices of `a`'s pattern (its block $`A_2`$
+    /// zero until [`Self::impose_on_matrix`] saves it).
+    pub fn new(a: &SymmetricMatrix, fixed: &[usize]) -> Self {
         let mut is_fixed = vec![false; a.dim()];
         for &j in fixed {
             is_fixed[j] = true;
@@ -70,62 +121,43 @@ impl ConstrainedSystem {
                     continue;
                 }
                 if !is_fixed[i] {
-                    coupling.push((i, j, 0.0));
+                    coupling.push((i, j, T::splat(0.0)));
                     slots.coupling.push(slot);
                 }
                 slots.zero.push(slot);
                 slots.zero.push(a.slot(i, j).expect("a symmetric pattern"));
             }
         }
-        slots.impose_on_matrix(a, &mut coupling);
-        Ok(Self {
+        Self {
             fixed: fixed.to_vec(),
             coupling,
             slots,
-            factorization: factor(a)?,
-        })
+        }
     }
 
-    /// Eq. (44) again for new values of a matrix with the same pattern and fixed set, and a
-    /// numeric refactorisation that reuses the pattern's analysis.
-    pub fn refactor(&mut self, a: &mut SymmetricMatrix) -> Result<()> {
-        self.slots.impose_on_matrix(a, &mut self.coupling);
-        self.factorization.refactor(a)
-    }
-
-    /// Eq. (43): solves $`A x = b`$ with $`x_j = \bar x_j`$ on the fixed unknowns, for `ncols`
-    /// right-hand sides stored column after column. `x_bar` has the layout of `b` and is
-    /// read only at fixed unknowns. The solution overwrites `b`.
-    #[inline]
-    pub fn solve(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
-        self.impose_on_rhs(b, x_bar, ncols);
-        self.factorization.solve_in_place(b, ncols);
+    /// Eq. (44): on a matrix's `values` (in its pattern's order), saves the block $`A_2`$
+    /// (free rows, fixed columns), then replaces the fixed rows and columns by the identity.
+    pub fn impose_on_matrix(&mut self, values: &mut [T]) {
+        for ((_, _, a_ij), &slot) in self.coupling.iter_mut().zip(&self.slots.coupling) {
+            *a_ij = values[slot];
+        }
+        for &slot in &self.slots.zero {
+            values[slot] = T::splat(0.0);
+        }
+        for &slot in &self.slots.unit {
+            values[slot] = T::splat(1.0);
+        }
     }
 
     /// Eqs. (45)-(47): with $`u = (0, \bar x)`$ (Eq 45), $`b \leftarrow b - A u`$ (Eqs 46-47) on
     /// the free rows, and $`b_j = \bar x_j`$ on the fixed rows (step 4 of §3.2).
     #[inline]
-    pub fn impose_on_rhs(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
+    pub fn impose_on_rhs(&self, b: &mut [T], x_bar: &[T], ncols: usize) {
         impose_on_rhs(&self.coupling, &self.fixed, b, x_bar, ncols);
-    }
-
-    /// The fixed unknowns.
-    pub fn fixed(&self) -> &[usize] {
-        &self.fixed
-    }
-
-    /// The block $`A_2`$ of Eq (43) as $`(i, j, A_{ij})`$, free rows $`i`$, fixed columns $`j`$.
-    pub fn coupling(&self) -> &[(usize, usize, f64)] {
-        &self.coupling
-    }
-
-    /// The factorisation of the imposed matrix of Eq (44).
-    pub fn factorization(&self) -> &Factorization {
-        &self.factorization
     }
 }
 
-/// Eqs. (45)-(47) for any lane type ([`crate::model::lanes`]): [`ConstrainedSystem::impose_on_rhs`]
+/// Eqs. (45)-(47) for any lane type ([`crate::model::lanes`]): [`Imposition::impose_on_rhs`]
 /// with its block $`A_2`$ (`coupling`) and `fixed` unknowns.
 #[inline]
 pub fn impose_on_rhs<T: Lane>(
@@ -142,23 +174,6 @@ pub fn impose_on_rhs<T: Lane>(
         }
         for &j in fixed {
             b[j] = x_bar[j];
-        }
-    }
-}
-
-impl ImpositionSlots {
-    /// Saves the block $`A_2`$ (free rows, fixed columns) into `coupling`, then replaces the
-    /// fixed rows and columns by the identity.
-    fn impose_on_matrix(&self, a: &mut SymmetricMatrix, coupling: &mut [(usize, usize, f64)]) {
-        let values = a.values_mut();
-        for ((_, _, a_ij), &slot) in coupling.iter_mut().zip(&self.coupling) {
-            *a_ij = values[slot];
-        }
-        for &slot in &self.zero {
-            values[slot] = 0.0;
-        }
-        for &slot in &self.unit {
-            values[slot] = 1.0;
         }
     }
 }

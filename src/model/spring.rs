@@ -27,6 +27,18 @@ pub fn constraint_gradient<T: Lane>(x1: &Vector3<T>, x2: &Vector3<T>) -> Vector3
     lanes::select(l.simd_gt(T::zero()), d / l, Vector3::zeros())
 }
 
+/// Springs as arrays, one value per spring: at `f64` one run's, in lanes ([`crate::model::lanes`])
+/// one per lane, their ends shared (Backward Euler's step, [`crate::solvers::backward_euler`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SpringArrays<'a, T> {
+    /// Each spring's two nodes, a then b.
+    pub ends: &'a [(usize, usize)],
+    /// $`l_0`$.
+    pub rest_lengths: &'a [T],
+    /// $`k`$.
+    pub stiffness: &'a [T],
+}
+
 /// Eq. (2): $`E = \frac12 k\,C^\top C`$, Hooke's energy.
 pub fn energy(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> f64 {
     let c = constraint(x1, x2, l0);
@@ -53,6 +65,12 @@ pub fn force<T: Lane>(x1: &Vector3<T>, x2: &Vector3<T>, l0: T, k: T) -> Vector3<
 /// $`\partial F_1/\partial x_2 = \partial F_2/\partial x_1 = -\partial F_1/\partial x_1`$ and
 /// $`\partial F_2/\partial x_2 = \partial F_1/\partial x_1`$.
 pub fn force_jacobian(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Matrix3<f64> {
+    force_jacobian_of(x1, x2, l0, k)
+}
+
+/// Eq. (4): [`force_jacobian`] for any [`Lane`] type (Backward Euler's batched runs), in
+/// each lane, a lane's collapsed spring its own.
+pub fn force_jacobian_of<T: Lane>(x1: &Vector3<T>, x2: &Vector3<T>, l0: T, k: T) -> Matrix3<T> {
     jacobian_with_transverse(x1, x2, l0, k, |t| t)
 }
 
@@ -63,22 +81,27 @@ pub fn force_jacobian_definite(x1: &Vec3, x2: &Vec3, l0: f64, k: f64) -> Matrix3
     jacobian_with_transverse(x1, x2, l0, k, |t| t.max(0.0))
 }
 
-fn jacobian_with_transverse(
-    x1: &Vec3,
-    x2: &Vec3,
-    l0: f64,
-    k: f64,
-    transverse: impl Fn(f64) -> f64,
-) -> Matrix3<f64> {
+/// Per lane, Eq. (4) with `transverse` applied to its factor $`1 - l_0/l`$; a collapsed
+/// spring has no axis, and its stiffness acts equally in every direction ($`-kI`$). Both are
+/// computed and the lane's chosen (at `f64`, a branch's result).
+#[inline(always)]
+fn jacobian_with_transverse<T: Lane>(
+    x1: &Vector3<T>,
+    x2: &Vector3<T>,
+    l0: T,
+    k: T,
+    transverse: impl Fn(T) -> T,
+) -> Matrix3<T> {
     let d = x1 - x2;
     let l = d.norm();
-    if l == 0.0 {
-        // A collapsed spring has no axis; its stiffness acts equally in every direction.
-        return -k * Matrix3::identity();
-    }
+    // Scalar times matrix, written matrix times scalar (the same products) for a generic lane.
+    let collapsed = Matrix3::identity() * -k;
     let n = d / l;
     let nn = n * n.transpose();
-    -k * (nn + transverse(1.0 - l0 / l) * (Matrix3::identity() - nn))
+    let one = T::splat(1.0);
+    let stretched = (nn + (Matrix3::identity() - nn) * transverse(one - l0 / l)) * -k;
+    let axis = l.simd_ne(T::zero());
+    Matrix3::from_fn(|r, c| stretched[(r, c)].select(axis, collapsed[(r, c)]))
 }
 
 #[cfg(test)]

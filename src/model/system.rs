@@ -8,7 +8,7 @@
 
 use crate::error::{require_finite, require_non_negative, require_positive, Error, Result};
 use crate::model::lanes::{each_spring_force, Lane, SpringForce, SpringInputs, TwoEnds};
-use crate::model::spring;
+use crate::model::spring::{self, SpringArrays};
 use nalgebra::Vector3;
 
 pub use crate::model::Vec3;
@@ -245,12 +245,13 @@ impl MassSpringSystem {
         }
         // Four springs at a time, summed in spring order: the bits of one at a time.
         each_spring_force(&self.springs, &Hooke(x), |s, fa| {
-            if !self.nodes[s.a].fixed {
-                f[s.a] += fa;
-            }
-            if !self.nodes[s.b].fixed {
-                f[s.b] -= fa;
-            }
+            add_to_free_ends(
+                f,
+                (s.a, s.b),
+                self.nodes[s.a].fixed,
+                self.nodes[s.b].fixed,
+                fa,
+            );
         });
     }
 
@@ -296,6 +297,43 @@ impl MassSpringSystem {
 impl TwoEnds for Spring {
     fn ends(&self) -> (usize, usize) {
         (self.a, self.b)
+    }
+}
+
+/// Eq. (3): the springs' forces and gravity for runs in lanes ([`crate::model::lanes`]),
+/// [`MassSpringSystem::forces`] in each lane, from each node's `external` force (zero on a
+/// fixed node), the `fixed` flags and the `springs` of the lanes' runs (one topology). The
+/// same sums in the same order as one run's, so each lane has its run's bits.
+pub fn forces_of<T: Lane>(
+    external: &[Vector3<T>],
+    fixed: &[bool],
+    springs: SpringArrays<T>,
+    x: &[Vector3<T>],
+    f: &mut [Vector3<T>],
+) {
+    f.copy_from_slice(external);
+    let values = springs.rest_lengths.iter().zip(springs.stiffness);
+    for (&(a, b), (&l0, &k)) in springs.ends.iter().zip(values) {
+        let fa = spring::force(&x[a], &x[b], l0, k);
+        add_to_free_ends(f, (a, b), fixed[a], fixed[b], fa);
+    }
+}
+
+/// Eq. (3)'s sum: a spring's force `fa` on its first end, `-fa` on its second, fixed ends
+/// left out.
+#[inline(always)]
+fn add_to_free_ends<T: Lane>(
+    f: &mut [Vector3<T>],
+    (a, b): (usize, usize),
+    a_fixed: bool,
+    b_fixed: bool,
+    fa: Vector3<T>,
+) {
+    if !a_fixed {
+        f[a] += fa;
+    }
+    if !b_fixed {
+        f[b] -= fa;
     }
 }
 

@@ -23,19 +23,70 @@ use crate::integrators::optimization_integrator::{MinimizingSolver, StageProblem
 use crate::integrators::stopping::{same_bits, Convergence};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
+use crate::model::lanes::Lane;
 use crate::model::linear::SymmetricMatrix;
-use crate::model::spring;
+use crate::model::spring::{self, SpringArrays};
 use crate::model::system::{MassSpringSystem, State, Vec3};
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 
 /// Newton iterations per step of the thesis's reference (§4.3, Table 1).
 pub const REFERENCE_NEWTON_ITERATIONS: usize = 5;
 /// Time step of the thesis's reference, s (Table 1).
 pub const REFERENCE_DT: f64 = 1e-3;
 
-/// Eqs. (6), (9): $`x(t+dt) = x(t) + v(t+dt)\,dt`$.
-pub fn position_update(x_n: &Vec3, v_next: &Vec3, dt: f64) -> Vec3 {
+/// Eqs. (6), (9): $`x(t+dt) = x(t) + v(t+dt)\,dt`$ (per lane in a batch of runs).
+pub fn position_update<T: Lane>(x_n: &Vector3<T>, v_next: &Vector3<T>, dt: T) -> Vector3<T> {
     x_n + v_next * dt
+}
+
+/// What a Newton iteration of one step reads besides its iterate: the step's start
+/// $`(x_n, v_n)`$, the nodes' masses and dt (at `f64` one run's, in lanes one per lane).
+#[derive(Debug, Clone, Copy)]
+pub struct NewtonStep<'a, T> {
+    pub x_n: &'a [Vector3<T>],
+    pub v_n: &'a [Vector3<T>],
+    pub masses: &'a [T],
+    pub dt: T,
+}
+
+/// Eq. (4): the force Jacobian of every spring of `springs` at the iterate's positions
+/// `x_k`, into `jacobians`.
+pub fn spring_jacobians<T: Lane>(
+    springs: SpringArrays<T>,
+    x_k: &[Vector3<T>],
+    jacobians: &mut [Matrix3<T>],
+) {
+    let values = springs.rest_lengths.iter().zip(springs.stiffness);
+    for (jac, (&(a, b), (&l0, &k))) in jacobians.iter_mut().zip(springs.ends.iter().zip(values)) {
+        *jac = spring::force_jacobian_of(&x_k[a], &x_k[b], l0, k);
+    }
+}
+
+/// Eqs. (10), (12): the right-hand side $`M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)`$ of a
+/// Newton iteration at $`x_k`$ (the springs' `jacobians` $`K_k`$ and the `forces` $`F(x_k)`$
+/// given), node-major (unknown $`3i + c`$) into `rhs`.
+pub fn newton_rhs<T: Lane>(
+    step: &NewtonStep<T>,
+    ends: &[(usize, usize)],
+    jacobians: &[Matrix3<T>],
+    x_k: &[Vector3<T>],
+    forces: &[Vector3<T>],
+    rhs: &mut [T],
+) {
+    let (x_n, dt) = (step.x_n, step.dt);
+    let nodes = step.masses.iter().zip(step.v_n).zip(forces);
+    for (b, ((&mass, v_n), f)) in rhs.chunks_exact_mut(3).zip(nodes) {
+        // Scalar times vector, written vector times scalar (the same products) for a lane.
+        b.copy_from_slice((v_n * mass + f * dt).as_slice());
+    }
+    for (jac, &(a, b)) in jacobians.iter().zip(ends) {
+        // dt·K_k·(x_n − x_k) = −dt²·K_k·v_k, spring by spring.
+        let k_dx = jac * ((x_n[a] - x_k[a]) - (x_n[b] - x_k[b])) * dt;
+        for c in 0..3 {
+            rhs[3 * a + c] += k_dx[c];
+            rhs[3 * b + c] -= k_dx[c];
+        }
+    }
 }
 
 /// Eqs. (7), (8): the residual of $`v(t+dt) = v(t) + M^{-1}F(x(t+dt))\,dt`$ multiplied by $`M`$,
@@ -72,6 +123,13 @@ pub fn velocity_residual(
 #[derive(Debug, Clone)]
 pub(crate) struct ImplicitMatrix {
     pub(crate) matrix: SymmetricMatrix,
+    pub(crate) slots: ImplicitSlots,
+}
+
+/// Where each node's and spring's entries of $`M - dt^2 K`$ are in its matrix's values, found
+/// once so that an assembly searches nothing: one pattern's, for one run or for runs in lanes.
+#[derive(Debug, Clone)]
+pub(crate) struct ImplicitSlots {
     /// Slots of the diagonal entries (3 per node).
     diagonal: Vec<usize>,
     /// Slots of each node's 3×3 block, row-major.
@@ -105,9 +163,11 @@ impl ImplicitMatrix {
         let node_blocks = (0..system.len()).map(|i| block(i, i)).collect();
         Self {
             matrix,
-            diagonal,
-            node_blocks,
-            spring_blocks,
+            slots: ImplicitSlots {
+                diagonal,
+                node_blocks,
+                spring_blocks,
+            },
         }
     }
 
@@ -126,30 +186,54 @@ impl ImplicitMatrix {
         definite: bool,
     ) {
         let values = self.matrix.values_mut();
-        values.fill(0.0);
         let mass_factor = dissipation.mass_factor();
-        for (i, node) in system.nodes().iter().enumerate() {
-            for c in 0..3 {
-                values[self.diagonal[3 * i + c]] = node.mass * mass_factor;
-            }
-        }
+        let masses = system.nodes().iter().map(|node| node.mass * mass_factor);
+        self.slots.set_masses(values, masses);
         if !dissipation.dissipation().is_smooth() {
-            for (i, slots) in self.node_blocks.iter().enumerate() {
+            for (i, slots) in self.slots.node_blocks.iter().enumerate() {
                 let block = dissipation.node_block(system, x, i);
                 for (rc, &slot) in slots.iter().enumerate() {
                     values[slot] += block[(rc / 3, rc % 3)];
                 }
             }
         }
-        let dt2 = dt * dt;
         let damping_blocks = dissipation.has_spring_blocks();
-        for (i, ([aa, ab, ba, bb], jac)) in self.spring_blocks.iter().zip(jacobians).enumerate() {
-            // The damping block enters like a force Jacobian of the opposite sign.
-            let mut jac = dt2 * jac;
-            if damping_blocks {
-                jac -= dissipation.spring_block(system, x, i, definite);
+        self.slots
+            .add_springs(values, jacobians, dt * dt, |i, dt2_j| {
+                // The damping block enters like a force Jacobian of the opposite sign.
+                if damping_blocks {
+                    dt2_j - dissipation.spring_block(system, x, i, definite)
+                } else {
+                    dt2_j
+                }
+            });
+    }
+}
+
+impl ImplicitSlots {
+    /// Eq. (12)'s $`M`$: `values` zero but the diagonal, node i's three entries its `masses`' i-th.
+    pub(crate) fn set_masses<T: Lane>(&self, values: &mut [T], masses: impl Iterator<Item = T>) {
+        values.fill(T::splat(0.0));
+        for (diagonal, mass) in self.diagonal.chunks_exact(3).zip(masses) {
+            for &slot in diagonal {
+                values[slot] = mass;
             }
-            // dF_a/dx_a = dF_b/dx_b = J and dF_a/dx_b = dF_b/dx_a = -J.
+        }
+    }
+
+    /// Eq. (12)'s $`-dt^2 K`$ added to `values`, spring by spring from the force Jacobians
+    /// (Eq 4): $`dF_a/dx_a = dF_b/dx_b = J`$, $`dF_a/dx_b = dF_b/dx_a = -J`$, each spring's
+    /// $`dt^2 J`$ first passed through `adjust` (spring index, block) for a dissipation's term.
+    pub(crate) fn add_springs<T: Lane>(
+        &self,
+        values: &mut [T],
+        jacobians: &[Matrix3<T>],
+        dt2: T,
+        adjust: impl Fn(usize, Matrix3<T>) -> Matrix3<T>,
+    ) {
+        for (i, ([aa, ab, ba, bb], jac)) in self.spring_blocks.iter().zip(jacobians).enumerate() {
+            // Scalar times matrix, written matrix times scalar (the same products) for a lane.
+            let jac = adjust(i, jac * dt2);
             for rc in 0..9 {
                 let dt2_j = jac[(rc / 3, rc % 3)];
                 values[aa[rc]] -= dt2_j;
@@ -173,6 +257,11 @@ pub struct BackwardEuler {
     implicit: ImplicitMatrix,
     solve: Option<ConstrainedSystem>,
     fixed: Vec<usize>,
+    /// The springs' ends, rest lengths and stiffnesses, and the nodes' masses, as arrays.
+    ends: Vec<(usize, usize)>,
+    rest_lengths: Vec<f64>,
+    stiffness: Vec<f64>,
+    masses: Vec<f64>,
     jacobians: Vec<Matrix3<f64>>,
     forces: Vec<Vec3>,
     x_k: Vec<Vec3>,
@@ -236,6 +325,10 @@ impl BackwardEuler {
             implicit: ImplicitMatrix::new(system),
             solve: None,
             fixed: fixed_node_unknowns(system, 3),
+            ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
+            rest_lengths: system.springs().iter().map(|s| s.rest_length).collect(),
+            stiffness: system.springs().iter().map(|s| s.stiffness).collect(),
+            masses: system.nodes().iter().map(|node| node.mass).collect(),
             jacobians: vec![Matrix3::zeros(); system.springs().len()],
             forces: vec![Vec3::zeros(); n],
             x_k: vec![Vec3::zeros(); n],
@@ -260,6 +353,22 @@ impl BackwardEuler {
         Self::new(system, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS)
     }
 
+    /// Newton iterations per step.
+    pub fn newton_iterations(&self) -> usize {
+        self.newton_iterations
+    }
+
+    /// Where each step's Newton iteration starts.
+    pub fn first_iterate(&self) -> FirstIterate {
+        self.start.rule()
+    }
+
+    /// Whether each step runs its full count of iterations ([`crate::integrators::stopping::Stopping::Count`]),
+    /// as a batch of runs does ([`crate::solvers::batch`]).
+    pub fn counts_iterations(&self) -> bool {
+        self.convergence.stopping() == crate::integrators::stopping::Stopping::Count
+    }
+
     /// Eqs. (10), (12): one Newton-Raphson iteration, from the iterate $`v_k`$ to $`v_{k+1}`$;
     /// whether $`v_{k+1}`$ is $`v_k`$ bit for bit (a fixed point, [`same_bits`]: the
     /// iteration reads nothing of the solver's but $`v_k`$, the step's state and dt).
@@ -274,22 +383,27 @@ impl BackwardEuler {
             *x_k = position_update(x_n, v_k, dt);
         }
         let x_k = &self.x_k;
-        for (jac, s) in self.jacobians.iter_mut().zip(self.system.springs()) {
-            *jac = spring::force_jacobian(&x_k[s.a], &x_k[s.b], s.rest_length, s.stiffness);
-        }
+        let springs = SpringArrays {
+            ends: &self.ends,
+            rest_lengths: &self.rest_lengths,
+            stiffness: &self.stiffness,
+        };
+        spring_jacobians(springs, x_k, &mut self.jacobians);
         self.system.forces(x_k, &mut self.forces);
-        for (i, node) in self.system.nodes().iter().enumerate() {
-            let b = node.mass * state.v[i] + dt * self.forces[i];
-            self.rhs[3 * i..3 * i + 3].copy_from_slice(b.as_slice());
-        }
-        for (jac, s) in self.jacobians.iter().zip(self.system.springs()) {
-            // dt·K_k·(x_n − x_k) = −dt²·K_k·v_k, spring by spring.
-            let k_dx = jac * ((state.x[s.a] - x_k[s.a]) - (state.x[s.b] - x_k[s.b])) * dt;
-            for c in 0..3 {
-                self.rhs[3 * s.a + c] += k_dx[c];
-                self.rhs[3 * s.b + c] -= k_dx[c];
-            }
-        }
+        let step = NewtonStep {
+            x_n: &state.x,
+            v_n: &state.v,
+            masses: &self.masses,
+            dt,
+        };
+        newton_rhs(
+            &step,
+            &self.ends,
+            &self.jacobians,
+            x_k,
+            &self.forces,
+            &mut self.rhs,
+        );
         self.dissipation
             .add_newton_rhs(&self.system, x_k, &self.v_k, &mut self.rhs);
         self.implicit.assemble(

@@ -2,7 +2,8 @@
 
 use super::pivot::*;
 use super::symmetric::SymmetricMatrix;
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::model::lanes::Lane;
 
 /// Matrices with a half-bandwidth up to this use the banded factorisation, plain scalar code
 /// whose results do not depend on the CPU; wider ones go to faer, which picks SIMD kernels at
@@ -27,8 +28,12 @@ const SUMS_TOGETHER: usize = 4;
 /// Backward Euler's 3n×3n matrix of the rope, 35, that of the 10×10 sheet's, and in the
 /// substitutions 11, that of the sheet's n×n projective matrix (how often each is called, and
 /// what the constants gained: `docs/performance.md`, "Inner loops beside their floors").
+///
+/// The arithmetic is generic over the lane type ([`crate::model::lanes`]): at `f64` one
+/// matrix, in lanes one matrix of the pattern per lane (Backward Euler's batched runs,
+/// [`crate::solvers::batch::backward_euler`]), each lane with the bits of its matrix alone.
 #[derive(Debug, Clone)]
-pub struct BandedLdlt {
+pub struct BandedLdlt<T = f64> {
     n: usize,
     p: usize,
     /// The stored entries on or below the diagonal, as runs consecutive both in the matrix's
@@ -38,10 +43,10 @@ pub struct BandedLdlt {
     /// Row i of the matrix is row i + p here (p zero rows first, so that every row has p
     /// entries left of its diagonal): $`L_{i,i-p}, \dots, L_{i,i-1}, d_i`$, zero left of
     /// column 0.
-    band: Vec<f64>,
+    band: Vec<T>,
     /// $`1/d_i`$ at i + p (zero before): the substitutions multiply, a division per row would
     /// lengthen their chain.
-    inverse_diagonal: Vec<f64>,
+    inverse_diagonal: Vec<T>,
 }
 
 impl BandedLdlt {
@@ -50,6 +55,25 @@ impl BandedLdlt {
     /// directly it takes any p (its storage is $`(n + p)(p + 1)`$ values), for a solve that must
     /// stay scalar and deterministic (the sheet's equilibrium).
     pub fn new(a: &SymmetricMatrix) -> Result<Self> {
+        let mut f = Self::for_pattern(a);
+        f.refactor(a)?;
+        Ok(f)
+    }
+
+    /// Factors new values of a matrix with the pattern of the one this was built from.
+    pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
+        debug_assert_eq!(a.dim(), self.n);
+        if self.refactor_values(a.values()) {
+            return Err(self.not_positive_definite(0));
+        }
+        Ok(())
+    }
+}
+
+impl<T: Lane> BandedLdlt<T> {
+    /// The factorisation of matrices of `a`'s pattern, with half-bandwidth p = `a.bandwidth()`,
+    /// none factored yet ([`Self::refactor_values`]).
+    pub fn for_pattern(a: &SymmetricMatrix) -> Self {
         let p = a.bandwidth();
         let w = p + 1;
         let mut lower: Vec<(usize, usize, usize)> = Vec::new();
@@ -62,31 +86,43 @@ impl BandedLdlt {
                 }
             }
         }
-        let mut f = Self {
+        let zero = T::splat(0.0);
+        Self {
             n: a.dim(),
             p,
             lower,
-            band: vec![0.0; (a.dim() + p) * w],
-            inverse_diagonal: vec![0.0; a.dim() + p],
-        };
-        f.refactor(a)?;
-        Ok(f)
+            band: vec![zero; (a.dim() + p) * w],
+            inverse_diagonal: vec![zero; a.dim() + p],
+        }
     }
 
-    /// Factors new values of a matrix with the pattern of the one this was built from.
-    pub fn refactor(&mut self, a: &SymmetricMatrix) -> Result<()> {
-        debug_assert_eq!(a.dim(), self.n);
-        self.band.fill(0.0);
-        let values = a.values();
+    /// Factors the matrix of the pattern's with `values` (its stored values in pattern order,
+    /// as [`SymmetricMatrix::values`] holds them); per lane, whether a pivot was not positive
+    /// and finite ([`Self::not_positive_definite`] names the first). A lane whose pivot fails
+    /// is factored on, its later values unread; the others are not touched by it.
+    pub fn refactor_values(&mut self, values: &[T]) -> T::SimdBool {
+        let zero = T::splat(0.0);
+        self.band.fill(zero);
         for &(slot, k, len) in &self.lower {
             self.band[k..k + len].copy_from_slice(&values[slot..slot + len]);
         }
-        let mut t = [0.0; BANDED_MAX_BANDWIDTH];
+        let mut t = [zero; BANDED_MAX_BANDWIDTH];
         match self.p {
             5 => self.factor(5, &mut t),
             35 => self.factor(35, &mut t),
             p if p <= BANDED_MAX_BANDWIDTH => self.factor(p, &mut t),
-            p => self.factor(p, &mut vec![0.0; p]),
+            p => self.factor(p, &mut vec![zero; p]),
+        }
+    }
+
+    /// The error for lane `lane`'s first pivot that is not positive and finite (after
+    /// [`Self::refactor_values`] said it has one).
+    pub fn not_positive_definite(&self, lane: usize) -> Error {
+        let (p, w) = (self.p, self.p + 1);
+        let pivot = |i: usize| self.band[(i + p) * w + p].extract(lane);
+        match (0..self.n).find(|&i| !is_pivot(pivot(i))) {
+            Some(i) => not_positive_definite(i, pivot(i)),
+            None => not_positive_definite(usize::MAX, f64::NAN),
         }
     }
 
@@ -100,12 +136,16 @@ impl BandedLdlt {
     /// stay in registers ($`1/d_{i-1}`$ carried over, $`d_i`$'s terms taken as each
     /// $`L_{ik}`$ is made, in the same ascending order), not stored and read back. Within a
     /// row, the sums $`t_m`$ go in blocks of [`SUMS_TOGETHER`] ([`sums_together`]), the last
-    /// fewer; every sum keeps its terms and their order.
+    /// fewer; every sum keeps its terms and their order. Returns, per lane, whether a pivot
+    /// was not positive and finite: checked without a branch, so that a lane's failure does
+    /// not stop the others.
     #[inline(always)]
-    fn factor(&mut self, p: usize, t: &mut [f64]) -> Result<()> {
+    fn factor(&mut self, p: usize, t: &mut [T]) -> T::SimdBool {
         let w = p + 1;
         // 1/d of the row before (a zero row's before row 0).
-        let mut inverse_before = 0.0;
+        let mut inverse_before = T::splat(0.0);
+        // False in every lane (1 is a pivot).
+        let mut failed = !is_pivot(T::splat(1.0));
         let t = &mut t[..p];
         for i in 0..self.n {
             // Rows before i are final; row i holds A's entries until overwritten.
@@ -123,25 +163,26 @@ impl BandedLdlt {
             };
             let mut m0 = 0;
             while m0 + SUMS_TOGETHER <= p {
-                sums_together::<SUMS_TOGETHER>(m0, t, l_i, &mut d, row_j, inverse);
+                sums_together::<T, SUMS_TOGETHER>(m0, t, l_i, &mut d, row_j, inverse);
                 m0 += SUMS_TOGETHER;
             }
             // The last sums, fewer than a block, side by side too.
             match p - m0 {
-                3 => sums_together::<3>(m0, t, l_i, &mut d, row_j, inverse),
-                2 => sums_together::<2>(m0, t, l_i, &mut d, row_j, inverse),
-                1 => sums_together::<1>(m0, t, l_i, &mut d, row_j, inverse),
+                3 => sums_together::<T, 3>(m0, t, l_i, &mut d, row_j, inverse),
+                2 => sums_together::<T, 2>(m0, t, l_i, &mut d, row_j, inverse),
+                1 => sums_together::<T, 1>(m0, t, l_i, &mut d, row_j, inverse),
                 _ => {}
             }
-            inverse_before = inverse_pivot(i, d)?;
+            failed = failed | !is_pivot(d);
+            inverse_before = T::splat(1.0) / d;
             self.inverse_diagonal[i + p] = inverse_before;
             a_ii[0] = d;
         }
-        Ok(())
+        failed
     }
 
     /// $`L y = b`$, $`D z = y`$, $`L^\top x = z`$ for `ncols` right-hand sides.
-    pub fn solve_in_place(&self, b: &mut [f64], ncols: usize) {
+    pub fn solve_in_place(&self, b: &mut [T], ncols: usize) {
         let b = &mut b[..self.n * ncols];
         match ncols {
             3 => self.solve_together(columns::<_, 3>(b, self.n)),
@@ -154,7 +195,7 @@ impl BandedLdlt {
     }
 
     #[inline(always)]
-    fn solve_together<const C: usize>(&self, mut cols: [&mut [f64]; C]) {
+    fn solve_together<const C: usize>(&self, mut cols: [&mut [T]; C]) {
         match self.p {
             5 => self.solve_banded(&mut cols, 5),
             11 => self.solve_banded(&mut cols, 11),
@@ -169,9 +210,9 @@ impl BandedLdlt {
     /// row. The first p rows of each sweep have fewer terms; the others have p, a constant
     /// where p is one (the loops unroll).
     #[inline(always)]
-    fn solve_banded<const C: usize>(&self, cols: &mut [&mut [f64]; C], p: usize) {
+    fn solve_banded<const C: usize>(&self, cols: &mut [&mut [T]; C], p: usize) {
         let n = self.n;
-        let mut newest = [0.0; C];
+        let mut newest = [T::splat(0.0); C];
         for i in 0..p.min(n) {
             self.forward_row(cols, &mut newest, p, i, 0);
         }
@@ -192,23 +233,23 @@ impl BandedLdlt {
     #[inline(always)]
     fn forward_row<const C: usize>(
         &self,
-        cols: &mut [&mut [f64]; C],
-        newest: &mut [f64; C],
+        cols: &mut [&mut [T]; C],
+        newest: &mut [T; C],
         p: usize,
         i: usize,
         k0: usize,
     ) {
         let w = p + 1;
         let l_i = &self.band[(i + p) * w + p + k0 - i..(i + p) * w + p];
-        let mut s = [-0.0; C];
+        let mut s = [T::splat(-0.0); C];
         if let Some((l_newest, l_older)) = l_i.split_last() {
             for (j, l_ik) in l_older.iter().enumerate() {
                 for (s, col) in s.iter_mut().zip(cols.iter()) {
-                    *s += l_ik * col[k0 + j];
+                    *s += *l_ik * col[k0 + j];
                 }
             }
             for (s, newest) in s.iter_mut().zip(newest.iter()) {
-                *s += l_newest * *newest;
+                *s += *l_newest * *newest;
             }
         }
         for ((col, newest), s) in cols.iter_mut().zip(newest).zip(s) {
@@ -223,15 +264,15 @@ impl BandedLdlt {
     #[inline(always)]
     fn backward_row<const C: usize>(
         &self,
-        cols: &mut [&mut [f64]; C],
-        newest: &mut [f64; C],
+        cols: &mut [&mut [T]; C],
+        newest: &mut [T; C],
         p: usize,
         i: usize,
         k1: usize,
     ) {
         let inv = self.inverse_diagonal[i + p];
         let at = |k: usize| k * p + (p + 2) * p + i;
-        let mut s = [-0.0; C];
+        let mut s = [T::splat(-0.0); C];
         if i + 1 < k1 {
             let column = &self.band[at(i + 1)..=at(k1 - 1)];
             for j in (1..k1 - i - 1).rev() {
@@ -256,26 +297,26 @@ impl BandedLdlt {
 /// chains of additions overlapping instead of one), then each sum's terms within the block, in
 /// order, and its end ([`finish_sum`]). Every sum keeps its terms and their order.
 #[inline(always)]
-fn sums_together<'a, const B: usize>(
+fn sums_together<'a, T: Lane, const B: usize>(
     m0: usize,
-    t: &mut [f64],
-    l_i: &mut [f64],
-    d: &mut f64,
-    row_j: impl Fn(usize) -> &'a [f64],
-    inverse: impl Fn(usize) -> f64,
+    t: &mut [T],
+    l_i: &mut [T],
+    d: &mut T,
+    row_j: impl Fn(usize) -> &'a [T],
+    inverse: impl Fn(usize) -> T,
 ) {
-    let mut s: [f64; B] = std::array::from_fn(|b| l_i[m0 + b]);
-    let r: [&[f64]; B] = std::array::from_fn(|b| row_j(m0 + b));
+    let mut s: [T; B] = std::array::from_fn(|b| l_i[m0 + b]);
+    let r: [&[T]; B] = std::array::from_fn(|b| row_j(m0 + b));
     for (q, t_q) in t[..m0].iter().enumerate() {
         for (s, r) in s.iter_mut().zip(&r) {
-            *s -= t_q * r[q];
+            *s -= *t_q * r[q];
         }
     }
     // The block's finished sums are read back from registers, not from `t`, which has just
     // stored them: two of them loaded from `t` as one vector wait for both stores (a
     // store-forwarding stall, 15 % of the sheet's refactorisation when the compiler paired
     // them so).
-    let mut finished = [0.0; B];
+    let mut finished = [T::splat(0.0); B];
     for b in 0..B {
         for c in 0..b {
             s[b] -= finished[c] * r[b][m0 + c];
@@ -287,14 +328,7 @@ fn sums_together<'a, const B: usize>(
 /// The end of row i's sum m: $`t_m`$ = `s`, $`L_{im} = t_m / d_j`$ (`inverse_j` $`= 1/d_j`$),
 /// and $`L_{im}`$'s term taken off $`d_i`$; returns $`t_m`$.
 #[inline(always)]
-fn finish_sum(
-    m: usize,
-    s: f64,
-    inverse_j: f64,
-    t: &mut [f64],
-    l_i: &mut [f64],
-    d: &mut f64,
-) -> f64 {
+fn finish_sum<T: Lane>(m: usize, s: T, inverse_j: T, t: &mut [T], l_i: &mut [T], d: &mut T) -> T {
     t[m] = s;
     let l_im = s * inverse_j;
     l_i[m] = l_im;

@@ -1,5 +1,5 @@
-//! The experiments' runs with those of one solver in batches ([`crate::solvers::batch`]): the XPBD rows
-//! and the Liu 2013 rows of every configuration, and the ADMM-PD rows whose configuration is
+//! The experiments' runs with those of one solver in batches ([`crate::solvers::batch`]): the
+//! Backward Euler, XPBD and Liu 2013 rows of every configuration, and the ADMM-PD rows whose configuration is
 //! Algorithm 4 or departs from it in its first iterate and weights only, [`WIDTH`] at a time in the lanes
 //! of a batch per solver and iteration count, each with the bits it has alone. The other rows
 //! run one by one, as [`run_experiment`] runs them.
@@ -12,7 +12,9 @@ use crate::integrators::time_stepper::TimeStepper;
 use crate::integrators::time_stepper::{Run, RunOptions};
 use crate::model::system::{MassSpringSystem, State};
 use crate::solvers::admm::AdmmPd;
+use crate::solvers::backward_euler::BackwardEuler;
 use crate::solvers::batch::admm::{AdmmLaneData, AdmmLanes, AdmmRun};
+use crate::solvers::batch::backward_euler::BackwardEulerLanes;
 use crate::solvers::batch::liu::LiuLanes;
 use crate::solvers::batch::xpbd::XpbdLanes;
 use crate::solvers::batch::{simulate_batch, BatchOutcome, LaneSolver, WIDTH};
@@ -22,13 +24,15 @@ use crate::solvers::xpbd::Xpbd;
 use crate::studies::experiments::SolverChoice;
 use crate::studies::forensics::admm_variants::VariantAdmm;
 
-/// The solver of a row whose runs go into batches: XPBD's, whichever the configuration (every
-/// [`SolverChoice`] builds the printed [`Xpbd`] for an XPBD row), Liu's started at (a) or
+/// The solver of a row whose runs go into batches: Backward Euler's and XPBD's, whichever the
+/// configuration (every [`SolverChoice`] builds the printed [`BackwardEuler`] and [`Xpbd`] for
+/// their rows), Liu's started at (a) or
 /// (b) (the printed Liu for [`SolverChoice::Admm`] too, which a Liu row ignores), and ADMM-PD's
 /// as printed or with another first iterate and weights only
 /// ([`crate::studies::forensics::AdmmVariant::takes_a_lane`]); None for a row run alone.
 fn batched(row: &PublishedRow, configuration: &Configuration) -> Option<SolverId> {
     match (row.solver, configuration.solver) {
+        (SolverId::BackwardEuler, _) => Some(SolverId::BackwardEuler),
         (SolverId::Xpbd, _) => Some(SolverId::Xpbd),
         (SolverId::AdmmPd, SolverChoice::Printed) => Some(SolverId::AdmmPd),
         (SolverId::AdmmPd, SolverChoice::Admm(variant)) => {
@@ -172,6 +176,13 @@ pub fn run_experiments(
                 (_, Some(SolverId::AdmmPd)) => run_batch(batch, admm, |like| {
                     AdmmLanes::new(like).expect("the thesis rope is a batch's rope")
                 }),
+                (_, Some(SolverId::BackwardEuler)) => run_batch(
+                    batch,
+                    |system, row, _| BackwardEuler::new(system, row.dt_s, row.iterations),
+                    |like| {
+                        BackwardEulerLanes::new(like).expect("the rope's Newton matrix is banded")
+                    },
+                ),
                 _ => run_batch(
                     batch,
                     |system, row, _| Xpbd::new(system, row.dt_s, row.iterations),
