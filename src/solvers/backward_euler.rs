@@ -43,9 +43,13 @@ pub fn position_update<T: Lane>(x_n: &Vector3<T>, v_next: &Vector3<T>, dt: T) ->
 /// $`(x_n, v_n)`$, the nodes' masses and dt (at `f64` one run's, in lanes one per lane).
 #[derive(Debug, Clone, Copy)]
 pub struct NewtonStep<'a, T> {
+    /// $`x_n`$, per node.
     pub x_n: &'a [Vector3<T>],
+    /// $`v_n`$, per node.
     pub v_n: &'a [Vector3<T>],
+    /// The nodes' masses, kg.
     pub masses: &'a [T],
+    /// The step, s.
     pub dt: T,
 }
 
