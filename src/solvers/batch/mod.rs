@@ -520,7 +520,8 @@ mod tests {
     /// damping and stopping time per lane (the k = 1e3 N/m lanes reach fixed points). Written
     /// before the lanes ran, to fail with the put-back of [`iterate_lanes`] skipped and with
     /// every lane's gravity its first run's (both checked). Lanes are built wherever the run
-    /// alone factors its Newton matrix banded: the 10 × 10 sheet, not the 15 × 15 one.
+    /// alone factors its Newton matrix banded: the 10 × 10 sheet too (three runs), not the
+    /// 15 × 15 one.
     #[test]
     fn every_backward_euler_lane_is_its_run_alone_bit_for_bit() {
         use super::backward_euler::BackwardEulerLanes;
@@ -550,12 +551,26 @@ mod tests {
         .collect();
         let mut lanes = BackwardEulerLanes::new(&runs[0].0).expect("the rope's matrix is banded");
         assert_lanes_are_runs_alone(&mut lanes, &runs);
-        let sheet = |n| {
-            let system = SheetParams::spec(n, 1e3).build().unwrap();
-            BackwardEulerLanes::new(&BackwardEuler::new(&system, 1e-3, 1).unwrap())
-        };
-        assert!(sheet(10).is_some());
-        assert!(sheet(15).is_none());
+        // The 10 × 10 sheet (half-bandwidth 35, its own constant in the factorisation), three
+        // runs for twenty steps each.
+        let sheets: Vec<(BackwardEuler, State, RunOptions)> =
+            [(1e3, 1e-2, 5), (1e4, 5e-3, 3), (1e3, 2e-2, 1)]
+                .into_iter()
+                .map(|(k, dt, iterations)| {
+                    let system = SheetParams::spec(10, k).build().unwrap();
+                    let solver = BackwardEuler::new(&system, dt, iterations).unwrap();
+                    (
+                        solver,
+                        system.initial_state(),
+                        options(0.0, 20.0 * dt, 1e-4),
+                    )
+                })
+                .collect();
+        let mut lanes =
+            BackwardEulerLanes::new(&sheets[0].0).expect("the 10 × 10 sheet's matrix is banded");
+        assert_lanes_are_runs_alone(&mut lanes, &sheets);
+        let wider = SheetParams::spec(15, 1e3).build().unwrap();
+        assert!(BackwardEulerLanes::new(&BackwardEuler::new(&wider, 1e-3, 1).unwrap()).is_none());
     }
 
     /// A lane whose Newton matrix is not positive definite ends its run with the error its run
