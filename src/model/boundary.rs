@@ -84,14 +84,9 @@ impl ConstrainedSystem {
         self.factorization.solve_in_place(b, ncols);
     }
 
-    /// The fixed unknowns.
-    pub fn fixed(&self) -> &[usize] {
-        &self.imposition.fixed
-    }
-
-    /// The block $`A_2`$ of Eq (43) as $`(i, j, A_{ij})`$, free rows $`i`$, fixed columns $`j`$.
-    pub fn coupling(&self) -> &[(usize, usize, f64)] {
-        &self.imposition.coupling
+    /// The imposition of Eqs 44-47 on its matrix and right-hand sides.
+    pub fn imposition(&self) -> &Imposition {
+        &self.imposition
     }
 
     /// The factorisation of the imposed matrix of Eq (44).
@@ -135,6 +130,29 @@ impl<T: Lane> Imposition<T> {
         }
     }
 
+    /// The same imposition in lanes, its block $`A_2`$ zero in every lane until loaded
+    /// ([`Self::load_lane`]).
+    pub fn lanes(from: &Imposition) -> Self {
+        Self {
+            fixed: from.fixed.clone(),
+            coupling: from
+                .coupling
+                .iter()
+                .map(|&(i, j, _)| (i, j, T::splat(0.0)))
+                .collect(),
+            slots: from.slots.clone(),
+        }
+    }
+
+    /// Sets lane `lane`'s block $`A_2`$ to `from`'s, of the same pattern and fixed set.
+    pub fn load_lane(&mut self, lane: usize, from: &Imposition) {
+        assert_eq!(from.fixed, self.fixed, "one fixed set in a batch");
+        for (into, &(i, j, a_ij)) in self.coupling.iter_mut().zip(&from.coupling) {
+            assert_eq!((into.0, into.1), (i, j), "one pattern in a batch");
+            into.2.replace(lane, a_ij);
+        }
+    }
+
     /// Eq. (44): on a matrix's `values` (in its pattern's order), saves the block $`A_2`$
     /// (free rows, fixed columns), then replaces the fixed rows and columns by the identity.
     pub fn impose_on_matrix(&mut self, values: &mut [T]) {
@@ -150,30 +168,18 @@ impl<T: Lane> Imposition<T> {
     }
 
     /// Eqs. (45)-(47): with $`u = (0, \bar x)`$ (Eq 45), $`b \leftarrow b - A u`$ (Eqs 46-47) on
-    /// the free rows, and $`b_j = \bar x_j`$ on the fixed rows (step 4 of §3.2).
+    /// the free rows, and $`b_j = \bar x_j`$ on the fixed rows (step 4 of §3.2), for `ncols`
+    /// right-hand sides stored one after another.
     #[inline]
     pub fn impose_on_rhs(&self, b: &mut [T], x_bar: &[T], ncols: usize) {
-        impose_on_rhs(&self.coupling, &self.fixed, b, x_bar, ncols);
-    }
-}
-
-/// Eqs. (45)-(47) for any lane type ([`crate::model::lanes`]): [`Imposition::impose_on_rhs`]
-/// with its block $`A_2`$ (`coupling`) and `fixed` unknowns.
-#[inline]
-pub fn impose_on_rhs<T: Lane>(
-    coupling: &[(usize, usize, T)],
-    fixed: &[usize],
-    b: &mut [T],
-    x_bar: &[T],
-    ncols: usize,
-) {
-    let n = b.len() / ncols;
-    for (b, x_bar) in b.chunks_exact_mut(n).zip(x_bar.chunks_exact(n)) {
-        for &(i, j, a_ij) in coupling {
-            b[i] -= a_ij * x_bar[j];
-        }
-        for &j in fixed {
-            b[j] = x_bar[j];
+        let n = b.len() / ncols;
+        for (b, x_bar) in b.chunks_exact_mut(n).zip(x_bar.chunks_exact(n)) {
+            for &(i, j, a_ij) in &self.coupling {
+                b[i] -= a_ij * x_bar[j];
+            }
+            for &j in &self.fixed {
+                b[j] = x_bar[j];
+            }
         }
     }
 }

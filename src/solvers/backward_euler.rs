@@ -357,6 +357,20 @@ impl BackwardEuler {
         Self::new(system, REFERENCE_DT, REFERENCE_NEWTON_ITERATIONS)
     }
 
+    /// The springs' ends, rest lengths and stiffnesses, as arrays.
+    pub fn springs(&self) -> SpringArrays<'_, f64> {
+        SpringArrays {
+            ends: &self.ends,
+            rest_lengths: &self.rest_lengths,
+            stiffness: &self.stiffness,
+        }
+    }
+
+    /// The nodes' masses, kg.
+    pub fn masses(&self) -> &[f64] {
+        &self.masses
+    }
+
     /// Newton iterations per step.
     pub fn newton_iterations(&self) -> usize {
         self.newton_iterations
@@ -387,6 +401,7 @@ impl BackwardEuler {
             *x_k = position_update(x_n, v_k, dt);
         }
         let x_k = &self.x_k;
+        // The fields, not [`Self::springs`]: the Jacobians are written beside them.
         let springs = SpringArrays {
             ends: &self.ends,
             rest_lengths: &self.rest_lengths,

@@ -24,7 +24,7 @@
 
 pub use super::incidence::{Chain, Ends, SpringGraph, SpringIncidence};
 use crate::error::{require_non_negative, require_positive, Error, Result};
-use crate::model::boundary::{fixed_node_unknowns, impose_on_rhs, ConstrainedSystem};
+use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem, Imposition};
 use crate::model::lanes::Lane;
 use crate::model::linear::{Factorization, SymmetricMatrix, TwistedTridiagonal};
 use crate::model::system::{MassSpringSystem, State, Vec3};
@@ -210,9 +210,8 @@ impl GlobalSolve {
 /// substitution), with the size known where it is compiled.
 #[derive(Debug, Clone)]
 pub struct GlobalSolveLanes<T, const N: usize> {
-    fixed: Vec<usize>,
-    /// $`(i, j, A_{ij})`$ of Eq (43)'s block $`A_2`$, per lane.
-    coupling: Vec<(usize, usize, T)>,
+    /// The fixed set and Eq (43)'s block $`A_2`$, per lane.
+    imposition: Imposition<T>,
     factor: TwistedTridiagonal<T>,
 }
 
@@ -227,13 +226,7 @@ impl<T: Lane, const N: usize> GlobalSolveLanes<T, N> {
             return None;
         }
         Some(Self {
-            fixed: like.solve.fixed().to_vec(),
-            coupling: like
-                .solve
-                .coupling()
-                .iter()
-                .map(|&(i, j, _)| (i, j, T::splat(0.0)))
-                .collect(),
+            imposition: Imposition::lanes(like.solve.imposition()),
             factor: TwistedTridiagonal::lanes(factor),
         })
     }
@@ -243,11 +236,7 @@ impl<T: Lane, const N: usize> GlobalSolveLanes<T, N> {
         let Factorization::Tridiagonal(factor) = from.solve.factorization() else {
             panic!("a batch of global solves holds tridiagonal ones");
         };
-        assert_eq!(from.solve.fixed(), self.fixed, "one fixed set in a batch");
-        for (into, &(i, j, a_ij)) in self.coupling.iter_mut().zip(from.solve.coupling()) {
-            assert_eq!((into.0, into.1), (i, j), "one pattern in a batch");
-            into.2.replace(lane, a_ij);
-        }
+        self.imposition.load_lane(lane, from.solve.imposition());
         self.factor.load_lane(lane, factor);
     }
 
@@ -255,7 +244,7 @@ impl<T: Lane, const N: usize> GlobalSolveLanes<T, N> {
     #[inline]
     pub fn solve(&self, b: &mut [T], x_bar: &[T]) {
         let b = &mut b[..3 * N];
-        impose_on_rhs(&self.coupling, &self.fixed, b, &x_bar[..3 * N], 3);
+        self.imposition.impose_on_rhs(b, &x_bar[..3 * N], 3);
         self.factor.solve_three_of_size(b, N);
     }
 }

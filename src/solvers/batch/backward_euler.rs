@@ -19,7 +19,7 @@ use crate::model::boundary::{fixed_node_unknowns, Imposition};
 use crate::model::lanes::{load_points, load_values, Lanes4};
 use crate::model::linear::{BandedLdlt, BANDED_MAX_BANDWIDTH};
 use crate::model::spring::SpringArrays;
-use crate::model::system::{forces_of, MassSpringSystem, State};
+use crate::model::system::{forces_of, State};
 use crate::solvers::backward_euler::{
     newton_rhs, position_update, spring_jacobians, BackwardEuler, ImplicitMatrix, ImplicitSlots,
     NewtonStep,
@@ -75,7 +75,7 @@ impl BackwardEulerLanes {
         let zero = Lanes4::splat(0.0);
         Some(Self {
             states: LaneStates::new(n),
-            ends: system.springs().iter().map(|s| (s.a, s.b)).collect(),
+            ends: like.springs().ends.to_vec(),
             fixed: system.nodes().iter().map(|node| node.fixed).collect(),
             dt: zero,
             masses: vec![zero; n],
@@ -101,16 +101,12 @@ impl BackwardEulerLanes {
     /// Whether `run` can take a lane: one of this topology and fixed set, without dissipation,
     /// counting its iterations and starting at $`x_n`$.
     fn holds(&self, run: &BackwardEuler) -> bool {
-        let system = run.system();
         run.dissipation().is_none()
             && run.counts_iterations()
             && run.first_iterate() == FirstIterate::Previous
-            && system
-                .springs()
-                .iter()
-                .map(|s| (s.a, s.b))
-                .eq(self.ends.iter().copied())
-            && system
+            && run.springs().ends == self.ends
+            && run
+                .system()
                 .nodes()
                 .iter()
                 .map(|n| n.fixed)
@@ -127,18 +123,16 @@ impl LaneSolver for BackwardEulerLanes {
             "a batch of Backward Euler runs holds runs of one topology and fixed set, without \
              dissipation, that count their iterations and start at x_n"
         );
-        let system: &MassSpringSystem = run.system();
+        let system = run.system();
         self.dt.replace(lane, run.dt());
-        let masses: Vec<f64> = system.nodes().iter().map(|node| node.mass).collect();
-        load_values(&mut self.masses, lane, &masses);
+        load_values(&mut self.masses, lane, run.masses());
         let external: Vec<_> = (0..system.len())
             .map(|i| system.external_force(i))
             .collect();
         load_points(&mut self.external, lane, &external);
-        let rest_lengths: Vec<f64> = system.springs().iter().map(|s| s.rest_length).collect();
-        load_values(&mut self.rest_lengths, lane, &rest_lengths);
-        let stiffness: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
-        load_values(&mut self.stiffness, lane, &stiffness);
+        let springs = run.springs();
+        load_values(&mut self.rest_lengths, lane, springs.rest_lengths);
+        load_values(&mut self.stiffness, lane, springs.stiffness);
         self.iterations[lane] = run.newton_iterations();
         self.errors[lane] = None;
         self.states.load(lane, state);
