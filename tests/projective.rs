@@ -199,10 +199,14 @@ fn local_steps_solve_their_minimisations() {
     }
     let l0s: Vec<f64> = system.springs().iter().map(|s| s.rest_length).collect();
     let mut d = vec![Vec3::zeros(); l0s.len()];
-    spring_directions(&j, &x, &l0s, &mut d, &mut vec![0.0; l0s.len()]);
+    spring_directions(&j, &x[..], &l0s, &mut d, &mut vec![0.0; l0s.len()]);
     assert_eq!(d[zero_length], Vec3::zeros());
     for (i, (d, &l0)) in d.iter().zip(&l0s).enumerate() {
-        assert_eq!(*d, project_on_sphere(j.difference(i, &x), l0), "spring {i}");
+        assert_eq!(
+            *d,
+            project_on_sphere(j.difference(i, &x[..]), l0),
+            "spring {i}"
+        );
     }
     // Eq (56) with ω² = k is the printed simplification ½(p + q).
     let half = 0.5 * (p + q);
@@ -408,17 +412,80 @@ fn liu_at_a_fixed_point_has_the_bits_of_all_its_iterations() {
         full.begin_stage(&b, &problem).unwrap();
         let mut fixed_at = None;
         for j in 0..iterations {
-            let before: Vec<u64> = full.positions().iter().map(|c| c.to_bits()).collect();
+            let bits_of = |p: Vec3| p.map(f64::to_bits);
+            let before: Vec<_> = full.positions().map(bits_of).collect();
             full.iterate();
-            let after = full.positions().iter().map(|c| c.to_bits());
+            let after = full.positions().map(bits_of);
             if fixed_at.is_none() && after.eq(before) {
                 fixed_at = Some(j);
             }
         }
         early += usize::from(fixed_at.is_some_and(|j| j < 10));
-        finish_step(&mut b, full.positions(), dt);
+        let mut columns = vec![0.0; 3 * system.len()];
+        full.positions_into(&mut columns);
+        finish_step(&mut b, &columns, dt);
         assert_eq!(bits(&a), bits(&b));
     }
     println!("{early} of 2000 steps at a fixed point within ten iterations");
     assert!(early > 1000, "{early} of 2000 steps");
+}
+
+/// Liu's run alone holds its nodes in its global solve's order, one 256-bit [`Node`] each, and
+/// takes its springs in `SpringIncidence::scatter_order`, with Eq (28) and Eq (29)'s right-hand
+/// side in one pass: the same arithmetic as Algorithm 3 written on column-major positions with
+/// the springs in index order (`spring_directions`, `global_rhs` and `GlobalSolve::solve`, the
+/// lanes' pieces), bit for bit, for ten steps of ten iterations: on the thesis rope (a
+/// tridiagonal solve), the 10 × 10 sheet (banded) and the 40 × 40 sheet (sparse, its nodes
+/// permuted by the fill-reducing ordering), all with fixed nodes, from a moving start.
+/// Written to fail if a node's terms were added out of index order, or if a node were read or
+/// written at another's place; checked with the scatter order reversed (the rope's third step
+/// differs) and with the nodes' rows taken as the identity (the 40 × 40 sheet's first step).
+#[test]
+fn liu_in_its_solve_order_has_the_bits_of_the_column_major_step() {
+    use mass_spring_solvers::model::scene::SheetParams;
+    use mass_spring_solvers::solvers::fast_mass_spring::{global_rhs, inertial_rhs};
+    use mass_spring_solvers::solvers::projective::{to_columns, GlobalSolve};
+    let (dt, iterations) = (0.01, 10);
+    let scenes = [
+        thesis_rope(1e3).unwrap(),
+        SheetParams::spec(10, 1e4).build().unwrap(),
+        SheetParams::spec(40, 1e6).build().unwrap(),
+    ];
+    for system in scenes {
+        let n = system.len();
+        let mut liu = FastMassSpring::new(&system, dt, iterations).unwrap();
+        let k: Vec<f64> = system.springs().iter().map(|s| s.stiffness).collect();
+        let l0: Vec<f64> = system.springs().iter().map(|s| s.rest_length).collect();
+        let masses: Vec<f64> = system.nodes().iter().map(|node| node.mass).collect();
+        let solve = GlobalSolve::new(&system, dt, &k).unwrap();
+        let j = incidence_matrix(&system);
+        let f_ext: Vec<Vec3> = (0..n).map(|i| dt * dt * system.external_force(i)).collect();
+        let mut dt2_f_ext = vec![0.0; 3 * n];
+        to_columns(&f_ext, &mut dt2_f_ext);
+        // A moving start: the sheets sag from rest, the rope swings.
+        let mut state = system.initial_state();
+        for v in &mut state.v {
+            *v = Vec3::new(0.3, -0.2, 0.1);
+        }
+        let mut reference = state.clone();
+        let (mut b, mut x, mut x_n) = (vec![0.0; 3 * n], vec![0.0; 3 * n], vec![0.0; 3 * n]);
+        let (mut d, mut scale) = (vec![Vec3::zeros(); l0.len()], vec![0.0; l0.len()]);
+        for step in 0..10 {
+            liu.step(&mut state).unwrap();
+            inertial_rhs(&reference.x, &reference.v, &masses, dt, &dt2_f_ext, &mut b);
+            to_columns(&reference.x, &mut x_n);
+            x.copy_from_slice(&x_n);
+            for _ in 0..iterations {
+                spring_directions(&j, &x[..], &l0, &mut d, &mut scale);
+                global_rhs(&j, &b, &d, dt * dt, &mut x);
+                solve.solve(&mut x, &x_n);
+            }
+            finish_step(&mut reference, &x, dt);
+            let bits = |s: &State| -> Vec<u64> {
+                let points = s.x.iter().chain(&s.v);
+                points.flat_map(|p| p.iter().map(|c| c.to_bits())).collect()
+            };
+            assert!(bits(&state) == bits(&reference), "{n} nodes, step {step}");
+        }
+    }
 }

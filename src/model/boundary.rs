@@ -9,7 +9,7 @@
 
 use crate::error::Result;
 use crate::model::lanes::Lane;
-use crate::model::linear::{Factorization, SymmetricMatrix};
+use crate::model::linear::{Factorization, Node, SymmetricMatrix};
 use crate::model::system::MassSpringSystem;
 
 /// A factored system $`Ax = b`$ whose fixed unknowns are imposed by Eqs 44-47.
@@ -82,6 +82,15 @@ impl ConstrainedSystem {
     pub fn solve(&self, b: &mut [f64], x_bar: &[f64], ncols: usize) {
         self.imposition.impose_on_rhs(b, x_bar, ncols);
         self.factorization.solve_in_place(b, ncols);
+    }
+
+    /// Eq. (43): [`Self::solve`] for three right-hand sides held node by node in the
+    /// factorisation's order ([`Factorization::solve_nodes`]), one unknown per node: node i
+    /// at `rows[i]` of `b` and `x_bar`.
+    #[inline]
+    pub fn solve_nodes(&self, b: &mut [Node], x_bar: &[Node], rows: &[u32]) {
+        self.imposition.impose_on_nodes(b, x_bar, rows);
+        self.factorization.solve_nodes(b);
     }
 
     /// The imposition of Eqs 44-47 on its matrix and right-hand sides.
@@ -180,6 +189,23 @@ impl<T: Lane> Imposition<T> {
             for &j in &self.fixed {
                 b[j] = x_bar[j];
             }
+        }
+    }
+}
+
+impl Imposition {
+    /// Eqs. (45)-(47): [`Self::impose_on_rhs`] for three right-hand sides held node by node,
+    /// one unknown per node, node i at `rows[i]`: each coordinate gets the same operations in
+    /// the same order as its column does.
+    #[inline]
+    pub fn impose_on_nodes(&self, b: &mut [Node], x_bar: &[Node], rows: &[u32]) {
+        let row = |i: usize| rows[i] as usize;
+        for &(i, j, a_ij) in &self.coupling {
+            let (b, x_bar) = (&mut b[row(i)].0, x_bar[row(j)].0);
+            *b = std::array::from_fn(|c| b[c] - a_ij * x_bar[c]);
+        }
+        for &j in &self.fixed {
+            b[row(j)] = x_bar[row(j)];
         }
     }
 }

@@ -271,7 +271,7 @@ impl LocalGlobal {
                 for ((y, x), v) in y.iter_mut().zip(&stage.x).zip(&stage.v) {
                     *y = x + dt * v;
                 }
-                self.v.copy_from_slice(solver.positions());
+                solver.positions_into(&mut self.v);
             }
             Iteration::Admm { iterate, start, .. } => {
                 iterate.predict(&self.system, stage, dt);
@@ -337,10 +337,10 @@ impl LocalGlobal {
                 if merit > threshold {
                     return Merit::Rejected(merit);
                 }
-                solver.positions_mut().copy_from_slice(&self.v);
+                solver.set_positions(&self.v);
                 solver.iterate();
                 self.solves += 1;
-                self.v.copy_from_slice(solver.positions());
+                solver.positions_into(&mut self.v);
                 Merit::Applied(merit)
             }
             Iteration::Admm {

@@ -26,7 +26,7 @@ pub use super::incidence::{Chain, Ends, SpringGraph, SpringIncidence};
 use crate::error::{require_non_negative, require_positive, Error, Result};
 use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem, Imposition};
 use crate::model::lanes::Lane;
-use crate::model::linear::{Factorization, SymmetricMatrix, TwistedTridiagonal};
+use crate::model::linear::{Factorization, Node, SymmetricMatrix, TwistedTridiagonal};
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Vector3;
 
@@ -164,6 +164,9 @@ fn sphere_scale<T: Lane>(length_squared: T, l0: T) -> T {
 pub struct GlobalSolve {
     nodes: usize,
     solve: ConstrainedSystem,
+    /// Where each node is in [`Self::solve_nodes`]'s order (the factorisation's): node i at
+    /// `rows[i]`.
+    rows: Vec<u32>,
 }
 
 impl GlobalSolve {
@@ -188,10 +191,34 @@ impl GlobalSolve {
             a.add(j, j, dt * dt * w);
         }
         let fixed = fixed_node_unknowns(system, 1);
+        let solve = ConstrainedSystem::for_three_columns(&mut a, &fixed)?;
+        let n = system.len();
+        let mut rows: Vec<u32> = (0..n as u32).collect();
+        if let Some(order) = solve.factorization().node_order() {
+            for (row, &node) in order.iter().enumerate() {
+                rows[node as usize] = row as u32;
+            }
+        }
         Ok(Self {
-            nodes: system.len(),
-            solve: ConstrainedSystem::for_three_columns(&mut a, &fixed)?,
+            nodes: n,
+            solve,
+            rows,
         })
+    }
+
+    /// Where each node is in [`Self::solve_nodes`]'s order: node i at `rows()[i]` (a sparse
+    /// factor's fill-reducing ordering; otherwise the nodes' own).
+    pub fn rows(&self) -> &[u32] {
+        &self.rows
+    }
+
+    /// [`Self::solve`] for the three coordinates held node by node in the solve's order
+    /// ([`Self::rows`]): on the sheets' sparse factor no permutation in or out, and one
+    /// 256-bit vector a node (Eqs 45-47 with the same arithmetic per coordinate).
+    #[inline]
+    pub fn solve_nodes(&self, b: &mut [Node], x_bar: &[Node]) {
+        debug_assert_eq!(b.len(), self.nodes);
+        self.solve.solve_nodes(b, x_bar, &self.rows);
     }
 
     /// Solves $`A x = b`$ for the three coordinates at once. `b` (column-major, length 3n) is
@@ -281,8 +308,19 @@ pub fn finish_step(state: &mut State, x_next: &[f64], dt: f64) {
 /// [`finish_step`] for positions `x` and velocities `v` of any lane type.
 pub fn finish_step_of<T: Lane>(x: &mut [Vector3<T>], v: &mut [Vector3<T>], x_next: &[T], dt: T) {
     let n = x.len();
+    finish_step_with(x, v, |i| node_of_columns(x_next, n, i), dt);
+}
+
+/// [`finish_step`] from node i's new position `x_next(i)`.
+#[inline]
+pub fn finish_step_with<T: Lane>(
+    x: &mut [Vector3<T>],
+    v: &mut [Vector3<T>],
+    x_next: impl Fn(usize) -> Vector3<T>,
+    dt: T,
+) {
     for (i, (x, v)) in x.iter_mut().zip(v.iter_mut()).enumerate() {
-        let x_new = node_of_columns(x_next, n, i);
+        let x_new = x_next(i);
         *v = (x_new - *x) / dt;
         *x = x_new;
     }

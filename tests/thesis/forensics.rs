@@ -101,7 +101,7 @@ fn algorithm_4_step(system: &MassSpringSystem, dt: f64, iterations: usize, state
         }
         x.copy_from_slice(&m_x_tilde);
         for i in 0..s {
-            d.add_row_transposed(i, dt2_omega2[i] * (z[i] - u_bar[i]), &mut x);
+            d.add_row_transposed(i, dt2_omega2[i] * (z[i] - u_bar[i]), &mut x[..]);
         }
         a.solve(&mut x, &x_n);
     }

@@ -14,15 +14,22 @@
 use crate::error::Result;
 
 mod banded;
+mod node;
 mod pivot;
 mod sparse;
 mod symmetric;
 mod tridiagonal;
 
 pub use banded::{BandedLdlt, BANDED_MAX_BANDWIDTH};
+pub use node::Node;
 pub use sparse::SparseCholesky;
 pub use symmetric::SymmetricMatrix;
 pub use tridiagonal::TwistedTridiagonal;
+
+thread_local! {
+    /// The column-major copy of [`Factorization::solve_nodes`]'s right-hand sides, reused.
+    static COLUMNS: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
 
 /// A factorisation of a symmetric positive definite matrix ($`LDL^\top`$ or $`LL^\top`$),
 /// analysed once for its pattern.
@@ -64,6 +71,43 @@ impl Factorization {
             Self::Banded(f) => f.refactor(a),
             Self::Sparse(f) => f.refactor(a),
         }
+    }
+
+    /// The order in which [`Self::solve_nodes`] takes the nodes: row q is node `order[q]`
+    /// (a sparse factor's fill-reducing ordering); None: the nodes' own order.
+    pub fn node_order(&self) -> Option<&[u32]> {
+        match self {
+            Self::Sparse(f) => f.node_order(),
+            _ => None,
+        }
+    }
+
+    /// Solves $`A x = b`$ in place for the three coordinates of each node, held node by node
+    /// in [`Self::node_order`]: on a sparse factor its substitutions alone, otherwise the
+    /// column-major solve of [`Self::solve_in_place`] between two copies (the same
+    /// arithmetic, column by column).
+    pub fn solve_nodes(&self, y: &mut [Node]) {
+        if let Self::Sparse(f) = self {
+            if f.solve_nodes_in_order(y).is_some() {
+                return;
+            }
+        }
+        COLUMNS.with(|cell| {
+            let mut columns = cell.borrow_mut();
+            let n = y.len();
+            columns.resize(3 * n, 0.0);
+            for (i, node) in y.iter().enumerate() {
+                for c in 0..3 {
+                    columns[c * n + i] = node.0[c];
+                }
+            }
+            self.solve_in_place(&mut columns, 3);
+            for (i, node) in y.iter_mut().enumerate() {
+                for c in 0..3 {
+                    node.0[c] = columns[c * n + i];
+                }
+            }
+        });
     }
 
     /// Solves $`A x = b`$ in place for `ncols` right-hand sides stored one after another
@@ -360,13 +404,13 @@ mod tests {
         let a = irregular(300);
         let f = SparseCholesky::simplicial(&a).unwrap();
         let panels = f.panels.as_ref().expect("a simplicial factor");
-        let y: Vec<sparse::Node> = (0..a.dim())
-            .map(|i| sparse::Node(std::array::from_fn(|c| ((4 * i + c) as f64 * 0.37).sin())))
+        let y: Vec<Node> = (0..a.dim())
+            .map(|i| Node(std::array::from_fn(|c| ((4 * i + c) as f64 * 0.37).sin())))
             .collect();
         let (mut baseline, mut dispatched) = (y.clone(), y);
         sparse::substitute_three(panels, &mut baseline);
         sparse::solve_three_dispatched(panels, &mut dispatched);
-        let lanes = |y: &[sparse::Node]| y.iter().flat_map(|node| node.0).collect::<Vec<_>>();
+        let lanes = |y: &[Node]| y.iter().flat_map(|node| node.0).collect::<Vec<_>>();
         for (p, q) in lanes(&baseline).iter().zip(lanes(&dispatched)) {
             assert_eq!(p.to_bits(), q.to_bits(), "{p} vs {q}");
         }

@@ -2,6 +2,7 @@
 //! with three right-hand sides solved together on a simplicial factor, in panels of a
 //! supernode's columns.
 
+use super::node::Node;
 use super::pivot::*;
 use super::symmetric::SymmetricMatrix;
 use crate::error::{Error, Result};
@@ -181,14 +182,6 @@ impl Panels {
     }
 }
 
-/// A node's three coordinates and a zero: one 256-bit vector, aligned so that no node
-/// straddles two cache lines (the buffer, 320 KB on the 100 × 100 sheet, came from the
-/// allocator 16 bytes past a page boundary: half the nodes did, and the forward substitution
-/// took 16 % longer, 108 against 93 µs in a scratch program).
-#[derive(Debug, Clone, Copy, Default)]
-#[repr(align(32))]
-pub(super) struct Node(pub(super) [f64; 4]);
-
 thread_local! {
     /// The interleaved right-hand sides of [`SparseCholesky::solve_three`], reused.
     static INTERLEAVED: std::cell::RefCell<Vec<Node>> = const { std::cell::RefCell::new(Vec::new()) };
@@ -278,6 +271,22 @@ impl SparseCholesky {
             Par::Seq,
             MemStack::new(&mut scratch),
         );
+    }
+
+    /// The order in which [`Self::solve_nodes_in_order`] takes the nodes: row q of the
+    /// permuted system is node `order[q]` (the fill-reducing ordering); None where the solve
+    /// is faer's (a supernodal factor), which takes the nodes in their own order.
+    pub fn node_order(&self) -> Option<&[u32]> {
+        self.panels.as_ref().map(|panels| &panels.permutation[..])
+    }
+
+    /// $`A x = b`$ for the three coordinates of every node, held node by node in
+    /// [`Self::node_order`] (`y`, overwritten by $`x`$): the two substitutions of
+    /// [`Self::solve_three`] without its permutations. None (nothing done) without panels.
+    pub fn solve_nodes_in_order(&self, y: &mut [Node]) -> Option<()> {
+        let panels = self.panels.as_ref()?;
+        solve_three_dispatched(panels, &mut y[..self.n]);
+        Some(())
     }
 
     /// $`L y = P b`$ panel by panel (each panel's columns scatter into the rows below), then
