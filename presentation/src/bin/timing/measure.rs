@@ -67,6 +67,20 @@ pub fn time_batches(
     })
 }
 
+impl Time {
+    /// What `self` takes beyond `part`, a part of it timed alone: the differences of the least
+    /// times, the larger spreads, `self`'s batches.
+    pub fn beyond(&self, part: &Time) -> Time {
+        Time {
+            wall: self.wall - part.wall,
+            cpu: self.cpu - part.cpu,
+            spread: self.spread.max(part.spread),
+            cpu_spread: self.cpu_spread.max(part.cpu_spread),
+            ..*self
+        }
+    }
+}
+
 /// A duration for a table: `1.23 s`, `4.567 ms`, `8.90 µs`.
 pub fn seconds(t: f64) -> String {
     if !t.is_finite() {

@@ -204,9 +204,12 @@ fn bound_md(study: &Scaling) -> String {
          measured (`l0 / q.sqrt()` over an in-cache array). The bound is the sum of the two \
          floors; the ratio is the measured CPU time over it. What the floors leave out: each \
          entry's load of a node at an index that wanders over the right-hand sides in the \
-         fill-reducing order (a gather the out-of-order core overlaps only in part), the \
-         right-hand side's assembly and the permutations. The column \"ns per entry\" is the \
-         measured global step over 2 × nnz.\n",
+         fill-reducing order (a gather the out-of-order core overlaps only in part), and the \
+         right-hand side's assembly: Liu's in its local step (the same pass over the springs, \
+         its nodes kept in the solve's order), ADMM-PD's in its global step with the \
+         permutations in and out of that order. The iteration and the local step are timed, \
+         the global step is their difference. The column \"ns per entry\" is the measured \
+         global step over 2 × nnz.\n",
         study.multiply_add * 1e9,
         study.sqrt_div * 1e9
     );
