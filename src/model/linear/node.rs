@@ -1,7 +1,9 @@
 //! A node's three coordinates in one 256-bit vector: the layout of the three right-hand sides
 //! that Liu's and ADMM's global solves take together ([`super::Factorization::solve_nodes`]).
 
+use crate::model::lanes::Lanes4;
 use crate::model::system::Vec3;
+use simba::simd::SimdValue;
 
 /// A node's three coordinates and a zero, aligned so that no node straddles two cache lines
 /// (a buffer of 320 KB on the 100 × 100 sheet came from the allocator 16 bytes past a page
@@ -32,13 +34,17 @@ impl Node {
     }
 }
 
-// Sums, differences and scalings lane by lane (the fourth stays zero): one vector operation.
+// Sums, differences and scalings of a node's four lanes (the fourth stays zero), each one
+// vector operation of the `wide` crate ([`Lanes4`]). Written as arrays lane by lane, they left
+// the compiler free to vectorise a loop over springs instead, across eight springs at a time
+// with gathers of their nodes: Liu's local step on the 100 × 100 sheet took 195 µs against 116
+// µs (a scratch program, one core).
 
 impl std::ops::Add for Node {
     type Output = Node;
     #[inline(always)]
     fn add(self, other: Node) -> Node {
-        Node(std::array::from_fn(|c| self.0[c] + other.0[c]))
+        Node((Lanes4::from(self.0) + Lanes4::from(other.0)).0.to_array())
     }
 }
 
@@ -46,7 +52,7 @@ impl std::ops::Sub for Node {
     type Output = Node;
     #[inline(always)]
     fn sub(self, other: Node) -> Node {
-        Node(std::array::from_fn(|c| self.0[c] - other.0[c]))
+        Node((Lanes4::from(self.0) - Lanes4::from(other.0)).0.to_array())
     }
 }
 
@@ -54,6 +60,6 @@ impl std::ops::Mul<f64> for Node {
     type Output = Node;
     #[inline(always)]
     fn mul(self, s: f64) -> Node {
-        Node(self.0.map(|v| v * s))
+        Node((Lanes4::from(self.0) * Lanes4::splat(s)).0.to_array())
     }
 }
