@@ -14,9 +14,10 @@
 //! incidence vector as a column).
 //!
 //! Every matrix acts per coordinate ($`L = \hat L \otimes I`$, Eq 25), so the n×n matrix is
-//! factored and the three coordinates are solved together as three right-hand sides. The
-//! solvers therefore keep positions column-major: all x-coordinates, then all y, then all z
-//! ([`to_columns`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
+//! factored and the three coordinates are solved together as three right-hand sides. ADMM-PD
+//! and the batches therefore keep positions column-major: all x-coordinates, then all y, then
+//! all z ([`to_columns`]); Liu's run alone keeps them node by node in the solve's own order
+//! ([`GlobalSolve::solve_nodes`], [`crate::solvers::fast_mass_spring::FastMassSpring`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
 //! [`ConstrainedSystem`] in the precomputation; each solve then carries their positions.
 //!
 //! The springs' incidence (Eqs 26, 53, 54) is [`crate::solvers::incidence`]'s, re-exported
