@@ -266,8 +266,9 @@ impl FastMassSpring {
     /// Eq. (28): the local step (lines 2.3-2.5), $`d_i = l_0\,(x_1 - x_2)/|x_1 - x_2|`$ for
     /// every spring at the current iterate, each block of [`SPRING_BLOCK`] springs' $`d_i`$
     /// added at once into the right-hand side of Eq (29), $`b + dt^2 J d`$ (line 2.6), while
-    /// they are in the L1 cache ([`directions_into_rhs`]). Public for the timing study, which times the two halves of
-    /// an iteration apart after a step: this half is the springs', the global step the solve.
+    /// they are in the L1 cache ([`directions_into_rhs`]). Public for the timing study, which
+    /// times it apart from the whole iteration: this half is the springs', the global step the
+    /// solve.
     pub fn local_step(&mut self) {
         let dt2 = self.tau * self.tau;
         directions_into_rhs(

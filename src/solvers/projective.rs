@@ -17,8 +17,9 @@
 //! factored and the three coordinates are solved together as three right-hand sides. ADMM-PD
 //! and the batches therefore keep positions column-major: all x-coordinates, then all y, then
 //! all z ([`to_columns`]); Liu's run alone keeps them node by node in the solve's own order
-//! ([`GlobalSolve::solve_nodes`], [`crate::solvers::fast_mass_spring::FastMassSpring`]). Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through
-//! [`ConstrainedSystem`] in the precomputation; each solve then carries their positions.
+//! ([`GlobalSolve::solve_nodes`], [`crate::solvers::fast_mass_spring::FastMassSpring`]).
+//! Fixed nodes are imposed on the n×n matrix by Eqs 43-47 through [`ConstrainedSystem`] in the
+//! precomputation; each solve then carries their positions.
 //!
 //! The springs' incidence (Eqs 26, 53, 54) is [`crate::solvers::incidence`]'s, re-exported
 //! here; this module builds it for a system ([`incidence_matrix`], [`reduction_matrix`]).
