@@ -35,6 +35,12 @@ fn max_distance(a: &State, b: &State) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Every coordinate of a state's positions and velocities, as bits.
+fn bits(s: &State) -> Vec<u64> {
+    let points = s.x.iter().chain(&s.v);
+    points.flat_map(|p| p.iter().map(|c| c.to_bits())).collect()
+}
+
 fn one_step(solver: &mut dyn TimeStepper, state: &State) -> State {
     let mut next = state.clone();
     solver.step(&mut next).unwrap();
@@ -402,10 +408,6 @@ fn liu_at_a_fixed_point_has_the_bits_of_all_its_iterations() {
     let mut full = shortcut.clone();
     let problem = StageProblem::backward_euler(dt);
     let (mut a, mut b) = (system.initial_state(), system.initial_state());
-    let bits = |s: &State| -> Vec<u64> {
-        let points = s.x.iter().chain(&s.v);
-        points.flat_map(|p| p.iter().map(|c| c.to_bits())).collect()
-    };
     let mut early = 0;
     for _ in 0..2000 {
         shortcut.step(&mut a).unwrap();
@@ -481,10 +483,6 @@ fn liu_in_its_solve_order_has_the_bits_of_the_column_major_step() {
                 solve.solve(&mut x, &x_n);
             }
             finish_step(&mut reference, &x, dt);
-            let bits = |s: &State| -> Vec<u64> {
-                let points = s.x.iter().chain(&s.v);
-                points.flat_map(|p| p.iter().map(|c| c.to_bits())).collect()
-            };
             assert!(bits(&state) == bits(&reference), "{n} nodes, step {step}");
         }
     }

@@ -260,7 +260,7 @@ impl SpringIncidence {
         });
         Self {
             graph: Ends {
-                nodes: self.graph.nodes,
+                nodes,
                 ends: ends.collect(),
             },
             weights: order.iter().map(|&i| self.weights[i as usize]).collect(),
