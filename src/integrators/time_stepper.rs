@@ -302,25 +302,48 @@ impl<'o> Watch<'o> {
         }
     }
 
-    /// The solver took a step to `state`.
+    /// The solver took a step to `state`: the damping, then [`Self::after_measured_step`] on
+    /// the damped state's kinetic energy, then its positions if they are due.
     pub fn after_step(
         &mut self,
         system: &MassSpringSystem,
         state: &mut State,
         recorder: &mut dyn Recorder,
     ) -> Result<()> {
+        if let Some(factor) = self.damping_factor() {
+            for v in &mut state.v {
+                *v *= factor;
+            }
+        }
+        self.after_measured_step(state.kinetic_energy(system), state.is_finite(), recorder)?;
+        if self.positions_due() {
+            self.record_positions(state, recorder)?;
+        }
+        Ok(())
+    }
+
+    /// The factor the velocities are multiplied by after each step, if the run damps them.
+    pub fn damping_factor(&self) -> Option<f64> {
+        self.damps().then_some(self.damping_factor)
+    }
+
+    /// [`Self::after_step`] once the step's state is damped and measured (its kinetic energy
+    /// `ke`, whether every coordinate is `finite`), but for the positions
+    /// ([`Self::positions_due`]): the divergence guard, the energy's recording, the peaks and
+    /// the stopping rule. A batch measures its lanes together and reads a lane's state only
+    /// where it is needed ([`crate::solvers::batch::simulate_batch`]).
+    pub fn after_measured_step(
+        &mut self,
+        ke: f64,
+        finite: bool,
+        recorder: &mut dyn Recorder,
+    ) -> Result<()> {
         let time = (self.steps + 1) as f64 * self.dt;
         self.steps += 1;
         let steps = self.steps;
-        if self.options.velocity_damping > 0.0 {
-            for v in &mut state.v {
-                *v *= self.damping_factor;
-            }
-        }
-        let ke = state.kinetic_energy(system);
         let scale = self.scale;
-        if !state.is_finite() || !ke.is_finite() || ke > DIVERGENCE_FACTOR * scale {
-            let reason = if state.is_finite() && ke.is_finite() {
+        if !finite || !ke.is_finite() || ke > DIVERGENCE_FACTOR * scale {
+            let reason = if finite && ke.is_finite() {
                 format!("kinetic energy {ke:e} J exceeds {DIVERGENCE_FACTOR:e} x the energy scale {scale:e} J")
             } else {
                 "the state is no longer finite".to_string()
@@ -337,14 +360,6 @@ impl<'o> Watch<'o> {
                 .kinetic_energy(steps, ke)
                 .map_err(|e| self.recorded(steps, e))?;
         }
-        if let Some(every) = self.options.recording.positions_every {
-            if steps % every.max(1) == 0 {
-                recorder
-                    .positions(steps, state)
-                    .map_err(|e| self.recorded(steps, e))?;
-                self.positions_at = Some(steps);
-            }
-        }
         if let Some(peak) = self.detector.push(ke) {
             self.peaks.push(peak);
             let exempt = self.options.stop.exempt_first_peak && self.peaks.len() == 1;
@@ -352,6 +367,23 @@ impl<'o> Watch<'o> {
                 self.stopped = true;
             }
         }
+        Ok(())
+    }
+
+    /// Whether the positions of the step just watched are to be recorded.
+    pub fn positions_due(&self) -> bool {
+        self.options
+            .recording
+            .positions_every
+            .is_some_and(|every| self.steps % every.max(1) == 0)
+    }
+
+    /// Records `state` as the positions of the step just watched.
+    pub fn record_positions(&mut self, state: &State, recorder: &mut dyn Recorder) -> Result<()> {
+        recorder
+            .positions(self.steps, state)
+            .map_err(|e| self.recorded(self.steps, e))?;
+        self.positions_at = Some(self.steps);
         Ok(())
     }
 
