@@ -48,7 +48,7 @@ struct Args {
     #[arg(long, default_value_t = 320)]
     max_side: usize,
     /// A quick look (and the tests): no scaling study, and the benchmark's configurations of
-    /// the soft rope at its two largest time steps only, in batches of 1 ms.
+    /// the soft rope at its two largest time steps only, in batches of 0.1 ms.
     #[arg(long)]
     quick: bool,
     /// Internal: measure one point (solver id, n) and print it as one line.
