@@ -27,6 +27,9 @@ impl<T: SimdRealField<Element = f64> + Copy> Lane for T {}
 /// (two SSE2 registers) and one AVX register where the target has AVX.
 pub type Lanes4 = WideF64x4;
 
+/// Runs in a [`Lanes4`]: the lanes of a batch (`crate::solvers::batch`).
+pub const WIDTH: usize = <Lanes4 as SimdValue>::LANES;
+
 /// Sets lane `lane` of every point of `into` to the matching point of `from`.
 ///
 /// Each value is blended in (a broadcast, then a select by the lane's mask) rather than

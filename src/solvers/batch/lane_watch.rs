@@ -5,13 +5,10 @@
 //! order, so the same bits ([`crate::model::lanes`]). A lane's state is then read out only
 //! where the run needs it (its positions recorded, its end), not after every step.
 
-use crate::model::lanes::{lane_mask, load_values, Lanes4};
+use crate::model::lanes::{lane_mask, load_values, Lanes4, WIDTH};
 use crate::model::system::MassSpringSystem;
 use nalgebra::Vector3;
 use simba::simd::{SimdBool, SimdPartialOrd, SimdValue};
-
-/// The lanes of a batch.
-const WIDTH: usize = <Lanes4 as SimdValue>::LANES;
 
 /// The masses and damping factors of the runs in a batch's lanes.
 #[derive(Debug, Clone)]

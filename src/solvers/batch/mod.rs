@@ -25,7 +25,7 @@ use nalgebra::Vector3;
 use simba::simd::{SimdBool, SimdValue, WideF64x4};
 
 /// Lanes in a batch.
-pub const WIDTH: usize = 4;
+pub use crate::model::lanes::WIDTH;
 
 /// Several runs of one solver in the lanes of a [`crate::model::lanes::Lanes4`] vector.
 pub trait LaneSolver {
@@ -249,15 +249,12 @@ pub fn simulate_batch<'a, L: LaneSolver>(
         // The batch shrinks to its last run, which goes on alone (its step is the lanes'
         // at `f64`) instead of at the cost of a full batch.
         if busy == 1 && waiting.len() == 0 {
-            let mut run = in_lane
-                .iter_mut()
-                .enumerate()
-                .find_map(|(lane, run)| Some((lane, run.take()?)))
-                .map(|(lane, mut run)| {
-                    lanes.read(lane, &mut run.state);
-                    run
-                })
+            let lane = in_lane
+                .iter()
+                .position(Option::is_some)
                 .expect("a busy lane");
+            let mut run = in_lane[lane].take().expect("a busy lane");
+            lanes.read(lane, &mut run.state);
             let outcome = run
                 .watch
                 .run_to_end(&mut run.solver.clone(), run.state, &mut run.memory);
@@ -278,12 +275,12 @@ pub fn simulate_batch<'a, L: LaneSolver>(
                 None => run
                     .watch
                     .after_measured_step(ke, finite, &mut run.memory)
-                    .and_then(|()| match run.watch.positions_due() {
-                        true => {
-                            lanes.read(lane, &mut run.state);
-                            run.watch.record_positions(&run.state, &mut run.memory)
+                    .and_then(|()| {
+                        if !run.watch.positions_due() {
+                            return Ok(());
                         }
-                        false => Ok(()),
+                        lanes.read(lane, &mut run.state);
+                        run.watch.record_positions(&run.state, &mut run.memory)
                     }),
             };
             if outcome.is_ok() && run.watch.running() {
