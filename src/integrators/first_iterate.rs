@@ -37,6 +37,8 @@ use crate::model::lanes::Lane;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use nalgebra::Vector3;
 
+pub use super::prediction::{inertial_prediction_from, predicted, pull};
+
 /// The first iterate of a step (module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum FirstIterate {
@@ -111,27 +113,11 @@ pub fn inertia<T: Lane>(x: Vector3<T>, v: Vector3<T>, h: T) -> Vector3<T> {
     x + v * h
 }
 
-/// $`h^2 m_i^{-1} f_{ext,i}`$, the last term of node `i`'s inertial prediction.
-pub fn pull(system: &MassSpringSystem, h: f64, i: usize) -> Vec3 {
-    h * h / system.nodes()[i].mass * system.external_force(i)
-}
-
-/// (c) The inertial prediction of a free node, $`x_n + h v_n + h^2 m^{-1} f_{ext}`$, for any
-/// lane type, `pull` being the last term ([`pull`]).
-#[inline]
-pub fn predicted<T: Lane>(x: Vector3<T>, v: Vector3<T>, h: T, pull: Vector3<T>) -> Vector3<T> {
-    x + v * h + pull
-}
-
 /// The inertial prediction of node `i`, $`x_n + h v_n + h^2 M^{-1} f_{ext}`$ (a fixed node
 /// stays at $`x_n`$): ADMM-PD's $`\tilde x`$ ([`crate::solvers::admm::AdmmIterate::predict`]),
 /// so that ADMM starting here is the thesis's Algorithm 4 bit for bit.
 pub fn inertial_prediction(system: &MassSpringSystem, state: &State, dt: f64, i: usize) -> Vec3 {
-    if system.nodes()[i].fixed {
-        state.x[i]
-    } else {
-        predicted(state.x[i], state.v[i], dt, pull(system, dt, i))
-    }
+    inertial_prediction_from(system, &state.x, &state.v, dt, i)
 }
 
 /// [Chen 2024, Eq. 17] The scale $`\hat\alpha \in [0, 1]`$ of $`a_{ext}`$ in the adaptive

@@ -7,5 +7,6 @@ pub mod damping;
 pub mod dissipation;
 pub mod first_iterate;
 pub mod optimization_integrator;
+pub mod prediction;
 pub mod stopping;
 pub mod time_stepper;

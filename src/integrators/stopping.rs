@@ -172,7 +172,7 @@ impl Stopping {
 }
 
 /// The iterations the steps of a run took.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct IterationLog {
     /// `steps_by_iterations[m]`: the steps that took `m` iterations.
     pub steps_by_iterations: Vec<u64>,
@@ -184,6 +184,13 @@ pub struct IterationLog {
     /// Vertex updates VBD's local step skipped ($`|\det H_i| \le \varepsilon`$,
     /// [`crate::solvers::vbd`]): work not done, counted so that a run says how often it happened.
     pub skipped: u64,
+    /// The largest distance, m, of any step's (stage's) first iterate from its inertial
+    /// prediction $`y`$ ([`Convergence::begin_from`]): the
+    /// start a run actually used, measured as it ran (0 to the bit from $`y`$ itself).
+    pub start_distance_m: f64,
+    /// The largest residual a step ended at, m (residual mode only, else 0): what a run
+    /// stopped at a residual reached.
+    pub largest_end_residual_m: f64,
 }
 
 impl IterationLog {
@@ -226,6 +233,8 @@ pub struct Convergence {
     iterations: usize,
     /// Whether the current step met the tolerance.
     met: bool,
+    /// The residual of the current step's last iterate (residual mode).
+    residual: f64,
     log: IterationLog,
 }
 
@@ -279,11 +288,46 @@ impl Convergence {
         }
     }
 
-    /// A minimizing solver's stage starts from the iterate `x`: [`Convergence::begin`], and
-    /// for the residual mode the stage's pseudo-state `stage` $`(x_a, u_0)`$ and its step
-    /// $`\tau`$.
-    pub fn begin_stage(&mut self, stage: &State, tau: f64, x: impl Iterator<Item = Vec3>) {
-        self.begin(x);
+    /// A step of `system` from `(x_n, v_n)` at `dt` starts from the iterate `x`: as
+    /// [`Convergence::begin`], and the log keeps the iterate's distance from the step's
+    /// inertial prediction ([`IterationLog::start_distance_m`]).
+    pub fn begin_from(
+        &mut self,
+        system: &MassSpringSystem,
+        x_n: &[Vec3],
+        v_n: &[Vec3],
+        dt: f64,
+        x: impl Iterator<Item = Vec3>,
+    ) {
+        self.iterations = 0;
+        self.met = false;
+        let keep = matches!(self.stopping, Stopping::Tolerance(_));
+        if keep {
+            self.previous.clear();
+        }
+        let mut largest = 0.0_f64;
+        for (i, x) in x.enumerate() {
+            let y =
+                crate::integrators::prediction::inertial_prediction_from(system, x_n, v_n, dt, i);
+            largest = largest.max((x - y).norm());
+            if keep {
+                self.previous.push(x);
+            }
+        }
+        self.log.start_distance_m = self.log.start_distance_m.max(largest);
+    }
+
+    /// A minimizing solver's stage of `system` starts from the iterate `x`:
+    /// [`Convergence::begin_from`] the stage's pseudo-state `stage` $`(x_a, u_0)`$ at its step
+    /// $`\tau`$, and for the residual mode that pseudo-state and step.
+    pub fn begin_stage(
+        &mut self,
+        system: &MassSpringSystem,
+        stage: &State,
+        tau: f64,
+        x: impl Iterator<Item = Vec3>,
+    ) {
+        self.begin_from(system, &stage.x, &stage.v, tau, x);
         if let Stopping::Residual(_) = self.stopping {
             self.anchor.clear();
             self.anchor
@@ -320,6 +364,7 @@ impl Convergence {
         let Stopping::Residual(tolerance) = self.stopping else {
             return false;
         };
+        self.residual = r;
         self.met = r <= tolerance;
         self.met
     }
@@ -332,6 +377,7 @@ impl Convergence {
         if let Stopping::Residual(tolerance) = self.stopping {
             self.iterations += 1;
             let r = self.stage_residual(x);
+            self.residual = r;
             self.met = r <= tolerance;
             return self.met;
         }
@@ -396,6 +442,9 @@ impl Convergence {
         log.steps_by_iterations[iterations] += 1;
         if !self.met && !matches!(self.stopping, Stopping::Count) {
             log.capped += 1;
+        }
+        if let Stopping::Residual(_) = self.stopping {
+            log.largest_end_residual_m = log.largest_end_residual_m.max(self.residual);
         }
         log.extra += extra;
     }

@@ -51,6 +51,13 @@ pub trait TimeStepper {
     fn iteration_log(&mut self) -> Option<&IterationLog> {
         self.convergence().map(|c| c.log())
     }
+
+    /// The start the steps so far used, measured as they ran: the largest distance of a
+    /// step's first iterate from its inertial prediction, m
+    /// ([`IterationLog::start_distance_m`]); None where it is not measured (no iterations).
+    fn start_distance_m(&mut self) -> Option<f64> {
+        self.iteration_log().map(|l| l.start_distance_m)
+    }
 }
 
 /// A kinetic energy this many times the run's energy scale counts as divergence.

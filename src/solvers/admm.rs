@@ -450,7 +450,7 @@ impl MinimizingSolver for AdmmPd {
         // 2.2: ū = 0 every step.
         it.u_bar.fill(Vec3::zeros());
         self.convergence
-            .begin_stage(state, problem.tau, nodes_of_columns(&it.x));
+            .begin_stage(&self.system, state, problem.tau, nodes_of_columns(&it.x));
         // 2.3-2.10, stopping early only in the tolerance mode.
         for _ in 0..self.iterations {
             self.local_step();

@@ -432,7 +432,7 @@ impl MinimizingSolver for Anderson {
         v_default.copy_from_slice(it.variable());
         let mut merit_previous = f64::INFINITY;
         self.convergence
-            .begin_stage(state, problem.tau, it.positions());
+            .begin_stage(it.system(), state, problem.tau, it.positions());
         // Stopping early only in the tolerance mode.
         while it.solves() < budget {
             let merit = match it.apply(merit_previous) {

@@ -555,7 +555,7 @@ impl MinimizingSolver for BackwardEuler {
             self.convergence.refuse_residual_with_dissipation()?;
         }
         self.convergence
-            .begin_stage(state, problem.tau, state.x.iter().copied());
+            .begin_stage(&self.system, state, problem.tau, x0.iter().copied());
         // Stopping early only in the tolerance mode, on the positions of Eq (9); at a fixed
         // point the iterations left are not computed ([`same_bits`]: their result is known).
         let mut fixed = false;

@@ -440,7 +440,7 @@ impl MinimizingSolver for Chebyshev {
         self.v_previous.copy_from_slice(it.variable());
         let mut omega_k = 1.0;
         self.convergence
-            .begin_stage(state, problem.tau, it.positions());
+            .begin_stage(it.system(), state, problem.tau, it.positions());
         // Stopping early only in the tolerance mode.
         for k in 0..self.iterations {
             // v̂^(k+1) = G(v^(k)), the base's iteration.

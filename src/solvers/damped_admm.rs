@@ -593,7 +593,7 @@ impl MinimizingSolver for DampedAdmm {
             self.convergence.refuse_residual_with_dissipation()?;
         }
         self.convergence
-            .begin_stage(state, problem.tau, nodes_of_columns(&it.x));
+            .begin_stage(&self.system, state, problem.tau, nodes_of_columns(&it.x));
         // 2.3-2.10, with the damping blocks beside the springs', stopping early only in the
         // tolerance mode.
         for _ in 0..self.iterations {

@@ -477,8 +477,12 @@ impl MinimizingSolver for FastMassSpring {
     fn solve(&mut self, problem: &StageProblem, state: &mut State) -> Result<()> {
         // 2.1 and the first iterate.
         self.begin_stage(state, problem)?;
-        self.convergence
-            .begin_stage(state, problem.tau, from_rows(&self.x, &self.rows));
+        self.convergence.begin_stage(
+            &self.system,
+            state,
+            problem.tau,
+            from_rows(&self.x, &self.rows),
+        );
         // 2.2-2.8, stopping early only in the tolerance mode; at a fixed point the iterations
         // left are not computed ([`FixedPoint`]: an iteration reads nothing of the solver's
         // but its iterate and the step's b and A, and its result is known).

@@ -179,15 +179,25 @@ impl TimeStepper for Pbd {
     fn step(&mut self, state: &mut State) -> Result<()> {
         let dt = self.dt;
         let p = &mut self.p;
-        // Lines 1-2.
+        // Lines 1-2 (the velocity's update kept for after the start is measured against
+        // xₙ + h vₙ + h² M⁻¹f_ext; the same operations in the same order).
         for (i, p) in p.iter_mut().enumerate() {
             *p = state.x[i];
             if self.w[i] > 0.0 {
-                state.v[i] += dt * self.external_acceleration[i];
-                *p += dt * state.v[i];
+                *p += dt * (state.v[i] + dt * self.external_acceleration[i]);
             }
         }
-        self.convergence.begin(p.iter().copied());
+        self.convergence
+            .begin_from(&self.system, &state.x, &state.v, dt, p.iter().copied());
+        for (v, (&w, &a)) in state
+            .v
+            .iter_mut()
+            .zip(self.w.iter().zip(&self.external_acceleration))
+        {
+            if w > 0.0 {
+                *v += dt * a;
+            }
+        }
         // Lines 3-9: Gauss-Seidel over the springs in index order, stopping early only in the
         // tolerance mode; at a fixed point the sweeps left are not computed ([`FixedPoint`]:
         // a sweep reads nothing that changes but p).

@@ -427,7 +427,7 @@ impl MinimizingSolver for Lbfgs {
         let mut spare = Pair::zeros(3 * n);
         self.step_lengths.clear();
         self.convergence
-            .begin_stage(state, problem.tau, x.iter().copied());
+            .begin_stage(&self.system, state, problem.tau, x.iter().copied());
         let mut extra_trials = 0;
         // Stopping early in the tolerance mode, or at a direction below round-off.
         for iteration in 0..self.iterations {

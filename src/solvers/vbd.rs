@@ -367,7 +367,7 @@ impl MinimizingSolver for Vbd {
             .first_iterate(&self.system, state, problem)
             .to_vec();
         self.convergence
-            .begin_stage(state, problem.tau, x.iter().copied());
+            .begin_stage(&self.system, state, problem.tau, x.iter().copied());
         let mut skipped = 0;
         // Stopping early only in the tolerance mode.
         for _ in 0..self.iterations {

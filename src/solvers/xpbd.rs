@@ -465,7 +465,13 @@ impl TimeStepper for Xpbd {
         let x = &mut state.x;
         // Lines 1-3.
         self.coefficients.predict(x, &state.v, &mut self.scratch);
-        self.convergence.begin(x.iter().copied());
+        self.convergence.begin_from(
+            &self.system,
+            &self.scratch.x_n,
+            &state.v,
+            self.coefficients.dt,
+            x.iter().copied(),
+        );
         // Lines 4-12: Gauss-Seidel over the springs in index order, stopping early only in the
         // tolerance mode; at a fixed point the sweeps left are not computed ([`FixedPoint`]:
         // a sweep reads nothing that changes but x and λ).

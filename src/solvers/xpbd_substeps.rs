@@ -334,6 +334,16 @@ impl TimeStepper for XpbdSubsteps {
         self.substep.system()
     }
 
+    /// The substeps' start, each from its own prediction (measured by the substep solver's
+    /// log; the optioned substep does not measure it).
+    fn start_distance_m(&mut self) -> Option<f64> {
+        if self.params.is_plain() {
+            self.substep.start_distance_m()
+        } else {
+            None
+        }
+    }
+
     /// [Macklin 2019, Alg. 1] $`n`$ substeps of $`h = \Delta t/n`$, each a prediction, one
     /// constraint sweep with $`\lambda`$ reset, and $`v = (x - p)/h`$.
     // region: step

@@ -251,6 +251,20 @@ impl BenchmarkChapter {
             .collect();
         files.push(OutputFile::text("data/benchmark.csv", rows_csv(&self.rows)));
         files.push(OutputFile::text(
+            "data/benchmark_references.csv",
+            rows_csv(&self.references),
+        ));
+        if !self.protocol.is_empty() {
+            files.push(OutputFile::text(
+                "data/benchmark_thesis_protocol.csv",
+                rows_csv(&self.protocol),
+            ));
+        }
+        files.push(OutputFile::text(
+            "data/benchmark_own_start.csv",
+            rows_csv(&self.own_start),
+        ));
+        files.push(OutputFile::text(
             "data/benchmark_truths.csv",
             rows_csv(&self.truths),
         ));

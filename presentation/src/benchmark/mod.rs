@@ -7,11 +7,13 @@ use crate::benchmark_wall::WallTiming;
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::studies::benchmark::rows::{Row, TruthRow};
+use mass_spring_solvers::studies::benchmark::rows::{ReferenceRow, Row, TruthRow};
+use mass_spring_solvers::studies::benchmark::thesis_protocol::{self, ProtocolRow};
 use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
 
 mod figures;
 mod question;
+mod start;
 mod views;
 
 pub use figures::{epsilon_front, stem, FRONT_EPSILON};
@@ -25,7 +27,17 @@ pub use views::{
 #[derive(Debug, Clone, PartialEq)]
 pub struct BenchmarkChapter {
     pub rows: Vec<Row>,
+    /// The own-start variant's rows (`data/benchmark_own_start.csv`).
+    pub own_start: Vec<Row>,
     pub truths: Vec<TruthRow>,
+    /// The solver-error references (`data/benchmark_references.csv`).
+    pub references: Vec<ReferenceRow>,
+    /// Reading (a) of the thesis's question: the runs by its protocol
+    /// (`data/benchmark_thesis_protocol.csv`), set from the thesis part's results
+    /// ([`thesis_protocol::protocol_rows`]); empty when the chapter is computed alone.
+    pub protocol: Vec<ProtocolRow>,
+    /// The Table 1 reference's peak count per stiffness, for reading (a).
+    pub protocol_references: Vec<(f64, usize)>,
     /// The committed wall-time measurement of `make timing`, if the repository has one.
     pub wall: Option<WallTiming>,
 }
@@ -71,9 +83,32 @@ impl BenchmarkChapter {
         let benchmark = Benchmark::compute(cases, progress)?;
         Ok(Self {
             rows: benchmark.rows(),
+            own_start: benchmark.own_start_rows(),
             truths: benchmark.truth_rows(),
+            references: benchmark.reference_rows(),
+            protocol: Vec::new(),
+            protocol_references: Vec::new(),
             wall: None,
         })
+    }
+
+    /// Reading (a)'s runs, from the thesis part's `results` and its `real_time` runs.
+    pub fn set_protocol(
+        &mut self,
+        results: &mass_spring_solvers::studies::experiments::ResultSet,
+        real_time: Vec<ProtocolRow>,
+    ) {
+        self.protocol = thesis_protocol::protocol_rows(results, real_time);
+        self.protocol_references = mass_spring_solvers::model::scene::THESIS_STIFFNESSES
+            .into_iter()
+            .filter(|&k| {
+                results
+                    .rows
+                    .iter()
+                    .any(|m| m.published.table == 1 && m.published.stiffness == k)
+            })
+            .map(|k| (k, results.reference(k).peaks))
+            .collect();
     }
 
     /// The cases the chapter holds, in [`Case::ALL`]'s order.

@@ -25,6 +25,7 @@ use mass_spring_report::tutorial::TutorialChapter;
 use mass_spring_report::{crate_root, render, repository_containing, ReportData, Sources};
 use mass_spring_solvers::error::Failure;
 use mass_spring_solvers::solvers::registry::SolverId;
+use mass_spring_solvers::studies::benchmark::thesis_protocol;
 use mass_spring_solvers::studies::experiments::pool::yield_cores_to_other_threads;
 use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
 use mass_spring_solvers::studies::forensics::{Evidence, Forensics};
@@ -181,17 +182,23 @@ fn run(args: Args) -> Result<String, Failure> {
                     Catenary::compute()?,
                 ))
             })?;
-            Ok::<_, Error>((phases, results, forensics, runs, catenary))
+            let real_time = phases.run(
+                "the thesis's question at real-time steps (parallel)",
+                None,
+                || thesis_protocol::real_time_runs(&results),
+            )?;
+            Ok::<_, Error>((phases, results, forensics, runs, catenary, real_time))
         })();
         let beyond_thesis = beyond_thesis
             .join()
             .expect("the chapters beyond the thesis do not panic");
         (thesis, beyond_thesis)
     });
-    let (mut phases, results, forensics, runs, catenary) = thesis?;
+    let (mut phases, results, forensics, runs, catenary, real_time) = thesis?;
     let (beyond_phases, tutorial, beyond, sheet, mut benchmark, integrators) = beyond_thesis?;
     phases.extend(beyond_phases);
     benchmark.wall = wall;
+    benchmark.set_protocol(&results, real_time);
     let data = ReportData {
         results,
         forensics: Some(forensics),

@@ -47,7 +47,10 @@ use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::studies::experiments::run_parallel;
 use run::Outcome;
 use statics::{run_statics, statics_configurations, StaticsOutcome};
-use sweep::{configurations, dts, tolerance_configurations, Configuration, SOLVER_ERROR_DTS};
+use sweep::{
+    configurations, dts, own_start_configurations, tolerance_configurations, Configuration,
+    SOLVER_ERROR_DTS,
+};
 use truth::{CaseTruth, Converged, SolverTruth};
 
 /// The benchmark's one result set: every ground truth and every run.
@@ -57,6 +60,9 @@ pub struct Benchmark {
     /// (case, time step, the converged method's trajectory).
     pub solver_truths: Vec<(Case, f64, SolverTruth)>,
     pub outcomes: Vec<Outcome>,
+    /// The own-start variant ([`sweep::own_start_configurations`]): the runs of the solvers
+    /// whose own start is not the inertial prediction, from their own.
+    pub own_start: Vec<Outcome>,
     pub statics: Vec<StaticsOutcome>,
 }
 
@@ -91,10 +97,8 @@ impl Benchmark {
                 .filter(|dt| dts(case).contains(dt))
             {
                 let newton = OptimizationIntegrator::ALL.map(Converged::Newton);
-                for method in newton.into_iter().chain([Converged::Pbd, Converged::Xpbd]) {
-                    if method.computed_on(case) {
-                        solver_jobs.push((case, dt, method));
-                    }
+                for method in newton.into_iter().chain([Converged::Xpbd]) {
+                    solver_jobs.push((case, dt, method));
                 }
             }
         }
@@ -108,7 +112,7 @@ impl Benchmark {
         )
         .into_iter()
         .collect::<Result<_>>()?;
-        let all: Vec<Configuration> = cases
+        let mut all: Vec<Configuration> = cases
             .iter()
             .flat_map(|&c| {
                 configurations(c)
@@ -116,7 +120,10 @@ impl Benchmark {
                     .chain(tolerance_configurations(c, truth_of(c).window))
             })
             .collect();
-        let outcomes = run_parallel(
+        // The own-start variant runs in the same parallel pool, after the runs of one start.
+        let one_start = all.len();
+        all.extend(cases.iter().flat_map(|&c| own_start_configurations(c)));
+        let mut outcomes = run_parallel(
             &all,
             |c| expected_cost(c, truth_of(c.case).window),
             |c| {
@@ -126,7 +133,7 @@ impl Benchmark {
                         .find(|(case, dt, t)| {
                             *case == c.case && *dt == c.dt_s && t.method == method
                         })
-                        .map(|(_, _, t)| &t.trajectory)
+                        .map(|(_, _, t)| t)
                 });
                 run::run(c, truth_of(c.case), reference)
             },
@@ -134,6 +141,7 @@ impl Benchmark {
         )
         .into_iter()
         .collect::<Result<Vec<_>>>()?;
+        let own_start = outcomes.split_off(one_start);
         let statics_jobs: Vec<Configuration> = statics_configurations()
             .into_iter()
             .filter(|c| cases.contains(&c.case))
@@ -150,6 +158,7 @@ impl Benchmark {
             truths,
             solver_truths,
             outcomes,
+            own_start,
             statics,
         })
     }
@@ -170,4 +179,5 @@ fn expected_cost(c: &Configuration, window: f64) -> f64 {
         .unwrap_or(0.0)
 }
 pub mod rows;
+pub mod thesis_protocol;
 pub mod verdicts;

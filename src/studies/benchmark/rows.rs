@@ -25,6 +25,13 @@ pub struct Row {
     pub integrator: String,
     /// How each step's iterations stop: `count`, or `residual` and each step's tolerance, m.
     pub stopping: String,
+    /// The first iterate the configuration asks for ([`crate::integrators::first_iterate::FirstIterate::key`]:
+    /// the option set, else the solver's own; `inertia-and-acceleration` for PBD and the XPBD
+    /// family, which predict by construction); empty for the explicit baselines.
+    pub first_iterate: String,
+    /// The start the run actually used, measured as it ran: the largest distance of a step's
+    /// first iterate from its inertial prediction, m (0 for the inertial start).
+    pub start_distance_m: Option<f64>,
     pub dt_s: f64,
     /// The window of a dynamics run, the statics runs' time cap, s.
     pub window_s: f64,
@@ -41,6 +48,9 @@ pub struct Row {
     pub physical_rms_m: Option<f64>,
     pub physical_max_m: Option<f64>,
     pub physical_rel: Option<f64>,
+    /// The fraction of the solver-error reference's steps that reached its cap (empty
+    /// without a reference); above zero the solver error is left empty.
+    pub reference_capped_fraction: Option<f64>,
     /// Solver error against the same method with every step solved to round-off.
     pub solver_rms_m: Option<f64>,
     pub solver_max_m: Option<f64>,
@@ -61,6 +71,24 @@ pub struct Row {
     pub failure: String,
 }
 
+/// The first iterate `spec` asks for, by its key: the option set, else its solver's own; the
+/// inertial prediction for PBD and the XPBD family; empty without iterations.
+fn configured_start(spec: &crate::solvers::registry::SolverSpec) -> String {
+    use crate::integrators::first_iterate::FirstIterate;
+    use crate::solvers::registry::SolverId;
+    let rule = match spec.id {
+        SolverId::Pbd | SolverId::Xpbd | SolverId::XpbdSubsteps => {
+            Some(FirstIterate::InertialPrediction)
+        }
+        id if crate::studies::beyond::takes_first_iterate(id) => spec
+            .params
+            .first_iterate
+            .or(crate::studies::beyond::own_first_iterate(id)),
+        _ => None,
+    };
+    rule.map(|r| r.key().to_string()).unwrap_or_default()
+}
+
 fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
     Row {
         kind: kind.into(),
@@ -74,6 +102,8 @@ fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
             String::new()
         },
         stopping: c.spec.stopping.id(),
+        first_iterate: configured_start(&c.spec),
+        start_distance_m: None,
         dt_s: c.dt_s,
         window_s,
         flops: None,
@@ -83,6 +113,7 @@ fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
         physical_rms_m: None,
         physical_max_m: None,
         physical_rel: None,
+        reference_capped_fraction: None,
         solver_rms_m: None,
         solver_max_m: None,
         solver_rel: None,
@@ -107,9 +138,11 @@ impl Row {
             Ok(m) => {
                 row.iterations_mean = Some(m.iterations_mean);
                 row.capped_fraction = m.capped_fraction;
+                row.start_distance_m = m.start_distance_m;
                 row.physical_rms_m = Some(m.physical.rms);
                 row.physical_max_m = Some(m.physical.max);
                 row.physical_rel = Some(m.physical.relative);
+                row.reference_capped_fraction = m.reference_capped_fraction;
                 row.solver_rms_m = m.solver.map(|e| e.rms);
                 row.solver_max_m = m.solver.map(|e| e.max);
                 row.solver_rel = m.solver.map(|e| e.relative);
@@ -137,6 +170,7 @@ impl Row {
                 row.rest_error_rms_m = Some(s.rest_error_rms_m);
                 row.peaks = Some(s.peaks);
                 row.half_period_s = s.half_period_s;
+                row.start_distance_m = s.start_distance_m;
             }
         }
         row
@@ -190,6 +224,22 @@ impl Benchmark {
         rows.extend(self.statics.iter().map(Row::statics));
         rows
     }
+
+    /// The own-start variant's runs as rows ([`super::sweep::own_start_configurations`]), the
+    /// content of `report/data/benchmark_own_start.csv`.
+    pub fn own_start_rows(&self) -> Vec<Row> {
+        self.own_start
+            .iter()
+            .map(|o| {
+                let truth = self
+                    .truth(o.configuration.case)
+                    .expect("every run's case has a truth");
+                let exact_decay = super::metrics::modal_period(&truth.exact)
+                    .and_then(|p| super::metrics::energy_decay_per_period(&truth.exact, p));
+                Row::dynamics(o, truth.window, exact_decay)
+            })
+            .collect()
+    }
 }
 
 /// One case's ground truths, the content of `report/data/benchmark_truths.csv`.
@@ -234,6 +284,43 @@ impl Benchmark {
                     exact_energy_decay_per_period: period
                         .and_then(|p| super::metrics::energy_decay_per_period(&t.exact, p)),
                 }
+            })
+            .collect()
+    }
+}
+
+/// One solver-error reference: a converged method at one time step on a case, with whether it
+/// converged; the content of `report/data/benchmark_references.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceRow {
+    pub scene: String,
+    pub stiffness_n_per_m: f64,
+    /// [`super::truth::Converged::id`].
+    pub method: String,
+    pub dt_s: f64,
+    /// The fraction of its steps that reached the iteration cap without meeting the residual.
+    pub capped_fraction: f64,
+    /// The residual it aims at and the largest one a step ended at, m (XPBD's; empty for
+    /// Newton's, whose stages converge or fail the run).
+    pub target_residual_m: Option<f64>,
+    pub largest_end_residual_m: Option<f64>,
+}
+
+impl Benchmark {
+    /// Every solver-error reference as a row.
+    pub fn reference_rows(&self) -> Vec<ReferenceRow> {
+        self.solver_truths
+            .iter()
+            .map(|(case, dt, t)| ReferenceRow {
+                scene: case.scene.id().into(),
+                stiffness_n_per_m: case.stiffness,
+                method: t.method.id(),
+                dt_s: *dt,
+                capped_fraction: t.capped_fraction,
+                target_residual_m: t
+                    .largest_end_residual_m
+                    .map(|_| super::truth::XPBD_REFERENCE_RESIDUAL_M),
+                largest_end_residual_m: t.largest_end_residual_m,
             })
             .collect()
     }

@@ -3,7 +3,7 @@
 use super::metrics::Trajectory;
 use super::metrics::{energy_decay_per_period, largest_distance, modal_period, rms_distance};
 use super::sweep::Configuration;
-use super::truth::{record, CaseTruth};
+use super::truth::{record, CaseTruth, SolverTruth};
 use crate::error::Result;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::MassSpringSystem;
@@ -46,6 +46,9 @@ pub struct Measurement {
     /// where that method is not run (time steps outside [`super::sweep::SOLVER_ERROR_DTS`],
     /// the substeps and the baselines).
     pub solver: Option<NodeError>,
+    /// The fraction of the solver-error reference's steps that reached its cap; None without
+    /// a reference. Above zero, [`Measurement::solver`] is None.
+    pub reference_capped_fraction: Option<f64>,
     /// The lowest mode's period over the exact motion's, minus one; None where it does not
     /// oscillate over the window.
     pub phase_error: Option<f64>,
@@ -55,6 +58,10 @@ pub struct Measurement {
     pub iterations_mean: f64,
     /// In a tolerance mode, the fraction of steps that reached the cap without meeting it.
     pub capped_fraction: Option<f64>,
+    /// The start the run used, measured as it ran: the largest distance of a step's first
+    /// iterate from its inertial prediction, m ([`crate::integrators::stopping::IterationLog::start_distance_m`]);
+    /// None for a solver without iterations (the explicit baselines).
+    pub start_distance_m: Option<f64>,
 }
 
 /// A configuration's outcome: its cost and its measurement, or why it stopped.
@@ -77,11 +84,13 @@ pub fn build_solver(
 }
 
 /// Runs a configuration over its case's window and measures it against `truth` and, for the
-/// solver error, its method's converged trajectory `reference`.
+/// solver error, its method's converged trajectory `reference`, unless a step of that
+/// reference reached its cap (then the solver error is not measured and the fraction is
+/// kept).
 pub fn run(
     configuration: &Configuration,
     truth: &CaseTruth,
-    reference: Option<&Trajectory>,
+    reference: Option<&SolverTruth>,
 ) -> Result<Outcome> {
     let case = configuration.case;
     let system = case.scene.system(case.stiffness)?;
@@ -93,6 +102,7 @@ pub fn run(
         &truth.mode,
         &truth.equilibrium,
     );
+    let start_distance_m = solver.start_distance_m();
     let log = solver
         .iteration_log()
         .filter(|_| trajectory.is_ok())
@@ -108,7 +118,10 @@ pub fn run(
             let period = modal_period(&t);
             Measurement {
                 physical: NodeError::between(&system, &t, &truth.exact, truth.amplitude),
-                solver: reference.map(|r| NodeError::between(&system, &t, r, truth.amplitude)),
+                solver: reference
+                    .filter(|r| r.capped_fraction == 0.0)
+                    .map(|r| NodeError::between(&system, &t, &r.trajectory, truth.amplitude)),
+                reference_capped_fraction: reference.map(|r| r.capped_fraction),
                 phase_error: period.zip(exact_period).map(|(p, e)| p / e - 1.0),
                 energy_decay: exact_period.and_then(|p| energy_decay_per_period(&t, p)),
                 iterations_mean: log
@@ -119,6 +132,7 @@ pub fn run(
                     .as_ref()
                     .filter(|l| spec.stopping.tolerance_m().is_some() && l.steps() > 0)
                     .map(|l| l.capped as f64 / l.steps() as f64),
+                start_distance_m,
             }
         })
         .map_err(|e| e.to_string());

@@ -54,6 +54,8 @@ pub struct StaticsOutcome {
     /// The thesis's peaks and T/2 (thesis convention), for a run the rule stopped.
     pub peaks: usize,
     pub half_period_s: Option<f64>,
+    /// The start it used, measured as it ran ([`super::run::Measurement::start_distance_m`]).
+    pub start_distance_m: Option<f64>,
     /// Why the run stopped early (a divergence), if it did.
     pub failure: Option<String>,
 }
@@ -84,11 +86,13 @@ pub fn run_statics(configuration: &Configuration, equilibrium: &[Vec3]) -> Resul
                 flops: f64::NAN,
                 peaks: 0,
                 half_period_s: None,
+                start_distance_m: None,
                 failure: Some(e.to_string()),
             })
         }
     };
     let spec = &configuration.spec;
+    let start_distance_m = solver.start_distance_m();
     let flops = match solver.iteration_log() {
         Some(log) => logged_flops(spec, &system, log),
         None => flops_setup(spec, &system) + run.steps as f64 * flops_per_step(spec, &system),
@@ -112,6 +116,7 @@ pub fn run_statics(configuration: &Configuration, equilibrium: &[Vec3]) -> Resul
         half_period_s: (!run.hit_time_limit)
             .then(|| run.half_period_thesis())
             .flatten(),
+        start_distance_m,
         failure: None,
     })
 }

@@ -5,7 +5,9 @@
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::integrators::stopping::Stopping;
 use crate::solvers::registry::{SolverId, SolverSpec};
-use crate::studies::beyond::{grid_settings, GridScene};
+use crate::studies::beyond::{
+    grid_settings, own_first_iterate, takes_first_iterate, GridScene, COMPARISON_START,
+};
 use crate::studies::work_precision::Case;
 
 /// One configuration: a solver with its settings at a time step, on a case.
@@ -53,9 +55,53 @@ pub fn solvers() -> Vec<SolverId> {
 pub const BASELINES: [SolverId; 2] = [SolverId::Rk4, SolverId::SymplecticEuler];
 
 /// The settings of a solver in the benchmark: its grid settings (the thesis's counts for its
-/// four solvers), a single one for a baseline.
+/// four solvers), a single one for a baseline, each step (each stage) starting from the
+/// inertial prediction ([`one_start`]).
 pub fn settings(id: SolverId) -> Vec<SolverSpec> {
+    own_start_settings(id).into_iter().map(one_start).collect()
+}
+
+/// The settings of [`settings`] at each solver's own start (its paper's, or the thesis
+/// reading's: Fast m-s and Newton from $`x_n`$, VBD's adaptive guess).
+pub fn own_start_settings(id: SolverId) -> Vec<SolverSpec> {
     grid_settings(id).unwrap_or_else(|| vec![SolverSpec::new(id, 1)])
+}
+
+/// `spec` starting every step from the inertial prediction $`y = x_n + h v_n + h^2 M^{-1}
+/// f_{ext}`$, the benchmark's one start, where its own start is another (Fast m-s, Newton,
+/// VBD); PBD, XPBD and its substeps start there by construction, the explicit baselines do
+/// not iterate. Each run measures the start it used ([`super::run::Measurement::start_distance_m`]).
+pub fn one_start(mut spec: SolverSpec) -> SolverSpec {
+    if has_own_start(spec.id) {
+        spec.params.first_iterate = Some(COMPARISON_START);
+    }
+    spec
+}
+
+/// Whether `id`'s own start is not the benchmark's: the solvers of the own-start variant.
+pub fn has_own_start(id: SolverId) -> bool {
+    takes_first_iterate(id) && own_first_iterate(id).is_some_and(|own| own != COMPARISON_START)
+}
+
+/// The own-start variant of a case ([`super`], item 1): every solver whose own start is not
+/// the inertial prediction ([`has_own_start`]), at each of its settings under Backward Euler
+/// over the case's time steps as [`configurations`] runs them, from its own start; the rope
+/// only (on the sheet these runs would add a fifth of the benchmark's budget).
+pub fn own_start_configurations(case: Case) -> Vec<Configuration> {
+    let mut out = Vec::new();
+    if case.scene != GridScene::Rope {
+        return out;
+    }
+    for id in solvers().into_iter().filter(|&id| has_own_start(id)) {
+        for (k, spec) in own_start_settings(id).into_iter().enumerate() {
+            for &dt_s in dts(case) {
+                if k == 0 || dt_s >= FINE_DT_S {
+                    out.push(Configuration { case, spec, dt_s });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Below this time step only each solver's first setting runs (its fewest iterations): there
@@ -131,8 +177,8 @@ pub fn step_residual_tolerance(target: f64, dt: f64, window: f64) -> f64 {
 /// tolerance, under the thesis's scheme, aiming at each of [`SOLVER_ERROR_TARGETS_M`] at the
 /// time steps where the solver error is measured ([`SOLVER_ERROR_DTS`]), each step stopping at
 /// its own residual ([`crate::integrators::stopping::Stopping::Residual`], [`step_residual_tolerance`]) or
-/// at [`TOLERANCE_CAP`] iterations; PBD on the rope only, where its converged trajectory is
-/// computed ([`super::truth::Converged::computed_on`]). None on the stiff sheet: tried there,
+/// at [`TOLERANCE_CAP`] iterations; not PBD, which has no converged trajectory to measure a
+/// solver error against ([`super::truth::Converged`]). None on the stiff sheet: tried there,
 /// 52 of its 60 points reached the cap in some step, and they cost 4.0e10 flops, twice every
 /// other tolerance point together.
 pub fn tolerance_configurations(case: Case, window: f64) -> Vec<Configuration> {
@@ -140,9 +186,9 @@ pub fn tolerance_configurations(case: Case, window: f64) -> Vec<Configuration> {
     if case.scene == GridScene::Sheet && case.stiffness > 1e3 {
         return out;
     }
-    let solvers = solvers().into_iter().filter(|id| {
-        id.stops_at_tolerance() && (*id != SolverId::Pbd || case.scene == GridScene::Rope)
-    });
+    let solvers = solvers()
+        .into_iter()
+        .filter(|id| id.stops_at_tolerance() && *id != SolverId::Pbd);
     for id in solvers {
         for target in SOLVER_ERROR_TARGETS_M {
             for &dt_s in dts(case).iter().filter(|dt| SOLVER_ERROR_DTS.contains(dt)) {

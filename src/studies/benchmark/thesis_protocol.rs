@@ -1,0 +1,363 @@
+//! The thesis's question as it asks it (reading (a) of the report's §12.6): its three solvers
+//! (XPBD, Fast m-s, ADMM) run by its own protocol (from the rope at rest, each solver's
+//! faithful start, until the first kinetic-energy peak below 1e-3 J or 3000 s), at its time
+//! steps (0.1, 0.01 and 0.001 s: the runs of Tables 2-7) and at the real-time steps it quotes
+//! (§4.4.2, "entre 0.042s i 0.017s": 1/24 and 1/60 s), each measured by its own three
+//! quantities: the rest-state error against the Backward Euler reference of Table 1, the
+//! kinetic-energy peak count and T/2 with its relative error to that reference.
+//!
+//! A **cell** is a stiffness, a time step and one of the thesis's three iteration settings
+//! (1, 20, 50 iterations; Fast m-s 1, 30, 70). Two runs are **similar** at a tolerance $`t`$
+//! when both came to rest, or neither did, and each quantity differs between them by at most
+//! $`t`$ of the larger (the tolerances of [`super::verdicts::TIES`], fixed before any run). A
+//! run is **better** than another that it is not similar to when it came to rest and the other
+//! did not, or, both at rest, when it is nearer the reference in at least two of the three
+//! quantities (a smaller rest-state error, a peak count nearer the reference's, a smaller
+//! |T/2 error|). This majority rule is this crate's reading of "resultados peores", chosen
+//! with the rules and before the runs.
+
+use super::verdicts::{Conclusion, Decided, Overall, Scope, Setting, Verdict, THESIS_THREE, TIES};
+pub use super::verdicts::{StepGroup, REAL_TIME_DTS, THESIS_DTS};
+use crate::error::Result;
+use crate::model::metrics::StoppingRule;
+use crate::solvers::registry::SolverId;
+use crate::studies::experiments::{
+    measure, run_experiment, run_parallel, Configuration, Measured, PublishedRow, Reference,
+    ResultSet,
+};
+use serde::{Deserialize, Serialize};
+
+/// The iteration counts of the thesis's three settings for one of its solvers (Tables 2-7).
+pub fn counts(id: SolverId) -> [usize; 3] {
+    match id {
+        SolverId::FastMassSpring => [1, 30, 70],
+        _ => [1, 20, 50],
+    }
+}
+
+/// One run by the thesis's protocol and its three quantities; the content of
+/// `report/data/benchmark_thesis_protocol.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProtocolRow {
+    pub stiffness_n_per_m: f64,
+    pub dt_s: f64,
+    /// The solver's registry id.
+    pub solver: String,
+    pub iterations: usize,
+    /// Which of the thesis's three settings (0: the fewest iterations).
+    pub setting: usize,
+    /// Whether the thesis's rule stopped it before 3000 s, and when it stopped, s.
+    pub at_rest: bool,
+    pub end_time_s: f64,
+    /// The rest-state error against the reference's rest state, m (the sum over the nodes of
+    /// the distances, the thesis's Eq. (42)).
+    pub rest_error_m: Option<f64>,
+    pub peaks: usize,
+    /// T/2, s (thesis convention), and its relative error to the reference's.
+    pub half_period_s: Option<f64>,
+    pub period_rel_error: Option<f64>,
+    /// `tables 2-7` (the thesis part's runs) or `real-time` (run here).
+    pub source: String,
+}
+
+impl ProtocolRow {
+    fn of(m: &Measured, setting: usize, source: &str) -> Self {
+        Self {
+            stiffness_n_per_m: m.published.stiffness,
+            dt_s: m.published.dt_s,
+            solver: m.published.solver.id().into(),
+            iterations: m.published.iterations,
+            setting,
+            at_rest: !m.hit_time_limit,
+            end_time_s: m.end_time,
+            rest_error_m: m.error_sum,
+            peaks: m.peaks,
+            half_period_s: m.half_period_thesis,
+            period_rel_error: m.period_rel_error,
+            source: source.into(),
+        }
+    }
+}
+
+/// The experiment of `id` at `dt` and `iterations` on the rope of `stiffness`, with no
+/// published outcome (a real-time step the thesis did not run).
+fn experiment(id: SolverId, dt_s: f64, iterations: usize, stiffness: f64) -> PublishedRow {
+    PublishedRow {
+        table: 0,
+        solver: id,
+        dt_s,
+        iterations,
+        stiffness,
+        error: None,
+        ke_peaks: 0,
+        half_period_s: 0.0,
+        period_rel_error: None,
+    }
+}
+
+/// The thesis's three solvers at the real-time steps, each setting, both stiffnesses, by the
+/// faithful configuration of `results` and against its references.
+pub fn real_time_runs(results: &ResultSet) -> Result<Vec<ProtocolRow>> {
+    let mut jobs = Vec::new();
+    for stiffness in crate::model::scene::THESIS_STIFFNESSES {
+        for &dt in &REAL_TIME_DTS {
+            for id in THESIS_THREE {
+                for (setting, m) in counts(id).into_iter().enumerate() {
+                    jobs.push((experiment(id, dt, m, stiffness), setting));
+                }
+            }
+        }
+    }
+    let configuration = Configuration {
+        stop: StoppingRule::default(),
+        ..results.configuration
+    };
+    run_parallel(
+        &jobs,
+        |(row, _)| row.iterations as f64 / row.dt_s,
+        |(row, setting)| {
+            let reference = results.reference(row.stiffness);
+            let run = run_experiment(row, &configuration)?;
+            let measured = measure(
+                row,
+                &run,
+                Some(Reference {
+                    final_positions: &reference.final_positions,
+                    half_period_thesis: reference.half_period_thesis,
+                }),
+            );
+            Ok(ProtocolRow::of(&measured, *setting, "real-time"))
+        },
+        &|_, _| {},
+    )
+    .into_iter()
+    .collect()
+}
+
+/// Every run of reading (a): the thesis part's rows of the three solvers (Tables 2-7), then the
+/// real-time runs.
+pub fn protocol_rows(results: &ResultSet, real_time: Vec<ProtocolRow>) -> Vec<ProtocolRow> {
+    let mut rows: Vec<ProtocolRow> = results
+        .rows
+        .iter()
+        .filter_map(|m| {
+            let id = m.published.solver;
+            let setting = counts(id)
+                .iter()
+                .position(|&c| c == m.published.iterations)?;
+            THESIS_THREE
+                .contains(&id)
+                .then(|| ProtocolRow::of(m, setting, "tables 2-7"))
+        })
+        .collect();
+    rows.extend(real_time);
+    rows
+}
+
+/// One cell of reading (a): a stiffness, a time step and a setting, with each of the three
+/// solvers' run (in [`THESIS_THREE`]'s order) and the reference's peak count.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProtocolCell {
+    pub stiffness_n_per_m: f64,
+    pub dt_s: f64,
+    pub setting: usize,
+    pub runs: [Option<ProtocolRow>; 3],
+    pub reference_peaks: usize,
+}
+
+impl ProtocolCell {
+    fn run(&self, id: SolverId) -> Option<&ProtocolRow> {
+        THESIS_THREE
+            .iter()
+            .position(|&s| s == id)
+            .and_then(|i| self.runs[i].as_ref())
+    }
+
+    /// Whether the runs of `a` and `b` are similar at `tolerance` (module doc); false where
+    /// either is missing.
+    pub fn similar(&self, a: SolverId, b: SolverId, tolerance: f64) -> bool {
+        let (Some(a), Some(b)) = (self.run(a), self.run(b)) else {
+            return false;
+        };
+        let close = |x: Option<f64>, y: Option<f64>| match (x, y) {
+            (Some(x), Some(y)) => relative_difference(x, y) <= tolerance,
+            (None, None) => true,
+            _ => false,
+        };
+        a.at_rest == b.at_rest
+            && close(a.rest_error_m, b.rest_error_m)
+            && close(Some(a.peaks as f64), Some(b.peaks as f64))
+            && close(a.half_period_s, b.half_period_s)
+    }
+
+    /// Whether `a`'s run is better than `b`'s at `tolerance` (module doc): not similar, and at
+    /// rest where `b`'s is not, or nearer the reference in two of the three quantities.
+    pub fn better(&self, a: SolverId, b: SolverId, tolerance: f64) -> bool {
+        let (Some(ra), Some(rb)) = (self.run(a), self.run(b)) else {
+            return false;
+        };
+        if self.similar(a, b, tolerance) {
+            return false;
+        }
+        match (ra.at_rest, rb.at_rest) {
+            (true, false) => return true,
+            (false, _) => return false,
+            (true, true) => {}
+        }
+        let smaller = |x: Option<f64>, y: Option<f64>| match (x, y) {
+            (Some(x), Some(y)) => x < y,
+            (Some(_), None) => true,
+            _ => false,
+        };
+        let peaks_off = |r: &ProtocolRow| (r.peaks as f64 - self.reference_peaks as f64).abs();
+        let nearer = [
+            smaller(ra.rest_error_m, rb.rest_error_m),
+            peaks_off(ra) < peaks_off(rb),
+            smaller(
+                ra.period_rel_error.map(f64::abs),
+                rb.period_rel_error.map(f64::abs),
+            ),
+        ];
+        nearer.iter().filter(|n| **n).count() >= 2
+    }
+
+    /// Whether `a`'s rest-state error is smaller than `b`'s by more than `tolerance` of the
+    /// larger (a run not at rest has none).
+    pub fn rests_nearer(&self, a: SolverId, b: SolverId, tolerance: f64) -> bool {
+        let error = |s| {
+            self.run(s)
+                .filter(|r| r.at_rest)
+                .and_then(|r| r.rest_error_m)
+        };
+        match (error(a), error(b)) {
+            (Some(x), Some(y)) => x < y && relative_difference(x, y) > tolerance,
+            (Some(_), None) => true,
+            _ => false,
+        }
+    }
+
+    /// Whether every solver has a run.
+    fn decided(&self) -> bool {
+        self.runs.iter().all(Option::is_some)
+    }
+}
+
+/// $`|x - y| / \max(|x|, |y|)`$, 0 when both are 0.
+fn relative_difference(x: f64, y: f64) -> f64 {
+    let scale = x.abs().max(y.abs());
+    if scale == 0.0 {
+        0.0
+    } else {
+        (x - y).abs() / scale
+    }
+}
+
+/// The cells of `rows` in `group`'s time steps, the reference peak count of each stiffness
+/// from `reference_peaks`.
+pub fn cells(
+    rows: &[ProtocolRow],
+    group: StepGroup,
+    reference_peaks: &dyn Fn(f64) -> usize,
+) -> Vec<ProtocolCell> {
+    let mut out = Vec::new();
+    for stiffness in crate::model::scene::THESIS_STIFFNESSES {
+        for &dt_s in group.dts() {
+            for setting in 0..3 {
+                let runs = THESIS_THREE.map(|id| {
+                    rows.iter()
+                        .find(|r| {
+                            r.stiffness_n_per_m == stiffness
+                                && r.dt_s == dt_s
+                                && r.setting == setting
+                                && r.solver == id.id()
+                        })
+                        .cloned()
+                });
+                out.push(ProtocolCell {
+                    stiffness_n_per_m: stiffness,
+                    dt_s,
+                    setting,
+                    runs,
+                    reference_peaks: reference_peaks(stiffness),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The verdict on `conclusion` from the cells of reading (a) at the similarity tolerance
+/// `tolerance`; a cell where a solver has no run decides nothing.
+pub fn decide(conclusion: Conclusion, cells: &[ProtocolCell], tolerance: f64) -> Verdict {
+    use SolverId::{AdmmPd as Admm, FastMassSpring as Liu, Xpbd};
+    let decided: Vec<&ProtocolCell> = cells.iter().filter(|c| c.decided()).collect();
+    if decided.is_empty() || conclusion == Conclusion::StaticsAdmmVersatile {
+        return Verdict::Undecided;
+    }
+    let in_every = |test: &dyn Fn(&ProtocolCell) -> bool| {
+        if decided.iter().all(|c| test(c)) {
+            Verdict::Holds
+        } else {
+            Verdict::Fails
+        }
+    };
+    let others = |s: SolverId| THESIS_THREE.into_iter().filter(move |&o| o != s);
+    match conclusion {
+        Conclusion::StaticsProjectiveDynamics => in_every(&|c| {
+            c.rests_nearer(Liu, Xpbd, tolerance) || c.rests_nearer(Admm, Xpbd, tolerance)
+        }),
+        Conclusion::StaticsFamilyAlike => in_every(&|c| {
+            !c.rests_nearer(Liu, Admm, tolerance) && !c.rests_nearer(Admm, Liu, tolerance)
+        }),
+        Conclusion::StaticsAdmmVersatile => Verdict::Undecided,
+        Conclusion::DynamicsNoneStandsOut => {
+            let stands_out = THESIS_THREE.into_iter().any(|s| {
+                decided
+                    .iter()
+                    .all(|c| others(s).all(|o| c.better(s, o, tolerance)))
+            });
+            if stands_out {
+                Verdict::Fails
+            } else {
+                Verdict::Holds
+            }
+        }
+        Conclusion::DynamicsLiuWorse => {
+            in_every(&|c| c.better(Admm, Liu, tolerance) && c.better(Xpbd, Liu, tolerance))
+        }
+        Conclusion::DynamicsXpbd => {
+            in_every(&|c| !others(Xpbd).any(|o| c.better(o, Xpbd, tolerance)))
+        }
+        Conclusion::AdmmForBoth => in_every(&|c| {
+            !others(Admm)
+                .any(|o| c.better(o, Admm, tolerance) || c.rests_nearer(o, Admm, tolerance))
+        }),
+    }
+}
+
+/// `conclusion` decided by reading (a) under every setting: each tolerance of [`TIES`] on the
+/// thesis's time steps and on the real-time ones, in [`Setting::all`]'s order.
+pub fn as_the_thesis_asks(
+    conclusion: Conclusion,
+    rows: &[ProtocolRow],
+    reference_peaks: &dyn Fn(f64) -> usize,
+) -> Decided {
+    let sensitivity: Vec<(Setting, Verdict)> = StepGroup::ALL
+        .into_iter()
+        .flat_map(|group| {
+            let cells = cells(rows, group, reference_peaks);
+            TIES.map(|tie| {
+                let setting = Setting {
+                    tie,
+                    scope: Scope::TimeSteps(group),
+                };
+                (setting, decide(conclusion, &cells, tie))
+            })
+        })
+        .collect();
+    Decided {
+        conclusion,
+        overall: Overall::of(&sensitivity),
+        sensitivity,
+    }
+}
