@@ -758,8 +758,8 @@ fn finish(mut child: std::process::Child) -> std::process::Output {
 #[test]
 fn a_target_replaced_during_the_run_is_refused_and_the_users_files_kept() {
     use rustix::fs::{mknodat, FileType, Mode, CWD};
-    for replaced in ["the directory", "a report file"] {
-        let out = scratch(&format!("replaced-{}", replaced.len()));
+    for (case, replaced) in ["the directory", "a report file"].into_iter().enumerate() {
+        let out = scratch(&format!("replaced-{case}"));
         let base = out.parent().unwrap().to_path_buf();
         let moved = base.join("out.moved");
         assert!(report_in(&base, &["--out", "out", "--fixture", "A"])
@@ -839,7 +839,14 @@ fn another_users_fifo_in_the_target_is_refused_before_the_run() {
     let Some((base, out)) = nobodys_report("fifo-of-root") else {
         return;
     };
-    mknodat(CWD, out.join("pipe"), FileType::Fifo, Mode::from_raw_mode(0o644), 0).unwrap();
+    mknodat(
+        CWD,
+        out.join("pipe"),
+        FileType::Fifo,
+        Mode::from_raw_mode(0o644),
+        0,
+    )
+    .unwrap();
     let before = tree(&base);
     let Some(output) = nobodys_second_run(&out) else {
         return;

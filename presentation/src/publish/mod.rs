@@ -31,6 +31,8 @@
 //! system: what holds a mount point is left in place, with a message.
 
 mod files;
+#[cfg(unix)]
+mod identity;
 mod ownership;
 
 pub use files::{MANIFEST, REPORT_TITLE};
@@ -40,11 +42,13 @@ use files::{
     carry_over, exchange, io_error, is_journal_name, remove_tree, sibling, sorted_entries,
     unique_suffix,
 };
+#[cfg(unix)]
+use identity::Recorded;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::platform::paths::describe_file_type;
 use ownership::{
-    existing_ownership, foreign_entries, manifest_text, read_manifest, relative_inside, Manifest,
-    Ownership,
+    existing_ownership, foreign_entries, manifest_text, read_manifest,
+    refuse_what_cannot_be_published, relative_inside, Manifest, Ownership,
 };
 use std::collections::BTreeSet;
 use std::fs::{self, File};
@@ -90,6 +94,10 @@ pub struct ReportTarget {
     staging: PathBuf,
     old: PathBuf,
     ownership: Ownership,
+    /// The output directory and the report's files in it as found at the start, checked
+    /// again before anything is published.
+    #[cfg(unix)]
+    recorded: Recorded,
     notes: Vec<String>,
     /// Set by an injected crash: a killed process cleans nothing up.
     crashed: bool,
@@ -280,6 +288,8 @@ impl ReportTarget {
             )),
             e => e,
         })?;
+        #[cfg(unix)]
+        let recorded = Recorded::take(&dir, &ownership)?;
         let suffix = unique_suffix();
         let staging = sibling(&dir, &format!("tmp-{suffix}"));
         fs::create_dir(&staging).map_err(|e| {
@@ -294,6 +304,8 @@ impl ReportTarget {
             dir,
             staging,
             ownership,
+            #[cfg(unix)]
+            recorded,
             notes,
             crashed: false,
             _lock: lock,
@@ -367,7 +379,11 @@ impl ReportTarget {
                 .into());
             }
         }
+        // Before anything is written: the target is still the one checked at the start, and
+        // holds nothing added since that this user could not carry over or remove.
+        self.verify_target()?;
         let foreign = if self.dir.exists() {
+            refuse_what_cannot_be_published(&self.dir, &self.ownership)?;
             foreign_entries(&self.dir, &self.ownership, &written)?
         } else {
             Vec::new()
@@ -393,6 +409,9 @@ impl ReportTarget {
             carry_over(&self.dir.join(rel), &dst)?;
             checkpoints.pass(&format!("carried over {}", rel.display()))?;
         }
+        // Again just before the swap, which is the first change to the target: writing the
+        // staging directory took a while.
+        self.verify_target()?;
         if !self.dir.exists() {
             fs::rename(&self.staging, &self.dir)
                 .map_err(|e| io_error("moving into place", &self.dir, e))?;
@@ -413,6 +432,14 @@ impl ReportTarget {
         };
         remove_tree(old)?;
         checkpoints.pass("removed the previous report")?;
+        Ok(())
+    }
+
+    /// Refuses to go on when the output directory, or a file of the previous report in it, is
+    /// not the one found at the start ([`identity`]).
+    fn verify_target(&self) -> Result<()> {
+        #[cfg(unix)]
+        self.recorded.verify(&self.dir, &self.ownership)?;
         Ok(())
     }
 
