@@ -960,3 +960,27 @@ fn a_scene_file_without_nodes_is_refused_naming_nodes() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.contains("nodes[*].fixed"), "{err}");
 }
+
+// Issue 48: every allocation an option sizes counted before the run, and every numeric option
+// bounded.
+
+/// [3] `--iterations 1000000000` under a 4 GiB address-space limit: the per-step histogram of
+/// iterations holds only the counts the steps took (one here), where it allocated 8·(N+1)
+/// bytes and aborted ("memory allocation of 8000000008 bytes failed").
+#[test]
+fn a_billion_iterations_allocate_no_histogram_of_that_size() {
+    let args = [
+        "--solver",
+        "fast_mass_spring",
+        "--iterations",
+        "1000000000",
+        "--max-time",
+        "0.001",
+    ];
+    let Some(mut command) = sandbox::under_address_limit(env!("CARGO_BIN_EXE_mss"), &args) else {
+        return;
+    };
+    let out = run_within(&mut command, PROMPTLY, "mss --iterations 1000000000");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?}: {err}", out.status);
+}
