@@ -1013,7 +1013,10 @@ fn help_of(help: &str, option: &str) -> String {
         .find(&format!("      {option} <"))
         .unwrap_or_else(|| panic!("{option} is not in mss --help"));
     let rest = &help[start + 6..];
-    let end = rest.find("\n      -").or(rest.find("\n  -")).unwrap_or(rest.len());
+    let end = rest
+        .find("\n      -")
+        .or(rest.find("\n  -"))
+        .unwrap_or(rest.len());
     rest[..end].split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
@@ -1024,8 +1027,18 @@ fn help_of(help: &str, option: &str) -> String {
 #[test]
 fn every_numeric_option_is_bounded_and_its_bounds_stated_in_help() {
     let cases: [(&[&str], &str, &str, &str); 16] = [
-        (&["--solver", "damped_admm"], "--drag", "1e308", "from 0 to 1e9"),
-        (&["--solver", "damped_admm"], "--drag", "-1", "from 0 to 1e9"),
+        (
+            &["--solver", "damped_admm"],
+            "--drag",
+            "1e308",
+            "from 0 to 1e9",
+        ),
+        (
+            &["--solver", "damped_admm"],
+            "--drag",
+            "-1",
+            "from 0 to 1e9",
+        ),
         (
             &["--solver", "xpbd_substeps"],
             "--constraint-damping",
@@ -1041,9 +1054,24 @@ fn every_numeric_option_is_bounded_and_its_bounds_stated_in_help() {
         (&[], "--max-memory", "1e300", "from 1e6 to 1e18"),
         (&[], "--stiffness", "1e300", "from 1e-9 to 1e12"),
         (&[], "--gravity", "1e300", "from -1e4 to 1e4"),
-        (&["--scene", "rope"], "--rest-length", "1e300", "from 1e-9 to 1e6"),
-        (&["--scene", "rope"], "--node-mass", "1e300", "from 1e-9 to 1e9"),
-        (&["--scene", "rope"], "--span", "1e300", "> 0 and at most 1e6"),
+        (
+            &["--scene", "rope"],
+            "--rest-length",
+            "1e300",
+            "from 1e-9 to 1e6",
+        ),
+        (
+            &["--scene", "rope"],
+            "--node-mass",
+            "1e300",
+            "from 1e-9 to 1e9",
+        ),
+        (
+            &["--scene", "rope"],
+            "--span",
+            "1e300",
+            "> 0 and at most 1e6",
+        ),
         (
             &["--solver", "chebyshev_liu"],
             "--warmup",

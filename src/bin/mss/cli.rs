@@ -85,7 +85,7 @@ pub(crate) struct Cli {
     #[arg(long, help_heading = "Solver")]
     pub(crate) list_solvers: bool,
 
-    /// Time step dt, in s (> 0)
+    /// Time step dt, in s, from 1e-9 to 1e9 and at most --max-time
     #[arg(
         long,
         value_name = "S",
@@ -107,7 +107,7 @@ pub(crate) struct Cli {
     pub(crate) iterations: Option<i64>,
 
     /// Stop each step's iterations at the first iterate that moves no node by more than E m
-    /// (E > 0, finite); --iterations becomes the cap. Every iterative solver but xpbd_substeps
+    /// (E > 0 and at most 1e6); --iterations becomes the cap. Every iterative solver but xpbd_substeps
     /// [default: off, a fixed count]
     #[arg(
         long,
@@ -157,7 +157,8 @@ pub(crate) struct Cli {
     )]
     pub(crate) gamma: Option<f64>,
 
-    /// chebyshev_*: warm-up iterations S with omega = 1, an integer >= 0 [default: 10]
+    /// chebyshev_*: warm-up iterations S with omega = 1, an integer from 0 to 4294967295
+    /// [default: 10]
     #[arg(
         long,
         value_name = "S",
@@ -224,7 +225,8 @@ pub(crate) struct Cli {
     #[arg(long, value_name = "RULE", help_heading = "Solver")]
     pub(crate) hessian: Option<String>,
 
-    /// xpbd_substeps: Macklin 2019's constraint damping beta >= 0, in N·s/m [default: 0]
+    /// xpbd_substeps: Macklin 2019's constraint damping beta, from 0 to 1e9, in N·s/m
+    /// [default: 0]
     #[arg(
         long,
         value_name = "N_S_PER_M",
@@ -249,8 +251,8 @@ pub(crate) struct Cli {
     #[arg(long, value_name = "FORM", help_heading = "Solver")]
     pub(crate) rayleigh_form: Option<String>,
 
-    /// damped_*: power-law drag coefficient c >= 0 of D = c |v|^(p+1)/(p+1), in N·(s/m)^p
-    /// [default: 0]
+    /// damped_*: power-law drag coefficient c of D = c |v|^(p+1)/(p+1), from 0 to 1e9, in
+    /// N·(s/m)^p [default: 0]
     #[arg(
         long,
         value_name = "C",
@@ -281,7 +283,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) scene_file: Option<PathBuf>,
 
-    /// Stiffness k of every spring, in N/m (> 0) [default: the scene's: 1e6 for thesis and
+    /// Stiffness k of every spring, in N/m, from 1e-9 to 1e12 [default: the scene's: 1e6 for thesis and
     /// rope, the cloth's and the pendulum's own, a scene file's own values]
     #[arg(
         long,
@@ -291,7 +293,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) stiffness: Option<f64>,
 
-    /// Gravity along -y, in m/s² (finite; >= 0 for the cloths and the pendulum); replaces a
+    /// Gravity along -y, in m/s², from -1e4 to 1e4 (>= 0 for the cloths and the pendulum); replaces a
     /// scene file's gravity vector by (0, -G, 0) [default: the scene's, 9.81 for the built-in
     /// scenes]
     #[arg(
@@ -322,7 +324,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) n: Option<i64>,
 
-    /// rope: rest length of every spring, in m (> 0) [default: 1]
+    /// rope: rest length of every spring, in m, from 1e-9 to 1e6 [default: 1]
     #[arg(
         long,
         value_name = "M",
@@ -331,7 +333,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) rest_length: Option<f64>,
 
-    /// rope: mass of every node, in kg (> 0) [default: 1]
+    /// rope: mass of every node, in kg, from 1e-9 to 1e9 [default: 1]
     #[arg(
         long,
         value_name = "KG",
@@ -340,7 +342,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) node_mass: Option<f64>,
 
-    /// rope: distance between the two fixed ends along x, in m (> 0); the rope starts straight
+    /// rope: distance between the two fixed ends along x, in m, > 0 and at most 1e6; the rope starts straight
     /// and at rest [default: (nodes - 1) x rest length, every spring at its rest length]
     #[arg(
         long,
@@ -350,11 +352,13 @@ pub(crate) struct Cli {
     )]
     pub(crate) span: Option<f64>,
 
-    /// Stop at the first kinetic-energy peak below this, in J (> 0); that peak is counted
+    /// Stop at the first kinetic-energy peak below this, in J (> 0 and at most 1e12); that peak
+    /// is counted
     #[arg(long, value_name = "J", default_value_t = STOP_THRESHOLD_J, allow_hyphen_values = true, help_heading = "Stopping rule")]
     pub(crate) threshold: f64,
 
-    /// Stop when the simulated time reaches this, in s (> 0); reported as "hit time limit"
+    /// Stop when the simulated time reaches this, in s, from 1e-9 to 1e9; reported as "hit
+    /// time limit"
     #[arg(long, value_name = "S", default_value_t = MAX_SIMULATED_TIME_S, allow_hyphen_values = true, help_heading = "Stopping rule")]
     pub(crate) max_time: f64,
 
@@ -362,7 +366,7 @@ pub(crate) struct Cli {
     #[arg(long, help_heading = "Stopping rule")]
     pub(crate) exempt_first_peak: bool,
 
-    /// Variant (not the thesis's method): velocity damping c, in 1/s (>= 0), applied after
+    /// Variant (not the thesis's method): velocity damping c, in 1/s, from 0 to 1e6, applied after
     /// every step as v <- v·exp(-c·dt); 0 is the faithful method
     #[arg(
         long,
@@ -396,11 +400,13 @@ pub(crate) struct Cli {
     pub(crate) positions_csv: Option<PathBuf>,
 
     /// Refuse, before it starts, a run needing more than this many spring updates (steps ×
-    /// iterations × springs, the reference run's included); raise it for a long run on purpose
+    /// iterations × springs, the reference run's included), a number from 1 to 1e18; raise it
+    /// for a long run on purpose
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_WORK, help_heading = "Limits")]
     pub(crate) max_work: f64,
 
-    /// Refuse, before it starts, a run whose memory estimate is over this many bytes (>= 1e6):
+    /// Refuse, before it starts, a run whose memory estimate is over this many bytes (from 1e6
+    /// to 1e18):
     /// the solver's peak memory per node, measured on the rope and the sheet (src/solvers/budget.rs),
     /// with a margin [default: the memory available: the least of MemAvailable, the
     /// address-space limit and the control group's limit]

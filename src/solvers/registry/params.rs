@@ -4,7 +4,9 @@
 use super::SolverId;
 use crate::error::{require_within, shown, Error, Result};
 use crate::integrators::damping::RayleighDamping;
-use crate::integrators::dissipation::{Dissipation, PowerLawDrag, RayleighForm};
+use crate::integrators::dissipation::{
+    Dissipation, PowerLawDrag, RayleighForm, DRAG_UNIT, MAX_DRAG,
+};
 use crate::integrators::first_iterate::FirstIterate;
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::solvers::anderson::AndersonParams;
@@ -12,7 +14,7 @@ use crate::solvers::chebyshev::{ChebyshevParams, RhoRule};
 use crate::solvers::local_global::{AdmmMerit, Base};
 use crate::solvers::quasi_newton::LbfgsParams;
 use crate::solvers::vbd::{LocalHessian, VbdParams};
-use crate::solvers::xpbd_substeps::{Sweep, XpbdSubstepsParams};
+use crate::solvers::xpbd_substeps::{Sweep, XpbdSubstepsParams, MAX_CONSTRAINT_DAMPING};
 
 /// The options of the solvers that have any; each solver reads its own.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -111,11 +113,16 @@ impl SolverParams {
             "rho_rule" => self.rho_rule = value.parse()?,
             "safeguard" => self.safeguard = value.parse()?,
             "hessian" => self.hessian = value.parse()?,
-            "constraint_damping" => self.constraint_damping = number()?,
+            "constraint_damping" => {
+                self.constraint_damping =
+                    require_within(name, number()?, 0.0, MAX_CONSTRAINT_DAMPING, "N·s/m")?
+            }
             "sweep" => self.sweep = value.parse()?,
             "integrator" => self.integrator = value.parse()?,
             "rayleigh_form" => self.rayleigh_form = value.parse()?,
-            "drag" => self.drag.coefficient = number()?,
+            "drag" => {
+                self.drag.coefficient = require_within(name, number()?, 0.0, MAX_DRAG, DRAG_UNIT)?
+            }
             "drag_exponent" => self.drag.exponent = number()?,
             _ => {
                 let names: Vec<&str> = SolverId::ALL
@@ -216,7 +223,7 @@ fn require_integer(field: &str, value: f64, min: usize) -> Result<usize> {
         Err(Error::invalid(
             field,
             shown(value),
-            &format!("an integer >= {min}"),
+            &format!("an integer from {min} to {}", u32::MAX),
         ))
     }
 }
