@@ -104,7 +104,7 @@ impl SolverParams {
             }
             "spectral_radius" => self.spectral_radius = Some(number()?),
             "gamma" => self.gamma = number()?,
-            "warmup" => self.warmup = require_integer(name, number()?, 0)?,
+            "warmup" => self.warmup = require_count_within(name, number()?, 0, u32::MAX as usize)?,
             "window" => self.window = require_integer(name, number()?, 1)?,
             "alpha" => self.damping.alpha = require_within(name, number()?, 0.0, 1e6, "1/s")?,
             "beta" => self.damping.beta = require_within(name, number()?, 0.0, 1e3, "s")?,
@@ -223,7 +223,7 @@ fn require_integer(field: &str, value: f64, min: usize) -> Result<usize> {
         Err(Error::invalid(
             field,
             shown(value),
-            &format!("an integer from {min} to {}", u32::MAX),
+            &format!("an integer >= {min}"),
         ))
     }
 }
