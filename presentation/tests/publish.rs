@@ -902,3 +902,22 @@ fn entries_this_user_cannot_carry_over_or_remove_are_refused_before_the_run() {
         std::fs::remove_dir_all(&base).unwrap();
     }
 }
+
+/// [4] A 240-byte `--out` name leaves no room for the staging directory's name beside it
+/// (`.<name>.tmp-<pid>-<ns>`, over 255 bytes): refused before anything runs (exit 2) with the
+/// longest name that fits, and no lock file is left beside it (it said "parent is not
+/// writable" and left `.<name>.lock`).
+#[test]
+fn an_output_name_too_long_for_the_staging_directory_is_refused_and_leaves_no_lock() {
+    let out = scratch("long-name");
+    let base = out.parent().unwrap().to_path_buf();
+    let name = "r".repeat(240);
+    let output = report_in(&base, &["--out", &name, "--fixture", "A"]);
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("240 bytes") && e.contains("at most 219") && e.contains("nothing was changed"),
+        "{e}"
+    );
+    assert_eq!(tree(&base).len(), 1, "{:?}", tree(&base).keys());
+}
