@@ -37,6 +37,9 @@ mod ownership;
 
 pub use files::{MANIFEST, REPORT_TITLE};
 
+use files::NANOS_DIGITS;
+use mass_spring_solvers::platform::paths::NAME_MAX;
+
 use crate::output::OutputFile;
 use files::{
     carry_over, exchange, io_error, is_journal_name, remove_tree, sibling, sorted_entries,
@@ -54,6 +57,13 @@ use std::collections::BTreeSet;
 use std::fs::{self, File};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+/// The most digits of a process id in a journal name (`is_journal_name` accepts no more).
+const PID_DIGITS: usize = 10;
+
+/// The longest output directory name whose journal siblings fit in [`NAME_MAX`]:
+/// `.<name>.tmp-<pid>-<ns>` adds a dot, `.tmp-`, the pid, a dash and the nanoseconds.
+const MAX_OUTPUT_NAME: usize = NAME_MAX - (1 + ".tmp-".len() + PID_DIGITS + 1 + NANOS_DIGITS);
 
 /// How long [`ReportTarget::open`] waits for a busy lock.
 const LOCK_PATIENCE: Duration = Duration::from_millis(500);
@@ -123,6 +133,7 @@ struct Lock {
 }
 
 impl Lock {
+    /// Takes the lock `path` of the directory `dir`, waiting [`LOCK_PATIENCE`] at most.
     fn acquire(path: &Path, dir: &Path) -> Result<Self> {
         let file = open_lock_file(path)?;
         // A lock is held a moment longer than its run by a child forked meanwhile (until it
@@ -134,8 +145,9 @@ impl Lock {
                 Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                     if Instant::now() >= deadline {
                         return Err(Error::Input(format!(
-                            "another report run is writing {} (it holds the lock {}); wait \
-                             for it to finish or stop it, then run again",
+                            "another report run is writing {} (or `timing` is writing into it: \
+                             it holds the lock {}); wait for it to finish or stop it, then run \
+                             again",
                             dir.display(),
                             path.display()
                         )));
@@ -257,13 +269,21 @@ impl ReportTarget {
     /// may not replace (not a directory; not empty and no manifest; a foreign entry where the
     /// report writes) and creates the staging directory. Run it before the long work.
     pub fn open(dir: &Path) -> Result<Self> {
-        let dir = match fs::canonicalize(dir) {
-            Ok(real) => real,
-            Err(_) => std::path::absolute(dir).map_err(|e| io_error("resolving", dir, e))?,
-        };
-        if dir.file_name().is_none() {
+        let dir = resolved(dir)?;
+        let Some(name) = dir.file_name() else {
             return Err(Error::Input(format!(
                 "the output directory {} has no name of its own; give a directory below it",
+                dir.display()
+            )));
+        };
+        // Before the lock file is made beside it: its staging directory must fit the name.
+        let length = name.as_encoded_bytes().len();
+        if length > MAX_OUTPUT_NAME {
+            return Err(Error::Input(format!(
+                "the output directory's name {} is {length} bytes; report takes names of at \
+                 most {MAX_OUTPUT_NAME} bytes, so that its staging directory beside it \
+                 (.<name>.tmp-<pid>-<nanoseconds>) fits the file system's {NAME_MAX}; nothing \
+                 was changed. Give --out a shorter name",
                 dir.display()
             )));
         }
@@ -469,6 +489,35 @@ impl ReportTarget {
             crashed => crashed,
         }
     }
+}
+
+/// `dir` absolute, its symbolic links resolved where it exists.
+fn resolved(dir: &Path) -> Result<PathBuf> {
+    match fs::canonicalize(dir) {
+        Ok(real) => Ok(real),
+        Err(_) => std::path::absolute(dir).map_err(|e| io_error("resolving", dir, e)),
+    }
+}
+
+/// The lock [`ReportTarget::open`] takes for a report directory, held by another writer inside
+/// it (`timing` into `report/timing`) so that it never writes while a report run replaces the
+/// directory (and its files with it); released when dropped.
+#[derive(Debug)]
+pub struct DirectoryLock {
+    _lock: Lock,
+}
+
+/// Takes the lock of the report directory `dir` ([`DirectoryLock`]), as a report run would;
+/// `None` where the directory holding `dir` does not exist, so that no report run can be
+/// writing it (a report's output needs an existing parent).
+pub fn lock_report_directory(dir: &Path) -> Result<Option<DirectoryLock>> {
+    let dir = resolved(dir)?;
+    if dir.file_name().is_none() || !dir.parent().is_some_and(Path::is_dir) {
+        return Ok(None);
+    }
+    Ok(Some(DirectoryLock {
+        _lock: Lock::acquire(&sibling(&dir, "lock"), &dir)?,
+    }))
 }
 
 /// Whether `path` holds a previous report set aside by the journal: empty (an empty output
