@@ -95,6 +95,13 @@ impl Recorded {
         }
     }
 
+    /// Whether `path` (the output directory renamed or exchanged away) is the output directory
+    /// recorded: a directory put in its place after the last [`Recorded::verify`] is not.
+    pub(super) fn is_the_output_directory(&self, path: &Path) -> bool {
+        let now = fs::symlink_metadata(path).map(|m| identity_of(&m)).ok();
+        now.is_some() && now == self.dir
+    }
+
     /// Refuses a publication into a target that is not the one recorded: the parent path
     /// leading elsewhere, the output directory replaced (or made, or removed) during the run,
     /// or a file of the previous report replaced, added or removed. Writes nothing.

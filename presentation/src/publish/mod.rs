@@ -442,6 +442,13 @@ impl ReportTarget {
         let exchanged = swap == Swap::Exchange
             && exchange(&self.staging, &self.dir)
                 .map_err(|e| io_error("exchanging the report with", &self.staging, e))?;
+        if exchanged && !self.moved_away_is_recorded(&self.staging) {
+            // Replaced between the last check and the exchange: the user's directory is now at
+            // the staging path; the exchange undone, it is back and the new report is staged.
+            exchange(&self.staging, &self.dir)
+                .map_err(|e| io_error("exchanging back the report with", &self.staging, e))?;
+            return Err(self.replaced_at_the_swap().into());
+        }
         let old = if exchanged {
             checkpoints.swapped = true;
             checkpoints.pass("exchanged the two directories")?;
@@ -463,10 +470,34 @@ impl ReportTarget {
         Ok(())
     }
 
+    /// Whether the directory the swap moved from the output path to `path` is the output
+    /// directory found at the start.
+    fn moved_away_is_recorded(&self, path: &Path) -> bool {
+        #[cfg(unix)]
+        return self.recorded.is_the_output_directory(path);
+        #[cfg(not(unix))]
+        return path.is_dir();
+    }
+
+    /// The refusal of a target replaced between the last check and the swap, the swap undone.
+    fn replaced_at_the_swap(&self) -> Error {
+        Error::Input(format!(
+            "the output directory {} was replaced during the run, at the moment of the swap; \
+             the swap was undone, so the directory there is as it was put",
+            self.dir.display()
+        ))
+    }
+
     /// Output → `.<name>.old-*`, staging → output, rolling the first rename back if the second
     /// fails.
     fn journal_swap(&self, checkpoints: &mut Checkpoints) -> std::result::Result<(), Stop> {
         fs::rename(&self.dir, &self.old).map_err(|e| io_error("moving aside", &self.dir, e))?;
+        if !self.moved_away_is_recorded(&self.old) {
+            // As after the exchange: a directory put in place after the last check goes back.
+            fs::rename(&self.old, &self.dir)
+                .map_err(|e| io_error("putting back", &self.old, e))?;
+            return Err(self.replaced_at_the_swap().into());
+        }
         let second = checkpoints
             .pass("moved the previous report aside")
             .and_then(|()| {
