@@ -60,7 +60,8 @@ user's file in a sticky directory, a mounted-over file, a named pipe no reader o
 Limits (bad input, exit 2, before the run): a run needing more than --max-work spring updates
 (steps × iterations × springs; rk45's adaptive steps estimated from the scene's fastest rate,
 and capped by the same budget while it runs; the reference run's at its own length); a memory
-estimate over --max-memory; --dt longer than --max-time; a scene file over 16 MiB, or a named
+estimate over --max-memory (the solver's, and what the run keeps per step: its histogram of
+iterations and its energy peaks); --dt longer than --max-time; a scene file over 16 MiB, or a named
 pipe no writer opens within 1 s; values outside the plausible ranges: masses 1e-9 to 1e9 kg,
 coordinates and rest lengths within 1e6 m, velocities within 1e6 m/s, gravity within 1e4 m/s²,
 stiffness 1e-9 to 1e12 N/m, damping and drag up to 1e9 N·s/m; a spring that starts shorter
