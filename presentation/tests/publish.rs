@@ -858,6 +858,9 @@ fn another_users_fifo_in_the_target_is_refused_before_the_run() {
     std::fs::remove_dir_all(&base).unwrap();
 }
 
+/// Makes one entry at the path it is given.
+type MakeEntry = fn(&Path);
+
 /// [2] What `nobody` could not carry over or remove, refused before the run (exit 2) with
 /// everything kept: another user's mode-600 file, a socket, another user's unreadable
 /// directory, and another user's readable directory (which the carry-over can copy but the
@@ -866,7 +869,7 @@ fn another_users_fifo_in_the_target_is_refused_before_the_run() {
 #[test]
 fn entries_this_user_cannot_carry_over_or_remove_are_refused_before_the_run() {
     use std::os::unix::fs::PermissionsExt;
-    let cases: [(&str, fn(&Path)); 4] = [
+    let cases: [(&str, MakeEntry); 4] = [
         ("private.txt", |p| {
             std::fs::write(p, "root's").unwrap();
             std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o600)).unwrap();

@@ -25,6 +25,7 @@ use std::path::{Path, PathBuf};
 /// An entry's device and inode.
 type Identity = (u64, u64);
 
+/// The [`Identity`] of the entry `meta` describes.
 fn identity_of(meta: &fs::Metadata) -> Identity {
     (meta.dev(), meta.ino())
 }
@@ -34,6 +35,7 @@ fn identity_of(meta: &fs::Metadata) -> Identity {
 /// its inode, but either changes the time.
 type FileVersion = (u64, u64, i64, i64);
 
+/// The [`FileVersion`] of the file `meta` describes.
 fn version_of(meta: &fs::Metadata) -> FileVersion {
     (meta.dev(), meta.ino(), meta.ctime(), meta.ctime_nsec())
 }

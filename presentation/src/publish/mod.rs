@@ -494,8 +494,7 @@ impl ReportTarget {
         fs::rename(&self.dir, &self.old).map_err(|e| io_error("moving aside", &self.dir, e))?;
         if !self.moved_away_is_recorded(&self.old) {
             // As after the exchange: a directory put in place after the last check goes back.
-            fs::rename(&self.old, &self.dir)
-                .map_err(|e| io_error("putting back", &self.old, e))?;
+            fs::rename(&self.old, &self.dir).map_err(|e| io_error("putting back", &self.old, e))?;
             return Err(self.replaced_at_the_swap().into());
         }
         let second = checkpoints
