@@ -96,9 +96,10 @@ pub(crate) struct Cli {
     )]
     pub(crate) dt: f64,
 
-    /// Iterations per time step, an integer >= 1: Newton iterations (backward_euler), sweeps
-    /// over the springs (pbd, xpbd), local/global iterations (fast_mass_spring, admm_pd). Not
-    /// accepted by the tutorial's integrators. [default: 5]
+    /// Iterations per time step, an integer >= 1, at most what --max-work allows (steps ×
+    /// iterations × springs): Newton iterations (backward_euler), sweeps over the springs (pbd,
+    /// xpbd), local/global iterations (fast_mass_spring, admm_pd). Not accepted by the
+    /// tutorial's integrators. [default: 5]
     #[arg(
         long,
         value_name = "N",
@@ -419,7 +420,8 @@ pub(crate) struct Cli {
     )]
     pub(crate) max_memory: Option<f64>,
 
-    /// With --positions-csv: write the positions every N steps, an integer >= 1 [default: 10]
+    /// With --positions-csv: write the positions every N steps, an integer >= 1 (one past the
+    /// run's steps writes its first and last states only) [default: 10]
     #[arg(
         long,
         value_name = "N",
