@@ -631,3 +631,41 @@ pub fn fixture(tag: &str, count: usize) -> Vec<OutputFile> {
     }));
     files
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The output directory replaced after the last check, just before the journal's first
+    /// rename: that rename moves the user's directory aside, the check after it finds it is not
+    /// the one recorded, and it is put back, its files intact, the previous report untouched.
+    #[cfg(unix)]
+    #[test]
+    fn a_directory_put_in_place_after_the_last_check_is_put_back_by_the_swap() {
+        let base = std::env::temp_dir().join(format!("mss-swap-undo-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&base);
+        fs::create_dir_all(&base).unwrap();
+        let out = base.join("out");
+        write_report(&out, &fixture("A", 2)).unwrap();
+        let target = ReportTarget::open(&out).unwrap();
+        let moved = base.join("out.moved");
+        fs::rename(&out, &moved).unwrap();
+        fs::create_dir(&out).unwrap();
+        fs::write(out.join("REPORT.md"), "mine").unwrap();
+        let mut checkpoints = Checkpoints {
+            passed: 0,
+            fault: None,
+            swapped: false,
+        };
+        let stopped = target.journal_swap(&mut checkpoints);
+        let Err(Stop::Failed(e)) = stopped else {
+            panic!("the swap went on into a replaced directory");
+        };
+        assert!(e.to_string().contains("the swap was undone"), "{e}");
+        assert!(!checkpoints.swapped);
+        assert_eq!(fs::read_to_string(out.join("REPORT.md")).unwrap(), "mine");
+        assert!(moved.join(MANIFEST).exists());
+        drop(target);
+        fs::remove_dir_all(&base).unwrap();
+    }
+}
