@@ -37,18 +37,15 @@ mod ownership;
 
 pub use files::{MANIFEST, REPORT_TITLE};
 
-use files::NANOS_DIGITS;
-use mass_spring_solvers::platform::paths::NAME_MAX;
-
 use crate::output::OutputFile;
 use files::{
     carry_over, exchange, io_error, is_journal_name, remove_tree, sibling, sorted_entries,
-    unique_suffix,
+    unique_suffix, NANOS_DIGITS,
 };
 #[cfg(unix)]
 use identity::Recorded;
 use mass_spring_solvers::error::{Error, Result};
-use mass_spring_solvers::platform::paths::describe_file_type;
+use mass_spring_solvers::platform::paths::{describe_file_type, NAME_MAX};
 use ownership::{
     existing_ownership, foreign_entries, manifest_text, read_manifest,
     refuse_what_cannot_be_published, relative_inside, Manifest, Ownership,
@@ -445,9 +442,10 @@ impl ReportTarget {
         if exchanged && !self.moved_away_is_recorded(&self.staging) {
             // Replaced between the last check and the exchange: the user's directory is now at
             // the staging path; the exchange undone, it is back and the new report is staged.
-            exchange(&self.staging, &self.dir)
-                .map_err(|e| io_error("exchanging back the report with", &self.staging, e))?;
-            return Err(self.replaced_at_the_swap().into());
+            return match exchange(&self.staging, &self.dir) {
+                Ok(true) => Err(self.replaced_at_the_swap().into()),
+                undo => Err(self.stranded(&self.staging, undo.err())),
+            };
         }
         let old = if exchanged {
             checkpoints.swapped = true;
@@ -488,14 +486,29 @@ impl ReportTarget {
         ))
     }
 
+    /// The stop when the swap could not be undone: the directory put at the output path is at
+    /// `at`, beside it, and nothing may remove it (a crash leaves everything as it is).
+    fn stranded(&self, at: &Path, why: Option<std::io::Error>) -> Stop {
+        let why = why.map_or("the file system refused it".to_string(), |e| e.to_string());
+        Stop::Crashed(Error::Input(format!(
+            "the output directory {} was replaced during the run, at the moment of the swap, \
+             and undoing the swap failed ({why}): the directory that was put there is now {}; \
+             move it back before the next run, which would take it for its own leftover",
+            self.dir.display(),
+            at.display()
+        )))
+    }
+
     /// Output → `.<name>.old-*`, staging → output, rolling the first rename back if the second
     /// fails.
     fn journal_swap(&self, checkpoints: &mut Checkpoints) -> std::result::Result<(), Stop> {
         fs::rename(&self.dir, &self.old).map_err(|e| io_error("moving aside", &self.dir, e))?;
         if !self.moved_away_is_recorded(&self.old) {
             // As after the exchange: a directory put in place after the last check goes back.
-            fs::rename(&self.old, &self.dir).map_err(|e| io_error("putting back", &self.old, e))?;
-            return Err(self.replaced_at_the_swap().into());
+            return match fs::rename(&self.old, &self.dir) {
+                Ok(()) => Err(self.replaced_at_the_swap().into()),
+                Err(e) => Err(self.stranded(&self.old, Some(e))),
+            };
         }
         let second = checkpoints
             .pass("moved the previous report aside")
