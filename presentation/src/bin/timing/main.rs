@@ -15,6 +15,9 @@
 //! link among them is refused, a directory this user may not write too) and replaced
 //! atomically after them, all or none: a full disk leaves the previous files whole. Exit
 //! status 2 for bad input (found before anything is measured), 1 for a failure after.
+//! The run holds, from before the files are opened to its end, the lock `report` takes for the
+//! directory holding `DIR` (`.report.lock` beside `report/` for `report/timing`), so that a
+//! report run never replaces that directory, and these files with it, while they are written.
 //! `--quick` skips the scaling study and times the benchmark's configurations of the soft rope
 //! at its two largest time steps only, in batches of 0.1 ms (about a second; for the tests).
 
