@@ -213,9 +213,9 @@ fn an_interrupted_run_leaves_no_partial_file() {
 
 #[test]
 fn a_tiny_dt_is_over_the_work_budget() {
-    for dt in ["1e-300", "1e-9"] {
-        refused(&mss(&["--dt", dt]), &["--max-work", "--dt"]);
-    }
+    refused(&mss(&["--dt", "1e-9"]), &["--max-work", "--dt"]);
+    // Below its range (issue 48), before the work budget is reckoned.
+    refused(&mss(&["--dt", "1e-300"]), &["--dt", "from 1e-9"]);
     // The budget is the option's: a small one refuses a short run, the default allows it.
     refused(
         &mss(&[&QUICK[..], &["--max-work", "100"]].concat()),
@@ -959,4 +959,135 @@ fn a_scene_file_without_nodes_is_refused_naming_nodes() {
     refused(&out, &["s.toml", "nodes", "no nodes"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.contains("nodes[*].fixed"), "{err}");
+}
+
+// Issue 48: every allocation an option sizes counted before the run, and every numeric option
+// bounded.
+
+/// [3] The per-step histogram of iterations holds only the counts the steps took (one here),
+/// where it allocated 8·(N+1) bytes for `--iterations N`: the issue's `--iterations
+/// 1000000000` under 4 GiB aborted ("memory allocation of 8000000008 bytes failed"); here
+/// 50,000,000 (400 MB) under 256 MiB, which aborted the same way and now ends at once.
+#[test]
+fn a_large_iteration_count_allocates_no_histogram_of_that_size() {
+    let args = [
+        "--solver",
+        "fast_mass_spring",
+        "--iterations",
+        "50000000",
+        "--max-time",
+        "0.001",
+    ];
+    let program = env!("CARGO_BIN_EXE_mss");
+    let Some(mut command) = sandbox::under_address_limit_of(256 << 20, program, &args) else {
+        return;
+    };
+    let out = run_within(&mut command, PROMPTLY, "mss --iterations 50000000");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?}: {err}", out.status);
+}
+
+/// [3] What a run keeps per step (its histogram of iterations and the energy peaks of its
+/// stopping rule) is in the memory estimate before the run: 3·10⁹ steps of one iteration are
+/// within the work budget, but their records are not within 1 GB.
+#[test]
+fn per_step_records_are_counted_in_the_memory_estimate() {
+    let out = here(&[
+        "--solver",
+        "xpbd",
+        "--iterations",
+        "1",
+        "--dt",
+        "1e-6",
+        "--max-time",
+        "3000",
+        "--max-memory",
+        "1e9",
+    ]);
+    refused(&out, &["--max-memory", "histogram of iterations", "peaks"]);
+}
+
+/// The paragraph of `mss --help` describing `option`.
+fn help_of(help: &str, option: &str) -> String {
+    let start = help
+        .find(&format!("      {option} <"))
+        .unwrap_or_else(|| panic!("{option} is not in mss --help"));
+    let rest = &help[start + 6..];
+    let end = rest
+        .find("\n      -")
+        .or(rest.find("\n  -"))
+        .unwrap_or(rest.len());
+    rest[..end].split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// [4] Every numeric option without a range before has one, stated in `mss --help` in the
+/// words its refusal uses, and a value past it is refused naming the option (exit 2), printed
+/// in short form: `--drag 1e308` gave a 309-digit solver name or "invalid node_weights[1]:
+/// inf", `--dt 1e-300` 300-digit times.
+#[test]
+fn every_numeric_option_is_bounded_and_its_bounds_stated_in_help() {
+    let cases: [(&[&str], &str, &str, &str); 16] = [
+        (
+            &["--solver", "damped_admm"],
+            "--drag",
+            "1e308",
+            "from 0 to 1e9",
+        ),
+        (
+            &["--solver", "damped_admm"],
+            "--drag",
+            "-1",
+            "from 0 to 1e9",
+        ),
+        (
+            &["--solver", "xpbd_substeps"],
+            "--constraint-damping",
+            "1e308",
+            "from 0 to 1e9",
+        ),
+        (&[], "--dt", "1e-300", "from 1e-9 to 1e9"),
+        (&[], "--max-time", "1e300", "from 1e-9 to 1e9"),
+        (&[], "--threshold", "1e300", "> 0 and at most 1e12"),
+        (&[], "--velocity-damping", "1e308", "from 0 to 1e6"),
+        (&[], "--stop-tolerance", "1e308", "> 0 and at most 1e6"),
+        (&[], "--max-work", "1e300", "from 1 to 1e18"),
+        (&[], "--max-memory", "1e300", "from 1e6 to 1e18"),
+        (&[], "--stiffness", "1e300", "from 1e-9 to 1e12"),
+        (&[], "--gravity", "1e300", "from -1e4 to 1e4"),
+        (
+            &["--scene", "rope"],
+            "--rest-length",
+            "1e300",
+            "from 1e-9 to 1e6",
+        ),
+        (
+            &["--scene", "rope"],
+            "--node-mass",
+            "1e300",
+            "from 1e-9 to 1e9",
+        ),
+        (
+            &["--scene", "rope"],
+            "--span",
+            "1e300",
+            "> 0 and at most 1e6",
+        ),
+        (
+            &["--solver", "chebyshev_liu"],
+            "--warmup",
+            "1e300",
+            "from 0 to 4294967295",
+        ),
+    ];
+    let help = String::from_utf8_lossy(&here(&["--help"]).stdout).into_owned();
+    for (before, option, value, range) in cases {
+        let out = here(&[before, &[option, value]].concat());
+        refused(&out, &[option, range]);
+        no_long_numbers(&out);
+        let paragraph = help_of(&help, option);
+        assert!(
+            paragraph.contains(range),
+            "mss --help does not state {option}'s range {range:?}: {paragraph}"
+        );
+    }
 }

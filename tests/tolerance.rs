@@ -127,7 +127,7 @@ fn the_log_counts_the_iterations_of_a_run() {
         let count = run(Stopping::Count);
         // L-BFGS may end a step early at a direction below round-off.
         if id != SolverId::Lbfgs {
-            assert_eq!(count.steps_by_iterations[60], 20, "{id}");
+            assert_eq!(count.steps_by_iterations[&60], 20, "{id}");
         }
         assert_eq!(count.capped, 0, "{id}");
         let loose = run(Stopping::tolerance(1e-3).unwrap());

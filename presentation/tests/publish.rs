@@ -718,3 +718,209 @@ fn every_promise_about_files_in_the_readme_names_a_test_that_exists() {
         );
     }
 }
+
+// Issue 48: the target checked again at publication, no open that can block, and every entry
+// this user could not carry over or remove found before the run.
+
+/// Opens the FIFO `pause` for writing once the paused `report --fixture` has opened it for
+/// reading (it does so after its checks), waiting at most [`QUICK_RUN`].
+fn release_handle(pause: &Path) -> std::fs::File {
+    use rustix::fs::{openat, Mode, OFlags, CWD};
+    let started = Instant::now();
+    loop {
+        match openat(CWD, pause, OFlags::WRONLY | OFlags::NONBLOCK, Mode::empty()) {
+            Ok(fd) => return std::fs::File::from(fd),
+            Err(rustix::io::Errno::NXIO) if started.elapsed() < QUICK_RUN => {
+                std::thread::sleep(Duration::from_millis(10))
+            }
+            Err(e) => panic!("the paused report never opened {}: {e}", pause.display()),
+        }
+    }
+}
+
+/// Waits for `child` at most [`QUICK_RUN`], killing it and failing the test after that.
+fn finish(mut child: std::process::Child) -> std::process::Output {
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > QUICK_RUN {
+            child.kill().unwrap();
+            panic!("report still running after {QUICK_RUN:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// [1] The output directory replaced while the run computes (`mv out out.moved; mkdir out;
+/// echo mine > out/REPORT.md`), or one of its report files replaced by the user's: the run
+/// exits 1 at publication and both directories are as the user left them, nothing staged
+/// beside them.
+#[test]
+fn a_target_replaced_during_the_run_is_refused_and_the_users_files_kept() {
+    use rustix::fs::{mknodat, FileType, Mode, CWD};
+    for (case, replaced) in ["the directory", "a report file"].into_iter().enumerate() {
+        let out = scratch(&format!("replaced-{case}"));
+        let base = out.parent().unwrap().to_path_buf();
+        let moved = base.join("out.moved");
+        assert!(report_in(&base, &["--out", "out", "--fixture", "A"])
+            .status
+            .success());
+        let pause = base.join("pause");
+        mknodat(CWD, &pause, FileType::Fifo, Mode::from_raw_mode(0o600), 0).unwrap();
+        let child = Command::new(env!("CARGO_BIN_EXE_report"))
+            .args(["--out", out.to_str().unwrap(), "--fixture", "B"])
+            .env("REPORT_FIXTURE_PAUSE", &pause)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let release = release_handle(&pause);
+        if replaced == "the directory" {
+            std::fs::rename(&out, &moved).unwrap();
+            std::fs::create_dir(&out).unwrap();
+            std::fs::write(out.join("notes.txt"), "mine").unwrap();
+        } else {
+            std::fs::remove_file(out.join("data/f00007.csv")).unwrap();
+            std::fs::write(out.join("data/f00007.csv"), "mine").unwrap();
+        }
+        std::fs::write(out.join("REPORT.md"), "mine").unwrap();
+        let before = (tree(&out), moved.exists().then(|| tree(&moved)));
+        drop(release);
+        let output = finish(child);
+        let e = err(&output);
+        assert_eq!(output.status.code(), Some(1), "{replaced}: {e}");
+        assert!(e.contains("during the run"), "{replaced}: {e}");
+        let after = (tree(&out), moved.exists().then(|| tree(&moved)));
+        assert_eq!(after, before, "{replaced}: {e}");
+        assert_eq!(
+            leftovers(&out)
+                .into_iter()
+                .filter(|n| n.starts_with(".out."))
+                .collect::<Vec<_>>(),
+            Vec::<String>::new(),
+            "{replaced}"
+        );
+    }
+}
+
+/// A report written as `nobody` into `out` under a fresh shared scratch directory, to which
+/// the test (root) then adds another user's entries; `None` where `nobody` is out of reach.
+fn nobodys_report(name: &str) -> Option<(PathBuf, PathBuf)> {
+    let base = shared_scratch(name);
+    let out = base.join("out");
+    let mut command = as_nobody(
+        env!("CARGO_BIN_EXE_report"),
+        &["--out", out.to_str().unwrap(), "--fixture", "A"],
+    )?;
+    let output = run_within(&mut command, QUICK_RUN, "report as nobody");
+    assert!(output.status.success(), "{}", err(&output));
+    Some((base, out))
+}
+
+/// Runs `report --fixture B` as `nobody` on `out`, for at most 10 s (a hang fails the test).
+fn nobodys_second_run(out: &Path) -> Option<std::process::Output> {
+    let mut command = as_nobody(
+        env!("CARGO_BIN_EXE_report"),
+        &["--out", out.to_str().unwrap(), "--fixture", "B"],
+    )?;
+    Some(
+        sandbox::run_for(&mut command, Duration::from_secs(10))
+            .expect("report as nobody hung on an entry of its target"),
+    )
+}
+
+/// [2] Another user's FIFO in the target (`mkfifo -m 644 out/pipe` as root): the run as
+/// `nobody` is refused before it starts (exit 2), instead of hanging in the copy that stood in
+/// for the refused hard link; nothing changed.
+#[test]
+fn another_users_fifo_in_the_target_is_refused_before_the_run() {
+    use rustix::fs::{mknodat, FileType, Mode, CWD};
+    let Some((base, out)) = nobodys_report("fifo-of-root") else {
+        return;
+    };
+    mknodat(
+        CWD,
+        out.join("pipe"),
+        FileType::Fifo,
+        Mode::from_raw_mode(0o644),
+        0,
+    )
+    .unwrap();
+    let before = tree(&base);
+    let Some(output) = nobodys_second_run(&out) else {
+        return;
+    };
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(e.contains("/pipe is a named pipe"), "{e}");
+    assert_eq!(tree(&base), before);
+    std::fs::remove_dir_all(&base).unwrap();
+}
+
+/// Makes one entry at the path it is given.
+type MakeEntry = fn(&Path);
+
+/// [2] What `nobody` could not carry over or remove, refused before the run (exit 2) with
+/// everything kept: another user's mode-600 file, a socket, another user's unreadable
+/// directory, and another user's readable directory (which the carry-over can copy but the
+/// removal of the previous report cannot empty, leaving a staging directory no later run
+/// cleared).
+#[test]
+fn entries_this_user_cannot_carry_over_or_remove_are_refused_before_the_run() {
+    use std::os::unix::fs::PermissionsExt;
+    let cases: [(&str, MakeEntry); 4] = [
+        ("private.txt", |p| {
+            std::fs::write(p, "root's").unwrap();
+            std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o600)).unwrap();
+        }),
+        ("socket", |p| {
+            std::os::unix::net::UnixListener::bind(p).unwrap();
+        }),
+        ("closed", |p| {
+            std::fs::create_dir(p).unwrap();
+            std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o700)).unwrap();
+        }),
+        ("roots", |p| {
+            std::fs::create_dir(p).unwrap();
+            std::fs::write(p.join("kept.txt"), "root's").unwrap();
+        }),
+    ];
+    for (name, make) in cases {
+        let Some((base, out)) = nobodys_report(&format!("foreign-{name}")) else {
+            return;
+        };
+        make(&out.join(name));
+        let before = tree(&base);
+        let Some(output) = nobodys_second_run(&out) else {
+            return;
+        };
+        let e = err(&output);
+        assert_eq!(output.status.code(), Some(2), "{name}: {e}");
+        assert!(
+            e.contains(name) && e.contains("nothing was changed"),
+            "{name}: {e}"
+        );
+        assert_eq!(tree(&base), before, "{name}");
+        std::fs::remove_dir_all(&base).unwrap();
+    }
+}
+
+/// [4] A 240-byte `--out` name leaves no room for the staging directory's name beside it
+/// (`.<name>.tmp-<pid>-<ns>`, over 255 bytes): refused before anything runs (exit 2) with the
+/// longest name that fits, and no lock file is left beside it (it said "parent is not
+/// writable" and left `.<name>.lock`).
+#[test]
+fn an_output_name_too_long_for_the_staging_directory_is_refused_and_leaves_no_lock() {
+    let out = scratch("long-name");
+    let base = out.parent().unwrap().to_path_buf();
+    let name = "r".repeat(240);
+    let output = report_in(&base, &["--out", &name, "--fixture", "A"]);
+    let e = err(&output);
+    assert_eq!(output.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("240 bytes") && e.contains("at most 219") && e.contains("nothing was changed"),
+        "{e}"
+    );
+    assert_eq!(tree(&base).len(), 1, "{:?}", tree(&base).keys());
+}

@@ -460,3 +460,62 @@ fn the_point_option_at_its_maximum_exits_2_or_succeeds_under_4_gib() {
     exits_2_or_succeeds(timing, &["--point", "pbd", "320"]);
     exits_2_or_succeeds(timing, &["--point", "pbd", &i64_max]);
 }
+
+// Issue 48: `timing` against a concurrent report run, and options that mean what they say.
+
+/// [4] `timing --out DIR` takes the lock `report` takes for the directory holding DIR
+/// (`report/timing` → `.report.lock`): with it held, timing is refused at once (exit 2) and
+/// writes nothing, where it measured and wrote beside a report run replacing the directory.
+#[test]
+fn timing_waits_for_no_report_run_and_writes_nothing_while_one_holds_the_lock() {
+    use rustix::fs::{flock, FlockOperation};
+    let base = std::env::temp_dir().join(format!("timing-lock-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    std::fs::create_dir_all(base.join("report")).unwrap();
+    let lock = std::fs::File::create(base.join(".report.lock")).unwrap();
+    flock(&lock, FlockOperation::NonBlockingLockExclusive).unwrap();
+    let out = base.join("report/timing");
+    let (code, _, err) = timing(&["--quick", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(".report.lock"), "{err}");
+    assert!(
+        !out.exists(),
+        "timing wrote {} under the lock",
+        out.display()
+    );
+    drop(lock);
+    std::fs::remove_dir_all(&base).unwrap();
+}
+
+/// [4] `--point` prints its row and writes no file, so `--out` beside it is refused (it was
+/// ignored), and `--max-side`, the scaling study's largest sheet, is refused with `--quick`,
+/// which runs no study (it was ignored too); `--help` says the benchmark runs whole whatever
+/// `--max-side` is.
+#[test]
+fn point_and_quick_refuse_the_options_they_would_ignore() {
+    let (code, _, err) = timing(&["--point", "fast_mass_spring", "10", "--out", "x"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--out") && err.contains("--point"), "{err}");
+    let dir = std::env::temp_dir().join(format!("timing-quick-side-{}", std::process::id()));
+    let (code, _, err) = timing(&[
+        "--quick",
+        "--max-side",
+        "10",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--max-side") && err.contains("--quick"),
+        "{err}"
+    );
+    assert!(!dir.exists());
+    let (_, help, _) = timing(&["--help"]);
+    assert!(
+        help.split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+            .contains("the benchmark runs whole whatever it is"),
+        "{help}"
+    );
+}

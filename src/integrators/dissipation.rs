@@ -49,7 +49,7 @@
 //!   the implicit midpoint rule's angular momentum exactly (tested: to round-off), where
 //!   mass-proportional damping, $`-\alpha M u`$, takes it away.
 
-use crate::error::{require_non_negative, Error, Result};
+use crate::error::{require_within, Error, Result};
 use crate::integrators::damping::{spring_hessian, RayleighDamping};
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, Vec3};
@@ -58,6 +58,13 @@ use nalgebra::Matrix3;
 /// The velocity scale $`\varepsilon`$, m/s, that keeps the drag's curvature in Newton finite at
 /// rest (module doc): $`|v|^{p-1}`$ becomes $`(|v|^2 + \varepsilon^2)^{(p-1)/2}`$.
 pub const DRAG_SMOOTHING: f64 = 1e-12;
+
+/// The largest power-law drag coefficient, in N·(s/m)^p: the scene files' bound on spring
+/// damping and drag (`LIMITS.damping`, 1e9 N·s/m), past which a step's forces overflow.
+pub const MAX_DRAG: f64 = 1e9;
+
+/// The unit of the power-law drag coefficient.
+pub const DRAG_UNIT: &str = "N·(s/m)^p";
 
 /// Power-law drag $`\mathcal D = \sum_i \frac{c}{p+1}|v_i|^{p+1}`$ on every free node.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,9 +82,9 @@ impl PowerLawDrag {
         exponent: 0.5,
     };
 
-    /// $`c`$ finite and >= 0, $`0 < p < 1`$.
+    /// $`0 \le c \le`$ [`MAX_DRAG`], $`0 < p < 1`$.
     pub fn validate(&self) -> Result<()> {
-        require_non_negative("drag", self.coefficient)?;
+        require_within("drag", self.coefficient, 0.0, MAX_DRAG, DRAG_UNIT)?;
         if !(self.exponent > 0.0 && self.exponent < 1.0) {
             return Err(Error::invalid(
                 "drag_exponent",

@@ -21,8 +21,9 @@
 //! reports the error each tolerance gives, so a loose stop shows as a large error, not as a
 //! false claim.
 
-use crate::error::{require_positive, Result};
+use crate::error::{shown, Error, Result};
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use std::collections::BTreeMap;
 
 /// Whether an iteration left its iterate as it was, bit for bit (`previous` against `next`).
 ///
@@ -119,6 +120,26 @@ impl FixedPoint {
     }
 }
 
+/// The largest stopping tolerance, m: the scenes' bound on a coordinate (`LIMITS.coordinate`,
+/// 1e6 m); a larger one stops every step after its first iteration anyway.
+pub const MAX_STOP_TOLERANCE: f64 = 1e6;
+
+/// `tolerance`, m, if it is > 0 and at most [`MAX_STOP_TOLERANCE`].
+fn require_tolerance(field: &str, tolerance: f64) -> Result<f64> {
+    if tolerance > 0.0 && tolerance <= MAX_STOP_TOLERANCE {
+        Ok(tolerance)
+    } else {
+        Err(Error::invalid(
+            field,
+            shown(tolerance),
+            &format!(
+                "a number > 0 and at most {}, in m",
+                shown(MAX_STOP_TOLERANCE)
+            ),
+        ))
+    }
+}
+
 /// When a step stops iterating.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Stopping {
@@ -137,17 +158,17 @@ pub enum Stopping {
 }
 
 impl Stopping {
-    /// A tolerance mode, checked: `tolerance` > 0 and finite.
+    /// A tolerance mode, checked: `tolerance` > 0 and at most [`MAX_STOP_TOLERANCE`].
     pub fn tolerance(tolerance: f64) -> Result<Self> {
-        Ok(Stopping::Tolerance(require_positive(
+        Ok(Stopping::Tolerance(require_tolerance(
             "stop_tolerance",
             tolerance,
         )?))
     }
 
-    /// A residual mode, checked: `tolerance` > 0 and finite.
+    /// A residual mode, checked: `tolerance` > 0 and at most [`MAX_STOP_TOLERANCE`].
     pub fn residual(tolerance: f64) -> Result<Self> {
-        Ok(Stopping::Residual(require_positive(
+        Ok(Stopping::Residual(require_tolerance(
             "residual_tolerance",
             tolerance,
         )?))
@@ -174,8 +195,10 @@ impl Stopping {
 /// The iterations the steps of a run took.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct IterationLog {
-    /// `steps_by_iterations[m]`: the steps that took `m` iterations.
-    pub steps_by_iterations: Vec<u64>,
+    /// `steps_by_iterations[&m]`: the steps that took `m` iterations, for the counts some step
+    /// took only, so that its size is bounded by the steps run, not by the iteration count a
+    /// step may take (`--iterations 1000000000` needs one entry, not 8 GB).
+    pub steps_by_iterations: BTreeMap<usize, u64>,
     /// Steps that reached the count without meeting the tolerance (tolerance mode only).
     pub capped: u64,
     /// Work beyond the iterations, in units the solver's cost model names: L-BFGS's line-search
@@ -196,15 +219,14 @@ pub struct IterationLog {
 impl IterationLog {
     /// Steps recorded.
     pub fn steps(&self) -> u64 {
-        self.steps_by_iterations.iter().sum()
+        self.steps_by_iterations.values().sum()
     }
 
     /// Iterations over all steps.
     pub fn iterations(&self) -> u64 {
         self.steps_by_iterations
             .iter()
-            .enumerate()
-            .map(|(m, &count)| m as u64 * count)
+            .map(|(&m, &count)| m as u64 * count)
             .sum()
     }
 
@@ -436,10 +458,7 @@ impl Convergence {
     /// more than its iterates (the last turns $`(z, \bar u)`$ into positions).
     pub fn end_step_counted(&mut self, iterations: usize, extra: u64) {
         let log = &mut self.log;
-        if log.steps_by_iterations.len() <= iterations {
-            log.steps_by_iterations.resize(iterations + 1, 0);
-        }
-        log.steps_by_iterations[iterations] += 1;
+        *log.steps_by_iterations.entry(iterations).or_insert(0) += 1;
         if !self.met && !matches!(self.stopping, Stopping::Count) {
             log.capped += 1;
         }
@@ -464,7 +483,7 @@ mod tests {
             }
             c.end_step(0);
         }
-        assert_eq!(c.log().steps_by_iterations, vec![0, 0, 0, 2]);
+        assert_eq!(c.log().steps_by_iterations, BTreeMap::from([(3, 2)]));
         assert_eq!(c.log().capped, 0);
         assert_eq!(c.log().mean_iterations(), Some(3.0));
     }
@@ -498,7 +517,10 @@ mod tests {
             assert!(!c.converged(at(j as f64, 0.0)));
         }
         c.end_step(0);
-        assert_eq!(c.log().steps_by_iterations, vec![0, 0, 1, 1]);
+        assert_eq!(
+            c.log().steps_by_iterations,
+            BTreeMap::from([(2, 1), (3, 1)])
+        );
         assert_eq!(c.log().capped, 1);
         assert_eq!(c.log().extra, 4);
         assert_eq!(c.log().iterations(), 5);

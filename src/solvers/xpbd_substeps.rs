@@ -68,11 +68,15 @@
 //!   second order in $`h`$: 8.4e-6 m at 64 substeps, 1.3e-7 m at 512; with 500 iterations per
 //!   substep it is 4e-19 m.
 
-use crate::error::{require_non_negative, require_positive, Error, Result};
+use crate::error::{require_positive, require_within, Error, Result};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::xpbd::{delta_x, generalized_inverse_mass, inverse_denominator, Xpbd};
+
+/// The largest constraint damping, in N·s/m: the scene files' bound on spring damping
+/// (`LIMITS.damping`).
+pub const MAX_CONSTRAINT_DAMPING: f64 = 1e9;
 
 /// The order of a constraint pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -132,7 +136,7 @@ impl Default for XpbdSubstepsParams {
 }
 
 impl XpbdSubstepsParams {
-    /// Rejects a zero iteration count and a negative or non-finite damping.
+    /// Rejects a zero iteration count and a damping outside `0..=MAX_CONSTRAINT_DAMPING`.
     pub fn validate(&self) -> Result<()> {
         if self.iterations_per_substep == 0 {
             return Err(Error::invalid(
@@ -141,14 +145,13 @@ impl XpbdSubstepsParams {
                 "an integer >= 1",
             ));
         }
-        require_non_negative("constraint_damping", self.constraint_damping)?;
-        if !self.constraint_damping.is_finite() {
-            return Err(Error::invalid(
-                "constraint_damping",
-                self.constraint_damping,
-                "a finite number >= 0",
-            ));
-        }
+        require_within(
+            "constraint_damping",
+            self.constraint_damping,
+            0.0,
+            MAX_CONSTRAINT_DAMPING,
+            "N·s/m",
+        )?;
         Ok(())
     }
 

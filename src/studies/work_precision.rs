@@ -478,9 +478,13 @@ pub fn logged_flops(spec: &SolverSpec, system: &MassSpringSystem, log: &Iteratio
     let mut step_of = 0.0;
     let mut iterations = 0.0;
     let mut total = flops_setup(spec, system);
-    for (m, &steps) in log.steps_by_iterations.iter().enumerate() {
-        if m > 0 {
-            step_of += iteration_flops(spec, &sizes, m - 1);
+    // `step_of` sums the iterations below m in order, as when every count was listed, so that
+    // the sum's rounding does not depend on which counts no step took.
+    let mut summed = 0;
+    for (&m, &steps) in &log.steps_by_iterations {
+        while summed < m {
+            step_of += iteration_flops(spec, &sizes, summed);
+            summed += 1;
         }
         iterations += (m as u64 * steps) as f64;
         total += steps as f64 * (overhead + step_of);

@@ -143,7 +143,14 @@ pub const ADDRESS_SPACE: u64 = 4 << 30;
 /// `program args` under an address-space limit of [`ADDRESS_SPACE`] (`prlimit --as`), or `None`
 /// (and why) where `prlimit` is missing.
 pub fn under_address_limit(program: &str, args: &[&str]) -> Option<Command> {
-    let limit = format!("--as={ADDRESS_SPACE}");
+    under_address_limit_of(ADDRESS_SPACE, program, args)
+}
+
+/// `program args` under an address-space limit of `bytes` (`prlimit --as`), or `None` (and
+/// why) where `prlimit` is missing: a small limit shows an allocation sized by an option with
+/// a small value of it, in a run that ends at once.
+pub fn under_address_limit_of(bytes: u64, program: &str, args: &[&str]) -> Option<Command> {
+    let limit = format!("--as={bytes}");
     let probe = Command::new("prlimit").args([&limit, "true"]).output();
     if !probe.is_ok_and(|o| o.status.success()) {
         eprintln!("skipped: prlimit cannot set an address-space limit here");

@@ -51,6 +51,9 @@ const INTEGRATORS_BUDGET: Duration = Duration::from_secs(10);
 /// Files in the synthetic report of `--fixture`: enough that a kill lands inside the write.
 const FIXTURE_FILES: usize = 400;
 
+/// The environment variable naming the FIFO a `--fixture` run waits on before publishing.
+const FIXTURE_PAUSE: &str = "REPORT_FIXTURE_PAUSE";
+
 /// Regenerates the thesis's chapter 4 (Tables 1-12, Figures 1-15) and the tutorial's chapter
 /// into `report/`.
 ///
@@ -72,6 +75,9 @@ struct Args {
     #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u8).range(1..=7))]
     tables: Vec<u8>,
     /// Tests only: write a synthetic report whose files name TAG instead of running anything.
+    /// With the environment variable `REPORT_FIXTURE_PAUSE` naming a FIFO, the run waits
+    /// between its checks and its publication until a writer opens that FIFO and closes it,
+    /// which stands for the computation during which a test changes the target.
     #[arg(long, value_name = "TAG", hide = true)]
     fixture: Option<String>,
 }
@@ -115,6 +121,16 @@ fn run(args: Args) -> Result<String, Failure> {
     }
     if let Some(tag) = args.fixture {
         let files = fixture(&tag, FIXTURE_FILES);
+        if let Some(pause) = std::env::var_os(FIXTURE_PAUSE) {
+            // Blocks in the open until the test opens the FIFO for writing, then until it
+            // closes it: the test decides when the "computation" ends.
+            std::fs::read(&pause).map_err(|e| {
+                Error::Input(format!(
+                    "reading {FIXTURE_PAUSE} ({}): {e}",
+                    PathBuf::from(&pause).display()
+                ))
+            })?;
+        }
         target.publish(&files)?;
         return Ok(format!("wrote the {tag} fixture to {}", out.display()));
     }

@@ -3,7 +3,7 @@
 //! the atomic exchange of two directories.
 
 use mass_spring_solvers::error::{Error, Result};
-use mass_spring_solvers::platform::paths::{device_of, mount_points};
+use mass_spring_solvers::platform::paths::{describe_file_type, device_of, mount_points};
 use std::ffi::{OsStr, OsString};
 use std::fs::{self};
 use std::path::{Path, PathBuf};
@@ -160,9 +160,41 @@ pub(super) fn carry_over(src: &Path, dst: &Path) -> Result<()> {
         symlink(&target, dst).map_err(|e| io_error("linking", dst, e))
     } else {
         fs::hard_link(src, dst)
-            .or_else(|_| fs::copy(src, dst).map(|_| ()))
+            .or_else(|_| copy_regular_file(src, dst))
             .map_err(|e| io_error("carrying over", src, e))
     }
+}
+
+/// Copies `src` to a new file `dst` with its permissions, reading it only once `fstat` on the
+/// open descriptor says it is a regular file: it is opened without following a link and
+/// without waiting (`O_NONBLOCK`), so that a named pipe put in its place is refused at once
+/// instead of waiting for a writer that never comes.
+#[cfg(unix)]
+fn copy_regular_file(src: &Path, dst: &Path) -> std::io::Result<()> {
+    use rustix::fs::{openat, Mode, OFlags, CWD};
+    let flags = OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::NONBLOCK | OFlags::CLOEXEC;
+    let mut from = fs::File::from(openat(CWD, src, flags, Mode::empty())?);
+    let meta = from.metadata()?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "it is {}, and only regular files are copied",
+                describe_file_type(&meta.file_type())
+            ),
+        ));
+    }
+    let mut to = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(dst)?;
+    std::io::copy(&mut from, &mut to)?;
+    to.set_permissions(meta.permissions())
+}
+
+#[cfg(not(unix))]
+fn copy_regular_file(src: &Path, dst: &Path) -> std::io::Result<()> {
+    fs::copy(src, dst).map(|_| ())
 }
 
 #[cfg(unix)]

@@ -31,6 +31,8 @@
 //! system: what holds a mount point is left in place, with a message.
 
 mod files;
+#[cfg(unix)]
+mod identity;
 mod ownership;
 
 pub use files::{MANIFEST, REPORT_TITLE};
@@ -38,18 +40,27 @@ pub use files::{MANIFEST, REPORT_TITLE};
 use crate::output::OutputFile;
 use files::{
     carry_over, exchange, io_error, is_journal_name, remove_tree, sibling, sorted_entries,
-    unique_suffix,
+    unique_suffix, NANOS_DIGITS,
 };
+#[cfg(unix)]
+use identity::Recorded;
 use mass_spring_solvers::error::{Error, Result};
-use mass_spring_solvers::platform::paths::describe_file_type;
+use mass_spring_solvers::platform::paths::{describe_file_type, NAME_MAX};
 use ownership::{
-    existing_ownership, foreign_entries, manifest_text, read_manifest, relative_inside, Manifest,
-    Ownership,
+    existing_ownership, foreign_entries, manifest_text, read_manifest,
+    refuse_what_cannot_be_published, relative_inside, Manifest, Ownership,
 };
 use std::collections::BTreeSet;
 use std::fs::{self, File};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+/// The most digits of a process id in a journal name (`is_journal_name` accepts no more).
+const PID_DIGITS: usize = 10;
+
+/// The longest output directory name whose journal siblings fit in [`NAME_MAX`]:
+/// `.<name>.tmp-<pid>-<ns>` adds a dot, `.tmp-`, the pid, a dash and the nanoseconds.
+const MAX_OUTPUT_NAME: usize = NAME_MAX - (1 + ".tmp-".len() + PID_DIGITS + 1 + NANOS_DIGITS);
 
 /// How long [`ReportTarget::open`] waits for a busy lock.
 const LOCK_PATIENCE: Duration = Duration::from_millis(500);
@@ -90,6 +101,10 @@ pub struct ReportTarget {
     staging: PathBuf,
     old: PathBuf,
     ownership: Ownership,
+    /// The output directory and the report's files in it as found at the start, checked
+    /// again before anything is published.
+    #[cfg(unix)]
+    recorded: Recorded,
     notes: Vec<String>,
     /// Set by an injected crash: a killed process cleans nothing up.
     crashed: bool,
@@ -115,6 +130,7 @@ struct Lock {
 }
 
 impl Lock {
+    /// Takes the lock `path` of the directory `dir`, waiting [`LOCK_PATIENCE`] at most.
     fn acquire(path: &Path, dir: &Path) -> Result<Self> {
         let file = open_lock_file(path)?;
         // A lock is held a moment longer than its run by a child forked meanwhile (until it
@@ -126,8 +142,9 @@ impl Lock {
                 Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                     if Instant::now() >= deadline {
                         return Err(Error::Input(format!(
-                            "another report run is writing {} (it holds the lock {}); wait \
-                             for it to finish or stop it, then run again",
+                            "another report run is writing {} (or `timing` is writing into it: \
+                             it holds the lock {}); wait for it to finish or stop it, then run \
+                             again",
                             dir.display(),
                             path.display()
                         )));
@@ -249,13 +266,21 @@ impl ReportTarget {
     /// may not replace (not a directory; not empty and no manifest; a foreign entry where the
     /// report writes) and creates the staging directory. Run it before the long work.
     pub fn open(dir: &Path) -> Result<Self> {
-        let dir = match fs::canonicalize(dir) {
-            Ok(real) => real,
-            Err(_) => std::path::absolute(dir).map_err(|e| io_error("resolving", dir, e))?,
-        };
-        if dir.file_name().is_none() {
+        let dir = resolved(dir)?;
+        let Some(name) = dir.file_name() else {
             return Err(Error::Input(format!(
                 "the output directory {} has no name of its own; give a directory below it",
+                dir.display()
+            )));
+        };
+        // Before the lock file is made beside it: its staging directory must fit the name.
+        let length = name.as_encoded_bytes().len();
+        if length > MAX_OUTPUT_NAME {
+            return Err(Error::Input(format!(
+                "the output directory's name {} is {length} bytes; report takes names of at \
+                 most {MAX_OUTPUT_NAME} bytes, so that its staging directory beside it \
+                 (.<name>.tmp-<pid>-<nanoseconds>) fits the file system's {NAME_MAX}; nothing \
+                 was changed. Give --out a shorter name",
                 dir.display()
             )));
         }
@@ -280,6 +305,8 @@ impl ReportTarget {
             )),
             e => e,
         })?;
+        #[cfg(unix)]
+        let recorded = Recorded::take(&dir, &ownership)?;
         let suffix = unique_suffix();
         let staging = sibling(&dir, &format!("tmp-{suffix}"));
         fs::create_dir(&staging).map_err(|e| {
@@ -294,6 +321,8 @@ impl ReportTarget {
             dir,
             staging,
             ownership,
+            #[cfg(unix)]
+            recorded,
             notes,
             crashed: false,
             _lock: lock,
@@ -367,7 +396,11 @@ impl ReportTarget {
                 .into());
             }
         }
+        // Before anything is written: the target is still the one checked at the start, and
+        // holds nothing added since that this user could not carry over or remove.
+        self.verify_target()?;
         let foreign = if self.dir.exists() {
+            refuse_what_cannot_be_published(&self.dir, &self.ownership)?;
             foreign_entries(&self.dir, &self.ownership, &written)?
         } else {
             Vec::new()
@@ -393,6 +426,9 @@ impl ReportTarget {
             carry_over(&self.dir.join(rel), &dst)?;
             checkpoints.pass(&format!("carried over {}", rel.display()))?;
         }
+        // Again just before the swap, which is the first change to the target: writing the
+        // staging directory took a while.
+        self.verify_target()?;
         if !self.dir.exists() {
             fs::rename(&self.staging, &self.dir)
                 .map_err(|e| io_error("moving into place", &self.dir, e))?;
@@ -403,6 +439,14 @@ impl ReportTarget {
         let exchanged = swap == Swap::Exchange
             && exchange(&self.staging, &self.dir)
                 .map_err(|e| io_error("exchanging the report with", &self.staging, e))?;
+        if exchanged && !self.moved_away_is_recorded(&self.staging) {
+            // Replaced between the last check and the exchange: the user's directory is now at
+            // the staging path; the exchange undone, it is back and the new report is staged.
+            return match exchange(&self.staging, &self.dir) {
+                Ok(true) => Err(self.replaced_at_the_swap().into()),
+                undo => Err(self.stranded(&self.staging, undo.err())),
+            };
+        }
         let old = if exchanged {
             checkpoints.swapped = true;
             checkpoints.pass("exchanged the two directories")?;
@@ -416,10 +460,56 @@ impl ReportTarget {
         Ok(())
     }
 
+    /// Refuses to go on when the output directory, or a file of the previous report in it, is
+    /// not the one found at the start ([`identity`]).
+    fn verify_target(&self) -> Result<()> {
+        #[cfg(unix)]
+        self.recorded.verify(&self.dir, &self.ownership)?;
+        Ok(())
+    }
+
+    /// Whether the directory the swap moved from the output path to `path` is the output
+    /// directory found at the start.
+    fn moved_away_is_recorded(&self, path: &Path) -> bool {
+        #[cfg(unix)]
+        return self.recorded.is_the_output_directory(path);
+        #[cfg(not(unix))]
+        return path.is_dir();
+    }
+
+    /// The refusal of a target replaced between the last check and the swap, the swap undone.
+    fn replaced_at_the_swap(&self) -> Error {
+        Error::Input(format!(
+            "the output directory {} was replaced during the run, at the moment of the swap; \
+             the swap was undone, so the directory there is as it was put",
+            self.dir.display()
+        ))
+    }
+
+    /// The stop when the swap could not be undone: the directory put at the output path is at
+    /// `at`, beside it, and nothing may remove it (a crash leaves everything as it is).
+    fn stranded(&self, at: &Path, why: Option<std::io::Error>) -> Stop {
+        let why = why.map_or("the file system refused it".to_string(), |e| e.to_string());
+        Stop::Crashed(Error::Input(format!(
+            "the output directory {} was replaced during the run, at the moment of the swap, \
+             and undoing the swap failed ({why}): the directory that was put there is now {}; \
+             move it back before the next run, which would take it for its own leftover",
+            self.dir.display(),
+            at.display()
+        )))
+    }
+
     /// Output → `.<name>.old-*`, staging → output, rolling the first rename back if the second
     /// fails.
     fn journal_swap(&self, checkpoints: &mut Checkpoints) -> std::result::Result<(), Stop> {
         fs::rename(&self.dir, &self.old).map_err(|e| io_error("moving aside", &self.dir, e))?;
+        if !self.moved_away_is_recorded(&self.old) {
+            // As after the exchange: a directory put in place after the last check goes back.
+            return match fs::rename(&self.old, &self.dir) {
+                Ok(()) => Err(self.replaced_at_the_swap().into()),
+                Err(e) => Err(self.stranded(&self.old, Some(e))),
+            };
+        }
         let second = checkpoints
             .pass("moved the previous report aside")
             .and_then(|()| {
@@ -442,6 +532,35 @@ impl ReportTarget {
             crashed => crashed,
         }
     }
+}
+
+/// `dir` absolute, its symbolic links resolved where it exists.
+fn resolved(dir: &Path) -> Result<PathBuf> {
+    match fs::canonicalize(dir) {
+        Ok(real) => Ok(real),
+        Err(_) => std::path::absolute(dir).map_err(|e| io_error("resolving", dir, e)),
+    }
+}
+
+/// The lock [`ReportTarget::open`] takes for a report directory, held by another writer inside
+/// it (`timing` into `report/timing`) so that it never writes while a report run replaces the
+/// directory (and its files with it); released when dropped.
+#[derive(Debug)]
+pub struct DirectoryLock {
+    _lock: Lock,
+}
+
+/// Takes the lock of the report directory `dir` ([`DirectoryLock`]), as a report run would;
+/// `None` where the directory holding `dir` does not exist, so that no report run can be
+/// writing it (a report's output needs an existing parent).
+pub fn lock_report_directory(dir: &Path) -> Result<Option<DirectoryLock>> {
+    let dir = resolved(dir)?;
+    if dir.file_name().is_none() || !dir.parent().is_some_and(Path::is_dir) {
+        return Ok(None);
+    }
+    Ok(Some(DirectoryLock {
+        _lock: Lock::acquire(&sibling(&dir, "lock"), &dir)?,
+    }))
 }
 
 /// Whether `path` holds a previous report set aside by the journal: empty (an empty output
@@ -524,4 +643,42 @@ pub fn fixture(tag: &str, count: usize) -> Vec<OutputFile> {
         )
     }));
     files
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The output directory replaced after the last check, just before the journal's first
+    /// rename: that rename moves the user's directory aside, the check after it finds it is not
+    /// the one recorded, and it is put back, its files intact, the previous report untouched.
+    #[cfg(unix)]
+    #[test]
+    fn a_directory_put_in_place_after_the_last_check_is_put_back_by_the_swap() {
+        let base = std::env::temp_dir().join(format!("mss-swap-undo-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&base);
+        fs::create_dir_all(&base).unwrap();
+        let out = base.join("out");
+        write_report(&out, &fixture("A", 2)).unwrap();
+        let target = ReportTarget::open(&out).unwrap();
+        let moved = base.join("out.moved");
+        fs::rename(&out, &moved).unwrap();
+        fs::create_dir(&out).unwrap();
+        fs::write(out.join("REPORT.md"), "mine").unwrap();
+        let mut checkpoints = Checkpoints {
+            passed: 0,
+            fault: None,
+            swapped: false,
+        };
+        let stopped = target.journal_swap(&mut checkpoints);
+        let Err(Stop::Failed(e)) = stopped else {
+            panic!("the swap went on into a replaced directory");
+        };
+        assert!(e.to_string().contains("the swap was undone"), "{e}");
+        assert!(!checkpoints.swapped);
+        assert_eq!(fs::read_to_string(out.join("REPORT.md")).unwrap(), "mine");
+        assert!(moved.join(MANIFEST).exists());
+        drop(target);
+        fs::remove_dir_all(&base).unwrap();
+    }
 }

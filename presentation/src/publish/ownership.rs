@@ -29,7 +29,7 @@ pub(super) enum Ownership {
 }
 
 impl Ownership {
-    fn owns_file(&self, rel: &Path) -> bool {
+    pub(super) fn owns_file(&self, rel: &Path) -> bool {
         match self {
             Ownership::Listed(files) => files.contains(rel),
             Ownership::Legacy => {
@@ -47,7 +47,7 @@ impl Ownership {
         }
     }
 
-    fn owns_something_under(&self, dir: &Path) -> bool {
+    pub(super) fn owns_something_under(&self, dir: &Path) -> bool {
         match self {
             Ownership::Listed(files) => files.iter().any(|f| f.starts_with(dir) && f != dir),
             Ownership::Legacy => dir == Path::new("data") || dir == Path::new("figures"),
@@ -218,6 +218,7 @@ pub(super) fn existing_ownership(dir: &Path) -> Result<Ownership> {
                 .map(|e| Path::new(e).join("?"))
                 .collect();
             foreign_entries(dir, &ownership, &reserved)?;
+            refuse_what_cannot_be_published(dir, &ownership)?;
             Ok(ownership)
         }
     }
@@ -330,4 +331,92 @@ pub(super) fn foreign_entries(
     let mut out = Vec::new();
     walk(dir, Path::new(""), ownership, new_files, &mut out)?;
     Ok(out)
+}
+
+/// Refuses, before the run, every entry of `dir` a publication could not handle: a named
+/// pipe, socket or device anywhere in it, whoever owns it (only regular files, directories and
+/// symbolic links are carried over, and opening the others could wait forever); and, for a user
+/// other than root, a foreign file this user can neither link nor read, a directory it cannot
+/// list, or a directory whose entries it cannot remove (the previous report is removed after
+/// the swap, and what could not be would be left in a staging directory). Links are not
+/// followed, and only the directories walked are entered (mounts are refused before).
+#[cfg(unix)]
+pub(super) fn refuse_what_cannot_be_published(dir: &Path, ownership: &Ownership) -> Result<()> {
+    use rustix::fs::{accessat, Access, AtFlags, CWD};
+    use std::os::unix::fs::MetadataExt;
+    let euid = rustix::process::geteuid().as_raw();
+    let may = |path: &Path, access: Access| {
+        euid == 0 || accessat(CWD, path, access, AtFlags::EACCESS).is_ok()
+    };
+    let refuse = |path: &Path, why: String| {
+        Err(Error::Input(format!(
+            "{} {why}; nothing was changed. Move it out of {} (or make it this user's) and run \
+             again",
+            path.display(),
+            dir.display()
+        )))
+    };
+    let mut pending = vec![(
+        PathBuf::new(),
+        fs::symlink_metadata(dir).map_err(|e| io_error("reading", dir, e))?,
+    )];
+    while let Some((rel_dir, dir_meta)) = pending.pop() {
+        let here = dir.join(&rel_dir);
+        let own_dir = euid == 0 || dir_meta.uid() == euid;
+        // The owner's own directory is opened up before its removal (`files::open_up`).
+        if !own_dir && !may(&here, Access::READ_OK | Access::WRITE_OK | Access::EXEC_OK) {
+            return refuse(
+                &here,
+                "is another user's directory that this user cannot list and empty, so the \
+                 previous report could not be carried over or removed"
+                    .into(),
+            );
+        }
+        let sticky = dir_meta.mode() & 0o1000 != 0;
+        for name in sorted_entries(&here)? {
+            let rel = rel_dir.join(&name);
+            let path = dir.join(&rel);
+            let meta = fs::symlink_metadata(&path).map_err(|e| io_error("reading", &path, e))?;
+            let kind = meta.file_type();
+            if !(kind.is_file() || kind.is_dir() || kind.is_symlink()) {
+                return refuse(
+                    &path,
+                    format!(
+                        "is {}: report carries over only regular files, directories and \
+                         symbolic links",
+                        describe_file_type(&kind)
+                    ),
+                );
+            }
+            let own = euid == 0 || meta.uid() == euid;
+            if sticky && !own_dir && !own {
+                return refuse(
+                    &path,
+                    "is another user's entry in a sticky directory, which this user cannot \
+                     remove"
+                        .into(),
+                );
+            }
+            // A file of this user's is linked; another's is linked only with read and write
+            // access (protected hard links), and else copied, which needs read access.
+            if kind.is_file() && !own && !ownership.owns_file(&rel) && !may(&path, Access::READ_OK)
+            {
+                return refuse(
+                    &path,
+                    "is another user's file that this user can neither link nor read, so it \
+                     could not be carried over"
+                        .into(),
+                );
+            }
+            if kind.is_dir() {
+                pending.push((rel, meta));
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(not(unix))]
+pub(super) fn refuse_what_cannot_be_published(_dir: &Path, _ownership: &Ownership) -> Result<()> {
+    Ok(())
 }

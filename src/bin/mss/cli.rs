@@ -60,7 +60,8 @@ user's file in a sticky directory, a mounted-over file, a named pipe no reader o
 Limits (bad input, exit 2, before the run): a run needing more than --max-work spring updates
 (steps × iterations × springs; rk45's adaptive steps estimated from the scene's fastest rate,
 and capped by the same budget while it runs; the reference run's at its own length); a memory
-estimate over --max-memory; --dt longer than --max-time; a scene file over 16 MiB, or a named
+estimate over --max-memory (the solver's, and what the run keeps per step: its histogram of
+iterations and its energy peaks); --dt longer than --max-time; a scene file over 16 MiB, or a named
 pipe no writer opens within 1 s; values outside the plausible ranges: masses 1e-9 to 1e9 kg,
 coordinates and rest lengths within 1e6 m, velocities within 1e6 m/s, gravity within 1e4 m/s²,
 stiffness 1e-9 to 1e12 N/m, damping and drag up to 1e9 N·s/m; a spring that starts shorter
@@ -85,7 +86,7 @@ pub(crate) struct Cli {
     #[arg(long, help_heading = "Solver")]
     pub(crate) list_solvers: bool,
 
-    /// Time step dt, in s (> 0)
+    /// Time step dt, in s, from 1e-9 to 1e9 and at most --max-time
     #[arg(
         long,
         value_name = "S",
@@ -95,9 +96,10 @@ pub(crate) struct Cli {
     )]
     pub(crate) dt: f64,
 
-    /// Iterations per time step, an integer >= 1: Newton iterations (backward_euler), sweeps
-    /// over the springs (pbd, xpbd), local/global iterations (fast_mass_spring, admm_pd). Not
-    /// accepted by the tutorial's integrators. [default: 5]
+    /// Iterations per time step, an integer >= 1, at most what --max-work allows (steps ×
+    /// iterations × springs): Newton iterations (backward_euler), sweeps over the springs (pbd,
+    /// xpbd), local/global iterations (fast_mass_spring, admm_pd). Not accepted by the
+    /// tutorial's integrators. [default: 5]
     #[arg(
         long,
         value_name = "N",
@@ -107,7 +109,7 @@ pub(crate) struct Cli {
     pub(crate) iterations: Option<i64>,
 
     /// Stop each step's iterations at the first iterate that moves no node by more than E m
-    /// (E > 0, finite); --iterations becomes the cap. Every iterative solver but xpbd_substeps
+    /// (E > 0 and at most 1e6); --iterations becomes the cap. Every iterative solver but xpbd_substeps
     /// [default: off, a fixed count]
     #[arg(
         long,
@@ -157,7 +159,8 @@ pub(crate) struct Cli {
     )]
     pub(crate) gamma: Option<f64>,
 
-    /// chebyshev_*: warm-up iterations S with omega = 1, an integer >= 0 [default: 10]
+    /// chebyshev_*: warm-up iterations S with omega = 1, an integer from 0 to 4294967295
+    /// [default: 10]
     #[arg(
         long,
         value_name = "S",
@@ -224,7 +227,8 @@ pub(crate) struct Cli {
     #[arg(long, value_name = "RULE", help_heading = "Solver")]
     pub(crate) hessian: Option<String>,
 
-    /// xpbd_substeps: Macklin 2019's constraint damping beta >= 0, in N·s/m [default: 0]
+    /// xpbd_substeps: Macklin 2019's constraint damping beta, from 0 to 1e9, in N·s/m
+    /// [default: 0]
     #[arg(
         long,
         value_name = "N_S_PER_M",
@@ -249,8 +253,8 @@ pub(crate) struct Cli {
     #[arg(long, value_name = "FORM", help_heading = "Solver")]
     pub(crate) rayleigh_form: Option<String>,
 
-    /// damped_*: power-law drag coefficient c >= 0 of D = c |v|^(p+1)/(p+1), in N·(s/m)^p
-    /// [default: 0]
+    /// damped_*: power-law drag coefficient c of D = c |v|^(p+1)/(p+1), from 0 to 1e9, in
+    /// N·(s/m)^p [default: 0]
     #[arg(
         long,
         value_name = "C",
@@ -281,7 +285,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) scene_file: Option<PathBuf>,
 
-    /// Stiffness k of every spring, in N/m (> 0) [default: the scene's: 1e6 for thesis and
+    /// Stiffness k of every spring, in N/m, from 1e-9 to 1e12 [default: the scene's: 1e6 for thesis and
     /// rope, the cloth's and the pendulum's own, a scene file's own values]
     #[arg(
         long,
@@ -291,7 +295,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) stiffness: Option<f64>,
 
-    /// Gravity along -y, in m/s² (finite; >= 0 for the cloths and the pendulum); replaces a
+    /// Gravity along -y, in m/s², from -1e4 to 1e4 (>= 0 for the cloths and the pendulum); replaces a
     /// scene file's gravity vector by (0, -G, 0) [default: the scene's, 9.81 for the built-in
     /// scenes]
     #[arg(
@@ -322,7 +326,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) n: Option<i64>,
 
-    /// rope: rest length of every spring, in m (> 0) [default: 1]
+    /// rope: rest length of every spring, in m, from 1e-9 to 1e6 [default: 1]
     #[arg(
         long,
         value_name = "M",
@@ -331,7 +335,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) rest_length: Option<f64>,
 
-    /// rope: mass of every node, in kg (> 0) [default: 1]
+    /// rope: mass of every node, in kg, from 1e-9 to 1e9 [default: 1]
     #[arg(
         long,
         value_name = "KG",
@@ -340,7 +344,7 @@ pub(crate) struct Cli {
     )]
     pub(crate) node_mass: Option<f64>,
 
-    /// rope: distance between the two fixed ends along x, in m (> 0); the rope starts straight
+    /// rope: distance between the two fixed ends along x, in m, > 0 and at most 1e6; the rope starts straight
     /// and at rest [default: (nodes - 1) x rest length, every spring at its rest length]
     #[arg(
         long,
@@ -350,11 +354,13 @@ pub(crate) struct Cli {
     )]
     pub(crate) span: Option<f64>,
 
-    /// Stop at the first kinetic-energy peak below this, in J (> 0); that peak is counted
+    /// Stop at the first kinetic-energy peak below this, in J (> 0 and at most 1e12); that peak
+    /// is counted
     #[arg(long, value_name = "J", default_value_t = STOP_THRESHOLD_J, allow_hyphen_values = true, help_heading = "Stopping rule")]
     pub(crate) threshold: f64,
 
-    /// Stop when the simulated time reaches this, in s (> 0); reported as "hit time limit"
+    /// Stop when the simulated time reaches this, in s, from 1e-9 to 1e9; reported as "hit
+    /// time limit"
     #[arg(long, value_name = "S", default_value_t = MAX_SIMULATED_TIME_S, allow_hyphen_values = true, help_heading = "Stopping rule")]
     pub(crate) max_time: f64,
 
@@ -362,7 +368,7 @@ pub(crate) struct Cli {
     #[arg(long, help_heading = "Stopping rule")]
     pub(crate) exempt_first_peak: bool,
 
-    /// Variant (not the thesis's method): velocity damping c, in 1/s (>= 0), applied after
+    /// Variant (not the thesis's method): velocity damping c, in 1/s, from 0 to 1e6, applied after
     /// every step as v <- v·exp(-c·dt); 0 is the faithful method
     #[arg(
         long,
@@ -396,11 +402,13 @@ pub(crate) struct Cli {
     pub(crate) positions_csv: Option<PathBuf>,
 
     /// Refuse, before it starts, a run needing more than this many spring updates (steps ×
-    /// iterations × springs, the reference run's included); raise it for a long run on purpose
+    /// iterations × springs, the reference run's included), a number from 1 to 1e18; raise it
+    /// for a long run on purpose
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_WORK, help_heading = "Limits")]
     pub(crate) max_work: f64,
 
-    /// Refuse, before it starts, a run whose memory estimate is over this many bytes (>= 1e6):
+    /// Refuse, before it starts, a run whose memory estimate is over this many bytes (from 1e6
+    /// to 1e18):
     /// the solver's peak memory per node, measured on the rope and the sheet (src/solvers/budget.rs),
     /// with a margin [default: the memory available: the least of MemAvailable, the
     /// address-space limit and the control group's limit]
@@ -412,7 +420,8 @@ pub(crate) struct Cli {
     )]
     pub(crate) max_memory: Option<f64>,
 
-    /// With --positions-csv: write the positions every N steps, an integer >= 1 [default: 10]
+    /// With --positions-csv: write the positions every N steps, an integer >= 1 (one past the
+    /// run's steps writes its first and last states only) [default: 10]
     #[arg(
         long,
         value_name = "N",

@@ -79,7 +79,7 @@ impl Model {
 /// their size is allocated).
 pub(crate) fn build_scene(cli: &Cli, settings: &Settings) -> Result<Model, Failure> {
     let model = build_model(cli, settings)?;
-    check_memory(cli, settings, Shape::of(model.system()))?;
+    check_memory(cli, settings, Shape::of(model.system()), None)?;
     Ok(model)
 }
 
@@ -114,7 +114,7 @@ fn build_model(cli: &Cli, settings: &Settings) -> Result<Model, Failure> {
                 // Node (i, j) is joined to (i + 1, j + 1): n + 1 apart.
                 chain: n < 12,
             };
-            check_memory(cli, settings, shape)?;
+            check_memory(cli, settings, shape, None)?;
             let mut sheet = SheetParams::spec(n, k.unwrap_or(DEFAULT_ROPE_STIFFNESS));
             sheet.gravity = g.unwrap_or(THESIS_GRAVITY);
             Model::Springs(sheet.build()?)
@@ -130,7 +130,7 @@ fn build_model(cli: &Cli, settings: &Settings) -> Result<Model, Failure> {
                 springs: rope.nodes as u64 - 1,
                 chain: true,
             };
-            check_memory(cli, settings, shape)?;
+            check_memory(cli, settings, shape, None)?;
             if let Some(l) = cli.rest_length {
                 rope.rest_length = LIMITS.rest_length.check("--rest-length", l)?;
             }
@@ -139,8 +139,13 @@ fn build_model(cli: &Cli, settings: &Settings) -> Result<Model, Failure> {
             }
             let span = match cli.span {
                 Some(s) => {
-                    check("--span", s, s > 0.0, "a number > 0, in m")?;
-                    LIMITS.coordinate.check("--span", s)?
+                    let longest = LIMITS.coordinate.max;
+                    check(
+                        "--span",
+                        s,
+                        s > 0.0 && s <= longest,
+                        &format!("a number > 0 and at most {}, in m", shown(longest)),
+                    )?
                 }
                 None => (rope.nodes - 1) as f64 * rope.rest_length,
             };

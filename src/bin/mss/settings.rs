@@ -5,9 +5,9 @@ use crate::cli::{
     scene_name, Cli, SceneArg, ASSUMED_MEMORY, DEFAULT_ITERATIONS, DEFAULT_POSITIONS_EVERY,
 };
 use crate::failure::Failure;
-use mass_spring_solvers::error::{shown, Error};
+use mass_spring_solvers::error::{require_within, shown, Error};
 use mass_spring_solvers::integrators::time_stepper::{Recording, RunOptions};
-use mass_spring_solvers::model::metrics::StoppingRule;
+use mass_spring_solvers::model::metrics::{Peak, StoppingRule};
 use mass_spring_solvers::model::system::MassSpringSystem;
 use mass_spring_solvers::particles::scene_file::LIMITS;
 use mass_spring_solvers::platform::memory::available_memory;
@@ -176,15 +176,46 @@ pub(crate) fn check_count(option: &str, value: i64, min: i64) -> Result<usize, F
         .ok_or_else(|| Error::invalid(option, value, &format!("an integer >= {min}")).into())
 }
 
+/// Bytes of one entry of the per-step histogram of iterations (`IterationLog`, a B-tree of
+/// (count, steps) pairs): a node of at most 11 pairs of 16 bytes and its links, some 200
+/// bytes, is at least 5 pairs full, plus the inner nodes' share.
+const HISTOGRAM_ENTRY_BYTES: f64 = 48.0;
+
+/// What a run of `steps` steps of at most `iterations` iterations keeps as it goes, besides its
+/// state, in bytes, at most: its histogram of iterations (one entry a count some step took, so
+/// no more than the steps nor the counts there are) and the kinetic-energy peaks of its stopping
+/// rule (at most one every other step). The series of `--ke-csv` and `--positions-csv` go to
+/// their files as the run goes and take no memory that grows with it.
+fn per_step_bytes(steps: f64, iterations: f64) -> f64 {
+    let histogram = steps.min(iterations + 1.0) * HISTOGRAM_ENTRY_BYTES;
+    let peaks = (steps / 2.0).ceil() * std::mem::size_of::<Peak>() as f64;
+    histogram + peaks
+}
+
 /// Refuses, before it starts, a run whose memory estimate ([`memory_bytes`], the reference
 /// run's added) is over `--max-memory`, or over the memory available when it is not given.
-pub(crate) fn check_memory(cli: &Cli, settings: &Settings, shape: Shape) -> Result<(), Failure> {
+/// With `steps`, the run's steps once the work budget has allowed them ([`check_work`]), what
+/// the run keeps per step ([`per_step_bytes`]) is counted too; before that (the scene's size
+/// checked before it is built) it is not.
+pub(crate) fn check_memory(
+    cli: &Cli,
+    settings: &Settings,
+    shape: Shape,
+    steps: Option<f64>,
+) -> Result<(), Failure> {
     let id = settings.spec.id;
     let mut estimate = memory_bytes(id, &settings.spec.params, shape);
+    if let Some(steps) = steps {
+        estimate += per_step_bytes(steps, settings.spec.iterations as f64);
+    }
     let mut reference = String::new();
     if cli.compare_reference {
         let params = SolverParams::default();
         estimate += memory_bytes(SolverId::BackwardEuler, &params, shape) - BASE_BYTES;
+        if steps.is_some() {
+            let reference_steps = (RunOptions::default().stop.max_time / REFERENCE_DT).ceil();
+            estimate += per_step_bytes(reference_steps, REFERENCE_NEWTON_ITERATIONS as f64);
+        }
         reference = ", with the Backward Euler reference beside it".into();
     }
     let (limit, whence) = match cli.max_memory {
@@ -200,7 +231,8 @@ pub(crate) fn check_memory(cli: &Cli, settings: &Settings, shape: Shape) -> Resu
     Err(Failure::input(format!(
         "invalid --max-memory: {} bytes{whence} (allowed: at least this run's estimate of \
          {estimate:.3e} bytes, {:.1} GiB: {id} on {} nodes and {} springs{reference}, at the \
-         peak memory a node measured for it, src/solvers/budget.rs); take a smaller scene or a leaner \
+         peak memory a node measured for it, src/solvers/budget.rs, and its histogram of \
+         iterations and energy peaks, at most one entry a step); take a smaller scene or a leaner \
          solver, or raise --max-memory",
         shown(limit),
         estimate / (1u64 << 30) as f64,
@@ -209,7 +241,8 @@ pub(crate) fn check_memory(cli: &Cli, settings: &Settings, shape: Shape) -> Resu
     )))
 }
 
-/// Refuses, before it starts, a run that needs more than `--max-work` spring updates: every
+/// Refuses, before it starts, a run that needs more than `--max-work` spring updates, then one
+/// whose memory with what it keeps per step is over the limit ([`check_memory`]): every
 /// step of the run (rk45's adaptive steps estimated from the scene's fastest rate) and the
 /// reference run of `--compare-reference` at its own stopping rule. Returns the cap on rk45's
 /// attempted steps, the budget left for it, which stops it if the estimate was short. `drag`
@@ -256,6 +289,7 @@ pub(crate) fn check_work(
         );
     }
     if work <= cli.max_work {
+        check_memory(cli, settings, Shape::of(system), Some(steps))?;
         let attempts = (cli.max_work - reference_work) / (DOPRI_EVALUATIONS * springs);
         return Ok(rk45.then_some(attempts.floor() as u64));
     }
@@ -272,6 +306,22 @@ pub(crate) fn check_work(
     )))
 }
 
+/// The shortest `--dt` and `--max-time`, s.
+const MIN_TIME: f64 = 1e-9;
+
+/// The longest `--dt` and `--max-time`, s: some 30 years.
+const MAX_TIME: f64 = 1e9;
+
+/// The largest `--threshold`, J: far above any scene's energy within the scene files' bounds.
+const MAX_THRESHOLD: f64 = 1e12;
+
+/// The largest `--velocity-damping`, 1/s: Rayleigh's `--alpha`'s bound.
+const MAX_VELOCITY_DAMPING: f64 = 1e6;
+
+/// The largest `--max-work` (spring updates) and `--max-memory` (bytes): past it a budget is
+/// none.
+const MAX_BUDGET: f64 = 1e18;
+
 /// The options, checked: every value in range, every option used by the chosen scene and method.
 #[derive(Debug)]
 pub(crate) struct Settings {
@@ -281,7 +331,8 @@ pub(crate) struct Settings {
 
 pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
     let spec = solver_spec(cli)?;
-    check("--dt", cli.dt, cli.dt > 0.0, "a number > 0, in s")?;
+    // A step below 1e-9 s is no time step of these scenes (and prints as hundreds of digits).
+    require_within("--dt", cli.dt, MIN_TIME, MAX_TIME, "s")?;
     if let Some(k) = cli.stiffness {
         check("--stiffness", k, k > 0.0, "a number > 0, in N/m")?;
         LIMITS.stiffness.check("--stiffness", k)?;
@@ -292,11 +343,14 @@ pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
     check(
         "--max-work",
         cli.max_work,
-        cli.max_work >= 1.0,
-        "a number >= 1, in spring updates",
+        (1.0..=MAX_BUDGET).contains(&cli.max_work),
+        &format!(
+            "a number from 1 to {}, in spring updates",
+            shown(MAX_BUDGET)
+        ),
     )?;
     if let Some(m) = cli.max_memory {
-        check("--max-memory", m, m >= 1e6, "a number >= 1e6, in bytes")?;
+        require_within("--max-memory", m, 1e6, MAX_BUDGET, "bytes")?;
     }
     let rope_only = [
         ("--nodes", cli.nodes.is_some()),
@@ -321,15 +375,10 @@ pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
     let threshold = check(
         "--threshold",
         cli.threshold,
-        cli.threshold > 0.0,
-        "a number > 0, in J",
+        cli.threshold > 0.0 && cli.threshold <= MAX_THRESHOLD,
+        &format!("a number > 0 and at most {}, in J", shown(MAX_THRESHOLD)),
     )?;
-    let max_time = check(
-        "--max-time",
-        cli.max_time,
-        cli.max_time > 0.0,
-        "a number > 0, in s",
-    )?;
+    let max_time = require_within("--max-time", cli.max_time, MIN_TIME, MAX_TIME, "s")?;
     if cli.dt > max_time {
         return Err(Error::invalid(
             "--dt",
@@ -341,11 +390,12 @@ pub(crate) fn settings(cli: &Cli) -> Result<Settings, Failure> {
         )
         .into());
     }
-    let velocity_damping = check(
+    let velocity_damping = require_within(
         "--velocity-damping",
         cli.velocity_damping,
-        cli.velocity_damping >= 0.0,
-        "a number >= 0, in 1/s",
+        0.0,
+        MAX_VELOCITY_DAMPING,
+        "1/s",
     )?;
     let positions_every = match (&cli.positions_csv, cli.positions_every) {
         (None, _) => None,

@@ -156,8 +156,8 @@ impl SolverId {
                 options: &[
                     OptionInfo {
                         name: "constraint_damping",
-                        help: "Macklin 2019's constraint damping beta >= 0 (Eq. 8), in N·s/m \
-                               [default: 0]",
+                        help: "Macklin 2019's constraint damping beta (Eq. 8), from 0 to 1e9, in \
+                               N·s/m [default: 0]",
                     },
                     OptionInfo {
                         name: "sweep",
@@ -280,8 +280,8 @@ const RAYLEIGH_FORM: OptionInfo = OptionInfo {
 };
 const DRAG: OptionInfo = OptionInfo {
     name: "drag",
-    help: "power-law drag coefficient c >= 0 of D = c |v|^(p+1)/(p+1), in N·(s/m)^p \
-           [default: 0]",
+    help: "power-law drag coefficient c of D = c |v|^(p+1)/(p+1), from 0 to 1e9, in \
+           N·(s/m)^p [default: 0]",
 };
 const DRAG_EXPONENT: OptionInfo = OptionInfo {
     name: "drag_exponent",

@@ -4,7 +4,9 @@
 use super::SolverId;
 use crate::error::{require_within, shown, Error, Result};
 use crate::integrators::damping::RayleighDamping;
-use crate::integrators::dissipation::{Dissipation, PowerLawDrag, RayleighForm};
+use crate::integrators::dissipation::{
+    Dissipation, PowerLawDrag, RayleighForm, DRAG_UNIT, MAX_DRAG,
+};
 use crate::integrators::first_iterate::FirstIterate;
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::solvers::anderson::AndersonParams;
@@ -12,7 +14,7 @@ use crate::solvers::chebyshev::{ChebyshevParams, RhoRule};
 use crate::solvers::local_global::{AdmmMerit, Base};
 use crate::solvers::quasi_newton::LbfgsParams;
 use crate::solvers::vbd::{LocalHessian, VbdParams};
-use crate::solvers::xpbd_substeps::{Sweep, XpbdSubstepsParams};
+use crate::solvers::xpbd_substeps::{Sweep, XpbdSubstepsParams, MAX_CONSTRAINT_DAMPING};
 
 /// The options of the solvers that have any; each solver reads its own.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -102,7 +104,7 @@ impl SolverParams {
             }
             "spectral_radius" => self.spectral_radius = Some(number()?),
             "gamma" => self.gamma = number()?,
-            "warmup" => self.warmup = require_integer(name, number()?, 0)?,
+            "warmup" => self.warmup = require_count_within(name, number()?, 0, u32::MAX as usize)?,
             "window" => self.window = require_integer(name, number()?, 1)?,
             "alpha" => self.damping.alpha = require_within(name, number()?, 0.0, 1e6, "1/s")?,
             "beta" => self.damping.beta = require_within(name, number()?, 0.0, 1e3, "s")?,
@@ -111,11 +113,16 @@ impl SolverParams {
             "rho_rule" => self.rho_rule = value.parse()?,
             "safeguard" => self.safeguard = value.parse()?,
             "hessian" => self.hessian = value.parse()?,
-            "constraint_damping" => self.constraint_damping = number()?,
+            "constraint_damping" => {
+                self.constraint_damping =
+                    require_within(name, number()?, 0.0, MAX_CONSTRAINT_DAMPING, "N·s/m")?
+            }
             "sweep" => self.sweep = value.parse()?,
             "integrator" => self.integrator = value.parse()?,
             "rayleigh_form" => self.rayleigh_form = value.parse()?,
-            "drag" => self.drag.coefficient = number()?,
+            "drag" => {
+                self.drag.coefficient = require_within(name, number()?, 0.0, MAX_DRAG, DRAG_UNIT)?
+            }
             "drag_exponent" => self.drag.exponent = number()?,
             _ => {
                 let names: Vec<&str> = SolverId::ALL

@@ -15,6 +15,9 @@
 //! link among them is refused, a directory this user may not write too) and replaced
 //! atomically after them, all or none: a full disk leaves the previous files whole. Exit
 //! status 2 for bad input (found before anything is measured), 1 for a failure after.
+//! The run holds, from before the files are opened to its end, the lock `report` takes for the
+//! directory holding `DIR` (`.report.lock` beside `report/` for `report/timing`), so that a
+//! report run never replaces that directory, and these files with it, while they are written.
 //! `--quick` skips the scaling study and times the benchmark's configurations of the soft rope
 //! at its two largest time steps only, in batches of 0.1 ms (about a second; for the tests).
 
@@ -27,6 +30,7 @@ use clap::Parser;
 use mass_spring_report::benchmark::rows_csv;
 use mass_spring_report::benchmark_wall::{WallTiming, MACHINE_CSV, WALL_CSV};
 use mass_spring_report::navigation;
+use mass_spring_report::publish::lock_report_directory;
 use mass_spring_solvers::error::{Error, Failure, Result};
 use mass_spring_solvers::platform::output_file::{Links, OutputFile};
 use measure::{checkout, load_average, machine, machine_md, BATCH_SECONDS};
@@ -44,14 +48,17 @@ struct Args {
     /// Output directory (default: report/timing of the crate).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Largest n to run (nodes per side), for a quick look.
-    #[arg(long, default_value_t = 320)]
-    max_side: usize,
+    /// The scaling study's largest sheet, n nodes per side, an integer >= 10 (the study runs its
+    /// sides up to it) [default: 320]; the benchmark runs whole whatever it is (--quick times a
+    /// part of it and runs no study, so the two are refused together).
+    #[arg(long)]
+    max_side: Option<usize>,
     /// A quick look (and the tests): no scaling study, and the benchmark's configurations of
     /// the soft rope at its two largest time steps only, in batches of 0.1 ms.
     #[arg(long)]
     quick: bool,
-    /// Internal: measure one point (solver id, n) and print it as one line.
+    /// Internal: measure one point (solver id, n) and print it as one line on stdout (no file:
+    /// --out is refused with it).
     #[arg(long, num_args = 2, value_names = ["SOLVER", "N"])]
     point: Option<Vec<String>>,
 }
@@ -111,18 +118,41 @@ fn point(args: &[String]) -> std::result::Result<String, Failure> {
 
 fn run(args: Args) -> std::result::Result<String, Failure> {
     if let Some(p) = &args.point {
+        if args.out.is_some() {
+            return Err(Failure::Input(Error::Input(
+                "--out does not apply to --point, which prints its row on stdout and writes no \
+                 file"
+                    .into(),
+            )));
+        }
         return point(p);
+    }
+    if args.quick && args.max_side.is_some() {
+        return Err(Failure::Input(Error::Input(
+            "--max-side sets the scaling study's largest sheet, and --quick runs no study: give \
+             one of them"
+                .into(),
+        )));
     }
     let root = mass_spring_report::crate_root();
     let out = args.out.unwrap_or_else(|| root.join("report/timing"));
-    let sides: Vec<usize> = SIDES.into_iter().filter(|&n| n <= args.max_side).collect();
+    let max_side = args.max_side.unwrap_or(MAX_SIDE);
+    let sides: Vec<usize> = SIDES.into_iter().filter(|&n| n <= max_side).collect();
     if sides.is_empty() {
         return Err(Failure::Input(Error::invalid(
             "--max-side",
-            args.max_side,
+            max_side,
             "an integer >= 10",
         )));
     }
+    // The lock of the report directory holding the output (report/ for report/timing), held
+    // to the end: a report run replacing that directory meanwhile would drop these files.
+    let absolute = std::path::absolute(&out)
+        .map_err(|e| Failure::Input(Error::Input(format!("--out {}: {e}", out.display()))))?;
+    let _lock = match absolute.parent() {
+        Some(holder) => lock_report_directory(holder).map_err(Failure::Input)?,
+        None => None,
+    };
     let cases = benchmark::cases(args.quick);
     let mut names: Vec<String> = ["TIMING.md", WALL_CSV, MACHINE_CSV]
         .map(String::from)
