@@ -11,9 +11,6 @@
 //! goes to `run-info.md` ([`output::RunInfo`]), which is git-ignored.
 
 pub mod benchmark;
-pub mod benchmark_tolerance;
-pub mod benchmark_views;
-pub mod benchmark_wall;
 pub mod beyond;
 pub mod chapter_figure;
 pub mod data;
@@ -308,17 +305,37 @@ fn findings(data: &ReportData) -> String {
         .benchmark
         .cases()
         .into_iter()
-        .filter(|c| c.scene == mass_spring_solvers::studies::beyond::GridScene::Rope)
         .filter_map(|c| {
-            let (slope, lo, hi) = data
-                .benchmark
-                .smallest_decade_slope(c, SolverId::BackwardEuler)?;
+            let (shown, not) = data.benchmark.converging_lines(c);
+            if shown.is_empty() && not.is_empty() {
+                return None;
+            }
+            // "Newton, BDF2" and its kind gathered as "Newton under BDF2, ...".
+            let newton: Vec<&str> = shown
+                .iter()
+                .filter_map(|n| n.strip_prefix("Newton, "))
+                .collect();
+            let mut named: Vec<String> = shown
+                .iter()
+                .filter(|n| !n.starts_with("Newton, "))
+                .cloned()
+                .collect();
+            if !newton.is_empty() {
+                named.insert(0, format!("Newton under {}", newton.join(", ")));
+            }
             Some(format!(
-                "{} over dt {}-{} s at k = {:e} N/m",
-                sig(slope, 2),
-                short(lo),
-                short(hi),
-                c.stiffness
+                "{} ({}{})",
+                c.label(),
+                if named.is_empty() {
+                    "none".to_string()
+                } else {
+                    named.join(" and ")
+                },
+                if not.is_empty() {
+                    String::new()
+                } else {
+                    format!("; not shown for {}", not.join(", "))
+                }
             ))
         })
         .collect();
@@ -329,26 +346,53 @@ fn findings(data: &ReportData) -> String {
         .filter(|c| c.scene == mass_spring_solvers::studies::beyond::GridScene::Rope)
         .filter_map(|c| {
             let r = data.benchmark.cheapest_overall(c, FINDINGS_LEVEL)?;
-            let id: SolverId = r.solver.parse().ok()?;
+            let configuration = |r: &mass_spring_solvers::studies::benchmark::rows::Row| {
+                let id: SolverId = r.solver.parse().ok()?;
+                Some(format!(
+                    "{} (dt = {} s{}, {} flops)",
+                    id.info().display_name,
+                    short(r.dt_s),
+                    r.dt_over_stability_limit.map_or(String::new(), |f| format!(
+                        ", {:.0} % of its stability limit",
+                        100.0 * f
+                    )),
+                    sig(r.flops?, 2)
+                ))
+            };
+            let tied: Vec<String> = data
+                .benchmark
+                .tied_with_cheapest(c, FINDINGS_LEVEL)
+                .into_iter()
+                .filter_map(configuration)
+                .collect();
             Some(format!(
-                "{} at k = {:e} N/m (dt = {} s, {} flops)",
-                id.info().display_name,
+                "at k = {:e} N/m {}{}",
                 c.stiffness,
-                short(r.dt_s),
-                sig(r.flops?, 2)
+                configuration(r)?,
+                if tied.is_empty() {
+                    String::new()
+                } else {
+                    format!(", tied within 10 % with {}", tied.join(" and "))
+                }
             ))
         })
         .collect();
-    let tolerance = benchmark_tolerance::Summary::of(&data.benchmark.rows);
+    let tolerance = benchmark::tolerance::Summary::of(&data.benchmark.rows);
     if !slopes.is_empty() {
         md += &format!(
             "- **The benchmark** (section 12): one window, one error per node against the exact motion, for \
-             every solver; the errors converge (Backward Euler's at order {}); the cheapest configuration \
-             of any solver to {} % relative physical error on the rope: {}; asked for a solver error, \
+             every solver; the errors were shown to converge (a slope of at least {} over the smallest decade \
+             of dt, an error below {} of doing nothing's at its smallest dt; measured for Newton under each \
+             integrator and for symplectic Euler) for {}; the cheapest configuration \
+             of any solver to {} % relative physical error on the rope (an explicit one only up to {:.0} % of its \
+             stability limit): {}; asked for a solver error, \
              {} of the {} tolerance points whose steps all met their residual end within {:.0} × it \
              (section 12.8).\n",
-            slopes.join(" and "),
+            benchmark::ASYMPTOTIC_SLOPE,
+            benchmark::ASYMPTOTIC_ERROR,
+            slopes.join("; "),
             short(100.0 * FINDINGS_LEVEL),
+            100.0 * mass_spring_solvers::studies::benchmark::sweep::STABILITY_MARGIN,
             if cheapest.is_empty() {
                 "none reaches it".to_string()
             } else {
@@ -356,7 +400,7 @@ fn findings(data: &ReportData) -> String {
             },
             tolerance.within,
             tolerance.uncapped,
-            benchmark_tolerance::WITHIN,
+            benchmark::tolerance::WITHIN,
         );
     }
     md

@@ -564,7 +564,7 @@ pub const FILES: &[FileSchema] = &[
 ];
 
 /// Every data file of `report/timing/`, written by `make timing` (`presentation/src/bin/timing/`) from
-/// the serde rows of [`crate::benchmark_wall`] and the scaling study.
+/// the serde rows of [`crate::benchmark::wall`] and the scaling study.
 pub const TIMING_FILES: &[FileSchema] = &[
     FileSchema {
         pattern: "benchmark_wall.csv",
@@ -708,6 +708,7 @@ const BENCHMARK_COLUMNS: &[(&str, &str)] = &[
     ("dt_s", "s"),
     ("window_s", "s"),
     ("flops", ""),
+    ("dt_over_stability_limit", ""),
     ("iterations_mean", ""),
     ("solver_error_target_m", "m"),
     ("capped_fraction", ""),

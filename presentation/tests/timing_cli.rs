@@ -5,7 +5,7 @@
 //! a quick run (no time is asserted).
 
 use mass_spring_report::benchmark::rows_csv;
-use mass_spring_report::benchmark_wall::*;
+use mass_spring_report::benchmark::wall::*;
 use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use mass_spring_solvers::studies::benchmark::sweep::{configurations, Configuration};
 use mass_spring_solvers::studies::benchmark::Case;

@@ -5,8 +5,8 @@
 //! ([`super::report::benchmark`]); the sheet's are `make report`'s.
 
 use super::report::ROPES;
+use mass_spring_report::benchmark::tolerance::Summary;
 use mass_spring_report::benchmark::{rows_csv, BenchmarkChapter};
-use mass_spring_report::benchmark_tolerance::Summary;
 use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::integrators::stopping::Stopping;
 use mass_spring_solvers::model::scene::thesis_rope;
@@ -21,7 +21,7 @@ use mass_spring_solvers::studies::benchmark::truth::{
     lowest_excited_mode, CaseTruth, Converged, SolverTruth, XPBD_REFERENCE_RESIDUAL_M,
 };
 use mass_spring_solvers::studies::benchmark::verdicts::{
-    Cell, Conclusion, Overall, Regime, Schemes, Scope, Setting,
+    Cell, Conclusion, Overall, Regime, Schemes, Scope, Setting, THESIS_THREE,
 };
 use mass_spring_solvers::studies::benchmark::Case;
 use mass_spring_solvers::studies::beyond::GridScene;
@@ -223,6 +223,122 @@ fn the_thesis_cells_come_from_the_csv() {
         ours(false, Schemes::BackwardEuler),
         "the schemes filter changes no cell: the negative case tests nothing"
     );
+}
+
+/// No two tables give different costs for the same solver, integrator and cell: section
+/// 12.6's cost of each of the thesis's three under any integrator is section 12.4's, the row
+/// behind it the same (its integrator named in both), and its Backward-Euler-only cost is the
+/// cheapest Backward Euler row of the CSV. Negative case: 12.4's table read under Backward
+/// Euler only differs from 12.6's "any" costs somewhere.
+#[test]
+fn every_table_gives_one_cost_per_solver_integrator_and_cell() {
+    let chapter = chapter();
+    let mut differs_under_be = false;
+    for (be, any) in chapter
+        .thesis_cells(Regime::Dynamics, Schemes::BackwardEuler)
+        .into_iter()
+        .zip(chapter.thesis_cells(Regime::Dynamics, Schemes::AllFour))
+    {
+        for (i, solver) in THESIS_THREE.into_iter().enumerate() {
+            let table_12_4 = chapter.cheapest_of(any.case, solver, any.level);
+            assert_eq!(
+                any.cheapest[i].map(|r| (r.flops, r.integrator.clone(), r.dt_s)),
+                table_12_4.map(|r| (r.flops, r.integrator.clone(), r.dt_s)),
+                "{solver:?} {:?} {}",
+                any.case,
+                any.level
+            );
+            if let Some(r) = be.cheapest[i] {
+                assert!(r.integrator.is_empty() || r.integrator == "backward-euler");
+            }
+            differs_under_be |= be.cheapest[i].map(|r| r.flops) != table_12_4.map(|r| r.flops);
+        }
+    }
+    assert!(
+        differs_under_be,
+        "the integrators change no cost: the negative case tests nothing"
+    );
+}
+
+/// The headline's and section 12.4's cheapest configurations keep an explicit baseline only
+/// within 90 % of its stability limit, and the configurations of other solvers within 10 % of
+/// the cheapest are named as ties. Negative case: on the stiff rope the cheapest to 1 % without
+/// the margin is symplectic Euler at 98 % of its limit, which the rule leaves out.
+#[test]
+fn explicit_configurations_are_recommended_only_within_their_margin() {
+    let chapter = chapter();
+    let mut left_out = 0;
+    for case in chapter.cases() {
+        for level in [0.1, 0.01, 0.001] {
+            let Some(best) = chapter.cheapest_overall(case, level) else {
+                continue;
+            };
+            assert!(
+                best.dt_over_stability_limit.is_none_or(|f| f <= 0.9),
+                "{best:?}"
+            );
+            for tied in chapter.tied_with_cheapest(case, level) {
+                assert!(tied.flops.unwrap() <= 1.1 * best.flops.unwrap());
+                assert_ne!(tied.solver, best.solver);
+            }
+            let unguarded = chapter
+                .dynamics(case)
+                .into_iter()
+                .filter(|r| r.physical_rel.is_some_and(|e| e <= level))
+                .filter_map(|r| Some((r.flops?, r)))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .unwrap()
+                .1;
+            if unguarded.dt_over_stability_limit.is_some_and(|f| f > 0.9) {
+                left_out += 1;
+                assert_ne!(unguarded, best);
+            }
+        }
+    }
+    assert!(
+        left_out > 0,
+        "no configuration beyond the margin: the rule is not exercised"
+    );
+}
+
+/// Section 12.4's mark ‡ (before the asymptotic regime): a configuration whose error falls at
+/// a local slope below 0.5, or is at least half of doing nothing's, is marked; one at order 1
+/// is not. Constructed from a real series (Newton under Backward Euler on the soft rope) with
+/// its errors replaced by c·dt^p.
+#[test]
+fn the_asymptotic_mark_follows_the_local_slope() {
+    let real = chapter();
+    let case = ROPES[0];
+    let series: Vec<Row> = real
+        .dynamics(case)
+        .into_iter()
+        .filter(|r| r.solver == "backward_euler" && r.integrator == "backward-euler")
+        .cloned()
+        .collect();
+    assert!(series.len() >= 5);
+    let with_order = |p: f64| {
+        let mut chapter = real.clone();
+        chapter.rows = series
+            .iter()
+            .cloned()
+            .map(|mut r| {
+                r.physical_rel = Some(0.4 * (r.dt_s / 0.1).powf(p));
+                r
+            })
+            .collect();
+        chapter
+    };
+    let first_order = with_order(1.0);
+    let flat = with_order(0.3);
+    for r in first_order.dynamics(case) {
+        assert!(!first_order.before_asymptotic(case, r), "{}", r.dt_s);
+    }
+    for r in flat.dynamics(case) {
+        assert!(flat.before_asymptotic(case, r), "{}", r.dt_s);
+    }
+    let mut large = series[0].clone();
+    large.physical_rel = Some(0.6);
+    assert!(first_order.before_asymptotic(case, &large));
 }
 
 /// A cell of constructed costs, in the order XPBD, Fast m-s, ADMM (None: not reached).

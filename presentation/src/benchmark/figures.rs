@@ -2,7 +2,7 @@
 //! solver's ε-front with its Δt labels, and their files.
 
 use super::*;
-use crate::benchmark_views::{BASELINE_GREY, FAMILIES};
+use crate::benchmark::families::{BASELINE_GREY, FAMILIES};
 use crate::chapter_figure::ChapterFigure;
 use crate::data::CsvFile;
 use crate::format::full;

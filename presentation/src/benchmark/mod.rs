@@ -1,23 +1,30 @@
-//! The benchmark's chapter (work and precision, the thesis's first line of future work, §5):
-//! every view of [`mass_spring_solvers::studies::benchmark`]'s one result set, read from its rows (the content of
-//! `data/benchmark.csv` and `data/benchmark_truths.csv`) and from nothing else.
+//! The benchmark's chapter (work and precision, the thesis's first line of future work, §5), in
+//! this one folder: every view of [`mass_spring_solvers::studies::benchmark`]'s one result set,
+//! read from its rows (the content of `data/benchmark*.csv`) and from nothing else: the
+//! thesis's question (`question.rs`), the start (`start.rs`), the figures, the views of
+//! sections 10-11 (`views.rs`, [`families`]), wall time ([`wall`]) and the tolerance points
+//! ([`tolerance`]).
 
-use crate::benchmark_views::of_case;
-use crate::benchmark_wall::WallTiming;
+use crate::benchmark::families::of_case;
+use crate::benchmark::wall::WallTiming;
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::benchmark::rows::{ReferenceRow, Row, TruthRow};
+use mass_spring_solvers::studies::benchmark::sweep::STABILITY_MARGIN;
 use mass_spring_solvers::studies::benchmark::thesis_protocol::{self, ProtocolRow};
 use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
 
+pub mod families;
 mod figures;
 mod question;
 mod start;
+pub mod tolerance;
 mod views;
+pub mod wall;
 
 pub use figures::{epsilon_front, stem, FRONT_EPSILON};
-pub use question::{ThesisCell, THESIS_QUOTES};
+pub use question::{ThesisCell, ASYMPTOTIC_ERROR, ASYMPTOTIC_SLOPE, THESIS_QUOTES};
 pub use views::{
     mean_with_interval, RankingCell, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD, VIEW_DETAIL_DT,
     VIEW_DTS,
@@ -131,7 +138,7 @@ impl BenchmarkChapter {
     }
 
     /// The finished dynamics rows of a case at fixed iteration counts (the tolerance points
-    /// have their own view, [`crate::benchmark_tolerance`]).
+    /// have their own view, [`crate::benchmark::tolerance`]).
     pub fn dynamics(&self, case: Case) -> Vec<&Row> {
         self.rows
             .iter()
@@ -230,12 +237,45 @@ pub fn decade_slope(points: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
 
 impl BenchmarkChapter {
     /// The cheapest configuration of any solver that reaches a relative physical error of
-    /// `level` on a case.
+    /// `level` on a case and may be recommended: an explicit baseline only within
+    /// [`STABILITY_MARGIN`] of its stability limit.
     pub fn cheapest_overall(&self, case: Case, level: f64) -> Option<&Row> {
+        self.recommendable(case, level)
+            .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()))
+    }
+
+    /// The configurations of other solvers tied with [`Self::cheapest_overall`]: each other
+    /// solver's cheapest that costs at most (1 + tie) times as much, cheapest first.
+    pub fn tied_with_cheapest(&self, case: Case, level: f64) -> Vec<&Row> {
+        let Some(best) = self.cheapest_overall(case, level) else {
+            return Vec::new();
+        };
+        let bound =
+            (1.0 + mass_spring_solvers::studies::benchmark::verdicts::TIE) * best.flops.unwrap();
+        let mut tied: Vec<&Row> = Vec::new();
+        let mut candidates: Vec<&Row> = self
+            .recommendable(case, level)
+            .filter(|r| r.solver != best.solver && r.flops.unwrap() <= bound)
+            .collect();
+        candidates.sort_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()));
+        for r in candidates {
+            if !tied.iter().any(|t| t.solver == r.solver) {
+                tied.push(r);
+            }
+        }
+        tied
+    }
+
+    /// The configurations of a case that reach `level` with a cost, an explicit baseline only
+    /// within its stability margin.
+    pub(crate) fn recommendable(&self, case: Case, level: f64) -> impl Iterator<Item = &Row> {
         self.dynamics(case)
             .into_iter()
-            .filter(|r| r.physical_rel.is_some_and(|e| e <= level) && r.flops.is_some())
-            .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()))
+            .filter(move |r| r.physical_rel.is_some_and(|e| e <= level) && r.flops.is_some())
+            .filter(|r| {
+                r.dt_over_stability_limit
+                    .is_none_or(|f| f <= STABILITY_MARGIN)
+            })
     }
 }
 

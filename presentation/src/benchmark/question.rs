@@ -83,6 +83,104 @@ impl BenchmarkChapter {
     }
 }
 
+impl BenchmarkChapter {
+    /// The convergence lines of section 12.2 on a case: Newton under each integrator and
+    /// symplectic Euler, each its (dt, relative physical error) points.
+    pub fn convergence_lines(&self, case: Case) -> Vec<(String, Vec<(f64, f64)>)> {
+        let mut lines: Vec<(String, Vec<(f64, f64)>)> = vec![
+            (
+                "Newton, Backward Euler".into(),
+                self.convergence(case, SolverId::BackwardEuler),
+            ),
+            (
+                SolverId::SymplecticEuler.info().display_name.into(),
+                self.convergence(case, SolverId::SymplecticEuler),
+            ),
+        ];
+        for integrator in SECOND_ORDER {
+            lines.push((
+                format!("Newton, {}", integrator.label()),
+                self.convergence_under(case, SolverId::BackwardEuler, integrator.key()),
+            ));
+        }
+        lines
+    }
+
+    /// Where the errors were shown to converge: per case, the lines of
+    /// [`Self::convergence_lines`] whose smallest decade of dt has a slope of at least
+    /// [`ASYMPTOTIC_SLOPE`] and an error below [`ASYMPTOTIC_ERROR`] at its smallest dt, and the
+    /// others.
+    pub fn converging_lines(&self, case: Case) -> (Vec<String>, Vec<String>) {
+        let (mut shown, mut not) = (Vec::new(), Vec::new());
+        for (name, points) in self.convergence_lines(case) {
+            let Some((slope, _, _)) = decade_slope(&points) else {
+                continue;
+            };
+            let error = points.first().map_or(f64::INFINITY, |p| p.1);
+            if slope >= ASYMPTOTIC_SLOPE && error < ASYMPTOTIC_ERROR {
+                shown.push(name);
+            } else {
+                not.push(format!(
+                    "{name} (slope {}, error {})",
+                    sig(slope, 2),
+                    sig(error, 2)
+                ));
+            }
+        }
+        (shown, not)
+    }
+}
+
+impl BenchmarkChapter {
+    /// `solver`'s cheapest configuration on `case` that reaches a relative physical error of
+    /// `level`, under any integrator, an explicit baseline only within its stability margin:
+    /// a cell of section 12.4.
+    pub fn cheapest_of(&self, case: Case, solver: SolverId, level: f64) -> Option<&Row> {
+        self.recommendable(case, level)
+            .filter(|r| r.solver == solver.id())
+            .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()))
+    }
+
+    /// Whether a dynamics row of `case` lies before the asymptotic regime: its relative error
+    /// is at least [`ASYMPTOTIC_ERROR`], or it falls at a local slope below
+    /// [`ASYMPTOTIC_SLOPE`] to the same configuration at the next smaller step (to the next
+    /// larger one at the smallest).
+    pub fn before_asymptotic(&self, case: Case, row: &Row) -> bool {
+        let Some(error) = row.physical_rel else {
+            return true;
+        };
+        if error >= ASYMPTOTIC_ERROR {
+            return true;
+        }
+        let mut series: Vec<(f64, f64)> = self
+            .dynamics(case)
+            .into_iter()
+            .filter(|r| {
+                r.solver == row.solver
+                    && r.iterations == row.iterations
+                    && r.integrator == row.integrator
+            })
+            .filter_map(|r| Some((r.dt_s, r.physical_rel?)))
+            .collect();
+        series.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let Some(at) = series.iter().position(|p| p.0 == row.dt_s) else {
+            return true;
+        };
+        let neighbour = if at > 0 { at - 1 } else { at + 1 };
+        let Some(&(dt_n, e_n)) = series.get(neighbour) else {
+            return false;
+        };
+        let slope = (error / e_n).ln() / (row.dt_s / dt_n).ln();
+        slope < ASYMPTOTIC_SLOPE
+    }
+}
+
+/// A convergence line or a configuration is in the asymptotic regime where its error falls at
+/// least this fast with the step (a local slope in log-log) ...
+pub const ASYMPTOTIC_SLOPE: f64 = 0.5;
+/// ... and its relative error is below this fraction of doing nothing's.
+pub const ASYMPTOTIC_ERROR: f64 = 0.5;
+
 /// A cell of the thesis's question, with the row behind each solver's cost.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThesisCell<'a> {
@@ -115,13 +213,16 @@ fn scheme_costs(backward_euler: Option<&Row>, any: Option<&Row>) -> String {
     }
 }
 
-/// `, TR-BDF2`: a minimizing solver's integrator, for a cost's parenthesis; nothing for a
-/// solver with its own scheme.
+/// `, TR-BDF2`: a minimizing solver's integrator, for a cost's parenthesis; an explicit
+/// baseline's time step against its stability limit; nothing for the other solvers.
 fn integrator_note(r: &Row) -> String {
-    r.integrator
-        .parse::<mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator>(
-        )
-        .map_or(String::new(), |i| format!(", {}", i.label()))
+    use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
+    match r.integrator.parse::<OptimizationIntegrator>() {
+        Ok(i) => format!(", {}", i.label()),
+        Err(_) => r.dt_over_stability_limit.map_or(String::new(), |f| {
+            format!(", {:.0} % of its stability limit", 100.0 * f)
+        }),
+    }
 }
 
 /// `1.2e6 (dt 0.01 s, 20 it., Backward Euler)`.
@@ -276,23 +377,7 @@ impl BenchmarkChapter {
             ">relative error at its smallest dt",
         ]);
         for case in self.cases() {
-            let mut lines: Vec<(String, Vec<(f64, f64)>)> = vec![
-                (
-                    "Newton, Backward Euler".into(),
-                    self.convergence(case, SolverId::BackwardEuler),
-                ),
-                (
-                    SolverId::SymplecticEuler.info().display_name.into(),
-                    self.convergence(case, SolverId::SymplecticEuler),
-                ),
-            ];
-            for integrator in SECOND_ORDER {
-                lines.push((
-                    format!("Newton, {}", integrator.label()),
-                    self.convergence_under(case, SolverId::BackwardEuler, integrator.key()),
-                ));
-            }
-            for (name, points) in lines {
+            for (name, points) in self.convergence_lines(case) {
                 if let Some((slope, lo, hi)) = decade_slope(&points) {
                     t.row(vec![
                         case.label(),
@@ -324,7 +409,9 @@ impl BenchmarkChapter {
         );
         for (n, (case, f)) in self.cases().into_iter().zip(figures).enumerate() {
             md += &format!(
-                "![Figure W{0}](figures/{stem}.svg)\n\n*Figure W{0}. Work and precision, {label}: each solver's ε-front \
+                "![Figure W{0}](figures/{stem}.svg)\n\n*Figure W{0}. Work and precision, {label}, Backward Euler only (the \
+                 minimizing solvers under it; XPBD, PBD and the explicit baselines under their own schemes; \
+                 the other integrators' costs are in section 12.4): each solver's ε-front \
                  (ε = {eps}: a configuration is left out when another of its own costs at most {grow} times \
                  as much with at most {grow} times its error) of the relative physical error against the \
                  counted flops over the window (relative error: the RMS physical error per free node over the \
@@ -341,26 +428,29 @@ impl BenchmarkChapter {
         }
 
         md += &format!("### {number}.4 The cheapest configuration at each accuracy\n\n");
-        md += "Per case and relative physical error, each solver's cheapest configuration that reaches it (flops, \
-               then its time step and iterations).\n\n";
+        md += &format!(
+            "Per case and relative physical error, each solver's cheapest configuration that reaches it \
+             (flops, then its time step, iterations and integrator; an explicit baseline's step against \
+             its linear stability limit, only up to {:.0} % of it). ‡: before the asymptotic regime, where the error falls with \
+             the step at a local slope below {} (to the next smaller step of the same configuration) or \
+             is above {} of doing nothing's.\n\n",
+            100.0 * mass_spring_solvers::studies::benchmark::sweep::STABILITY_MARGIN,
+            ASYMPTOTIC_SLOPE,
+            ASYMPTOTIC_ERROR
+        );
         for case in self.cases() {
-            let rows = self.dynamics(case);
             let mut t = MarkdownTable::new(&["solver", ">10 %", ">1 %", ">0.1 %"]);
             for id in solvers() {
                 let cells: Vec<String> = DYNAMICS_LEVELS
                     .iter()
                     .map(|&level| {
-                        cost_cell(
-                            rows.iter()
-                                .filter(|r| r.solver == id.id())
-                                .filter(|r| r.physical_rel.is_some_and(|e| e <= level))
-                                .min_by(|a, b| {
-                                    a.flops
-                                        .unwrap_or(f64::INFINITY)
-                                        .total_cmp(&b.flops.unwrap_or(f64::INFINITY))
-                                })
-                                .copied(),
-                        )
+                        let best = self.cheapest_of(case, id, level);
+                        let mark = if best.is_some_and(|r| self.before_asymptotic(case, r)) {
+                            " ‡"
+                        } else {
+                            ""
+                        };
+                        cost_cell(best) + mark
                     })
                     .collect();
                 let mut cells_row = vec![id.info().display_name.to_string()];
@@ -483,9 +573,12 @@ impl BenchmarkChapter {
             TIES.map(|t| format!("{} %", full(100.0 * t))).join(", ")
         );
         md += &self.protocol_section();
-        md +=
-            &crate::benchmark_wall::section(&format!("{number}.7"), self.wall.as_ref(), &self.rows);
-        md += &crate::benchmark_tolerance::section(&format!("{number}.8"), &self.rows);
+        md += &crate::benchmark::wall::section(
+            &format!("{number}.7"),
+            self.wall.as_ref(),
+            &self.rows,
+        );
+        md += &crate::benchmark::tolerance::section(&format!("{number}.8"), &self.rows);
         md
     }
 }

@@ -2,7 +2,7 @@
 //! settings, and the rankings of the solvers across the cases with their bootstrap intervals.
 
 use super::*;
-use crate::benchmark_views::of_case;
+use crate::benchmark::families::of_case;
 use crate::format::{full, sig, MarkdownTable};
 use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::benchmark::rows::Row;

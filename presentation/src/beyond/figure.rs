@@ -2,7 +2,7 @@
 //! iterations, in small multiples by family, with the tolerance line.
 
 use super::*;
-use crate::benchmark_views::FAMILIES;
+use crate::benchmark::families::FAMILIES;
 use crate::chapter_figure::ChapterFigure;
 use crate::data::CsvFile;
 use crate::format::full;

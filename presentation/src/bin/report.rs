@@ -12,8 +12,8 @@
 //! `run-info.md`; a live counter shows too when stderr is a terminal.
 
 use clap::Parser;
+use mass_spring_report::benchmark::wall::WallTiming;
 use mass_spring_report::benchmark::BenchmarkChapter;
-use mass_spring_report::benchmark_wall::WallTiming;
 use mass_spring_report::beyond::BeyondChapter;
 use mass_spring_report::integrators::IntegratorsChapter;
 use mass_spring_report::output::{process_cpu_time, OutputFile, Phases, RunInfo};

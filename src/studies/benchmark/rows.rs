@@ -37,6 +37,9 @@ pub struct Row {
     pub window_s: f64,
     /// Floating-point operations of the run.
     pub flops: Option<f64>,
+    /// An explicit baseline's time step over its linear stability limit on the case
+    /// ([`super::sweep::stability_limit`]); empty for the implicit solvers.
+    pub dt_over_stability_limit: Option<f64>,
     /// Iterations a step took, on average.
     pub iterations_mean: Option<f64>,
     /// A tolerance point's target solver error, m ([`super::sweep::SOLVER_ERROR_TARGETS_M`]).
@@ -107,6 +110,7 @@ fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
         dt_s: c.dt_s,
         window_s,
         flops: None,
+        dt_over_stability_limit: None,
         iterations_mean: None,
         solver_error_target_m: None,
         capped_fraction: None,
@@ -130,8 +134,11 @@ fn base(kind: &str, c: &super::sweep::Configuration, window_s: f64) -> Row {
 }
 
 impl Row {
-    fn dynamics(o: &Outcome, window_s: f64, exact_decay: Option<f64>) -> Self {
+    fn dynamics(o: &Outcome, truth: &super::truth::CaseTruth, exact_decay: Option<f64>) -> Self {
+        let window_s = truth.window;
         let mut row = base("dynamics", &o.configuration, window_s);
+        row.dt_over_stability_limit = super::sweep::stability_limit(o.configuration.spec.id, truth)
+            .map(|limit| o.configuration.dt_s / limit);
         row.solver_error_target_m = super::sweep::solver_error_target(&o.configuration, window_s);
         row.flops = Some(o.flops);
         match &o.measured {
@@ -218,7 +225,7 @@ impl Benchmark {
                     .iter()
                     .position(|t| t.case == case)
                     .expect("every run's case has a truth");
-                Row::dynamics(o, self.truths[i].window, exact_decays[i])
+                Row::dynamics(o, &self.truths[i], exact_decays[i])
             })
             .collect();
         rows.extend(self.statics.iter().map(Row::statics));
@@ -236,7 +243,7 @@ impl Benchmark {
                     .expect("every run's case has a truth");
                 let exact_decay = super::metrics::modal_period(&truth.exact)
                     .and_then(|p| super::metrics::energy_decay_per_period(&truth.exact, p));
-                Row::dynamics(o, truth.window, exact_decay)
+                Row::dynamics(o, truth, exact_decay)
             })
             .collect()
     }

@@ -40,6 +40,10 @@ pub fn dts(case: Case) -> &'static [f64] {
     }
 }
 
+/// The sheet's smaller time steps, s, for Newton under Backward Euler only: where its error
+/// reaches its order (on the sheet the other solvers stop at 0.01 s).
+pub const SHEET_NEWTON_DTS: [f64; 3] = [0.005, 0.002, 0.001];
+
 /// The solvers of the benchmark: every solver of the grid of section 10 but the damped pair
 /// (at zero damping they are Backward Euler and ADMM-PD, and the exact motion is undamped),
 /// then the explicit baselines.
@@ -50,6 +54,22 @@ pub fn solvers() -> Vec<SolverId> {
         .chain(BASELINES)
         .collect()
 }
+
+/// An explicit baseline's linear stability limit on `truth`'s case, s: $`h\,\omega_{max} <
+/// 2\sqrt2`$ for RK4 and $`< 2`$ for symplectic Euler, $`\omega_{max}`$ the highest natural
+/// frequency of the scene linearised at its start ([`super::truth::CaseTruth::stability_limit`]
+/// is RK4's); None for the solvers without one.
+pub fn stability_limit(id: SolverId, truth: &super::truth::CaseTruth) -> Option<f64> {
+    match id {
+        SolverId::Rk4 => Some(truth.stability_limit),
+        SolverId::SymplecticEuler => Some(truth.stability_limit / std::f64::consts::SQRT_2),
+        _ => None,
+    }
+}
+
+/// The largest fraction of its stability limit at which an explicit baseline's configuration
+/// is recommended (the headline's, section 12.4's): the last tenth is left as margin.
+pub const STABILITY_MARGIN: f64 = 0.9;
 
 /// The explicit baselines drawn on every diagram: the tutorial's RK4 and symplectic Euler.
 pub const BASELINES: [SolverId; 2] = [SolverId::Rk4, SolverId::SymplecticEuler];
@@ -135,6 +155,12 @@ pub fn configurations(case: Case) -> Vec<Configuration> {
                     out.push(Configuration { case, spec, dt_s });
                 }
             }
+        }
+    }
+    if case.scene == GridScene::Sheet {
+        let spec = settings(SolverId::BackwardEuler)[0];
+        for &dt_s in &SHEET_NEWTON_DTS {
+            out.push(Configuration { case, spec, dt_s });
         }
     }
     let minimizing = solvers().into_iter().filter(|id| {

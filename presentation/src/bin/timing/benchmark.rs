@@ -4,11 +4,11 @@
 //! finished its window timed on this thread, built and run over the window as the benchmark
 //! runs it ([`build_solver`]): [`REPEATS`] batches of at least a batch's length, the least
 //! batch mean in wall and thread CPU time. The rows, the costs compared
-//! ([`mass_spring_report::benchmark_wall`]) and the work-precision figures in wall
+//! ([`mass_spring_report::benchmark::wall`]) and the work-precision figures in wall
 //! time.
 
 use crate::measure::{time_batches, REPEATS};
-use mass_spring_report::benchmark_wall::{
+use mass_spring_report::benchmark::wall::{
     costs_compared, figure, stem, RunTime, WallRow, WallTiming, WALL_CSV, WALL_SPREAD_FLAG,
 };
 use mass_spring_report::format::short;

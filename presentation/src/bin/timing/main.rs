@@ -28,7 +28,7 @@ mod scaling_md;
 
 use clap::Parser;
 use mass_spring_report::benchmark::rows_csv;
-use mass_spring_report::benchmark_wall::{WallTiming, MACHINE_CSV, WALL_CSV};
+use mass_spring_report::benchmark::wall::{WallTiming, MACHINE_CSV, WALL_CSV};
 use mass_spring_report::navigation;
 use mass_spring_report::publish::lock_report_directory;
 use mass_spring_solvers::error::{Error, Failure, Result};
@@ -160,7 +160,7 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
     names.extend(
         cases
             .iter()
-            .map(|&c| format!("{}.svg", mass_spring_report::benchmark_wall::stem(c))),
+            .map(|&c| format!("{}.svg", mass_spring_report::benchmark::wall::stem(c))),
     );
     if !args.quick {
         names.extend(["scaling.csv", "bandwidth.csv", "scaling.svg"].map(String::from));

@@ -1,7 +1,7 @@
 //! How `make timing` measures: repeated batches on one thread, in wall and thread CPU time, and
 //! who measured (the machine, the toolchain, the commit, the load).
 
-use mass_spring_report::benchmark_wall::Machine;
+use mass_spring_report::benchmark::wall::Machine;
 use mass_spring_solvers::error::Result;
 use std::path::Path;
 use std::process::Command;

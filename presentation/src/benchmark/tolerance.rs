@@ -2,7 +2,7 @@
 //! each iterative solver aiming at a solver error, every step stopping at its own residual,
 //! its target beside what it achieved (section 12.8).
 
-use crate::benchmark_views::of_case;
+use crate::benchmark::families::of_case;
 use crate::format::{sci3, sig, MarkdownTable};
 use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::benchmark::rows::Row;

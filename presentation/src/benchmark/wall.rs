@@ -10,7 +10,7 @@
 //! by each cost, the solvers ranked by both, Kendall's τ between the two rankings, and the
 //! pairs the two costs order differently by more than a tie ([`TIE`]) in both.
 
-use crate::benchmark_views::{doing_nothing, front_series, of_case, FAMILIES};
+use crate::benchmark::families::{doing_nothing, front_series, of_case, FAMILIES};
 use crate::chapter_figure::ChapterFigure;
 use crate::format::{short, sig, MarkdownTable};
 use crate::plot::{Axis, Chart, Panel, FULL_WIDTH_MM};
