@@ -3,7 +3,7 @@
 # `make bench` only (clippy in `make lint` still checks them).
 CARGO ?= cargo
 
-.PHONY: all test report bench lint fmt doc doc-offline timing
+.PHONY: all test report report-long bench lint fmt doc doc-offline timing
 
 all: test report
 
@@ -23,6 +23,11 @@ test:
 
 report:
 	$(CARGO) run --bin report
+
+# The benchmark's long runs (deterministic, committed): report/long/, which `make report` reads.
+# Run it before `make report` when the benchmark changes; .ci/run fails when it is stale.
+report-long:
+	$(CARGO) run --bin report_long
 
 bench:
 	$(CARGO) bench --bench steps

@@ -27,6 +27,7 @@ use crate::model::lanes::Lane;
 use crate::model::linear::SymmetricMatrix;
 use crate::model::spring::{self, SpringArrays};
 use crate::model::system::{MassSpringSystem, State, Vec3};
+use crate::solvers::vbd::LocalHessian;
 use nalgebra::{Matrix3, Vector3};
 
 /// Newton iterations per step of the thesis's reference (§4.3, Table 1).
@@ -274,6 +275,9 @@ pub struct BackwardEuler {
     zeros: Vec<f64>,
     /// Where each step's Newton iteration starts ($`x_0 = x_n`$, $`v_0 = 0`$, by default).
     start: StepStart,
+    /// Eq. (4)'s Jacobians as printed (the default), or projected where the matrix they give
+    /// is not positive definite ([`LocalHessian::Projected`], a labelled variant).
+    hessian: LocalHessian,
     /// When a step stops iterating, and the iterations steps took.
     convergence: Convergence,
 }
@@ -340,8 +344,19 @@ impl BackwardEuler {
             rhs: vec![0.0; 3 * n],
             zeros: vec![0.0; 3 * n],
             start: StepStart::new(FirstIterate::Previous),
+            hessian: LocalHessian::Exact,
             convergence: Convergence::default(),
         })
+    }
+
+    /// The same solver with the Hessian rule `hessian`: [`LocalHessian::Exact`], Eq. (4) as
+    /// printed (a step whose matrix is not positive definite fails), or
+    /// [`LocalHessian::Projected`], this crate's variant, where such a matrix is rebuilt with
+    /// each spring's transverse factor clamped at 0 (projected Newton:
+    /// [`spring::force_jacobian_definite`]; the fixed point is the same).
+    pub fn with_hessian(mut self, hessian: LocalHessian) -> Self {
+        self.hessian = hessian;
+        self
     }
 
     /// The same solver starting each step's Newton iteration at `first_iterate`
@@ -387,27 +402,29 @@ impl BackwardEuler {
         self.convergence.stopping() == crate::integrators::stopping::Stopping::Count
     }
 
-    /// Eqs. (10), (12): one Newton-Raphson iteration, from the iterate $`v_k`$ to $`v_{k+1}`$;
-    /// whether $`v_{k+1}`$ is $`v_k`$ bit for bit (a fixed point, [`same_bits`]: the
-    /// iteration reads nothing of the solver's but $`v_k`$, the step's state and dt).
-    ///
-    /// With $`F(x) \approx F(x_k) + K_k (x - x_k)`$ (Eq 10) at $`x = x_n + dt\,v`$,
-    /// $`(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)`$. For $`x_k = x_n`$
-    /// this is Eq (12) as printed. On a stage problem, $`(x_n, v_n, dt)`$ is the pseudo-state
-    /// `state` and $`\tau`$ (`dt`), and a non-quadratic dissipation adds its linearisation to
-    /// the right-hand side ([`StageDissipation::add_newton_rhs`]).
-    fn newton_iteration(&mut self, state: &State, dt: f64) -> Result<bool> {
-        for ((x_k, x_n), v_k) in self.x_k.iter_mut().zip(&state.x).zip(&self.v_k) {
-            *x_k = position_update(x_n, v_k, dt);
-        }
+    /// One Newton iteration's linear system at the iterate `x_k`: the springs' Jacobians
+    /// (Eq. (4), or `projected` to the negative semidefinite cone,
+    /// [`spring::force_jacobian_definite`]), the forces, the right-hand side of Eqs. (10) and
+    /// (12) and the matrix $`M - dt^2 K_k`$ factored; an error if it is not positive definite.
+    fn linearise(&mut self, state: &State, dt: f64, projected: bool) -> Result<()> {
         let x_k = &self.x_k;
-        // The fields, not [`Self::springs`]: the Jacobians are written beside them.
-        let springs = SpringArrays {
-            ends: &self.ends,
-            rest_lengths: &self.rest_lengths,
-            stiffness: &self.stiffness,
-        };
-        spring_jacobians(springs, x_k, &mut self.jacobians);
+        if projected {
+            for (jac, (&(a, b), (&l0, &k))) in self.jacobians.iter_mut().zip(
+                self.ends
+                    .iter()
+                    .zip(self.rest_lengths.iter().zip(&self.stiffness)),
+            ) {
+                *jac = spring::force_jacobian_definite(&x_k[a], &x_k[b], l0, k);
+            }
+        } else {
+            // The fields, not [`Self::springs`]: the Jacobians are written beside them.
+            let springs = SpringArrays {
+                ends: &self.ends,
+                rest_lengths: &self.rest_lengths,
+                stiffness: &self.stiffness,
+            };
+            spring_jacobians(springs, x_k, &mut self.jacobians);
+        }
         self.system.forces(x_k, &mut self.forces);
         let step = NewtonStep {
             x_n: &state.x,
@@ -442,11 +459,36 @@ impl BackwardEuler {
                 )?)
             }
         }
+        Ok(())
+    }
+
+    /// Eqs. (10), (12): one Newton-Raphson iteration, from the iterate $`v_k`$ to $`v_{k+1}`$;
+    /// whether $`v_{k+1}`$ is $`v_k`$ bit for bit (a fixed point, [`same_bits`]: the
+    /// iteration reads nothing of the solver's but $`v_k`$, the step's state and dt).
+    ///
+    /// With $`F(x) \approx F(x_k) + K_k (x - x_k)`$ (Eq 10) at $`x = x_n + dt\,v`$,
+    /// $`(M - dt^2 K_k)\,v_{k+1} = M v_n + dt\,F(x_k) + dt\,K_k(x_n - x_k)`$. For $`x_k = x_n`$
+    /// this is Eq (12) as printed. On a stage problem, $`(x_n, v_n, dt)`$ is the pseudo-state
+    /// `state` and $`\tau`$ (`dt`), and a non-quadratic dissipation adds its linearisation to
+    /// the right-hand side ([`StageDissipation::add_newton_rhs`]).
+    fn newton_iteration(&mut self, state: &State, dt: f64) -> Result<bool> {
+        for ((x_k, x_n), v_k) in self.x_k.iter_mut().zip(&state.x).zip(&self.v_k) {
+            *x_k = position_update(x_n, v_k, dt);
+        }
+        // The Hessian as Eq. (4) gives it; under the projected rule, where that is not
+        // positive definite (compressed springs' transverse stiffness), projected Newton's.
+        if let Err(indefinite) = self.linearise(state, dt, false) {
+            if self.hessian == LocalHessian::Exact {
+                return Err(indefinite);
+            }
+            self.linearise(state, dt, true)?;
+        }
         // Fixed nodes have v = 0: the x̄ of Eqs 45-47 is zero.
         self.solve
             .as_ref()
             .expect("factored")
             .solve(&mut self.rhs, &self.zeros, 1);
+
         let next = |i: usize| Vec3::new(self.rhs[3 * i], self.rhs[3 * i + 1], self.rhs[3 * i + 2]);
         if self.dissipation.dissipation().is_smooth() {
             let mut fixed = true;

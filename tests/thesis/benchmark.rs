@@ -341,6 +341,126 @@ fn the_asymptotic_mark_follows_the_local_slope() {
     assert!(first_order.before_asymptotic(case, &large));
 }
 
+/// The benchmark's Newton takes projected Newton's Hessian where Eq. (4)'s is not positive
+/// definite (`hessian = projected`), so every Newton run of the benchmark completes, the
+/// implicit midpoint rule's at the stiff rope's coarsest step among them. Negative case: the
+/// same run with Eq. (4) as printed fails on a negative pivot, and Eq. (4)'s Jacobian of a
+/// compressed spring makes −K indefinite where the projected one does not.
+#[test]
+fn newton_completes_every_run_with_a_projected_hessian() {
+    let rows = rows_from_csv();
+    let newton: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.solver == "backward_euler" && r.kind == "dynamics")
+        .collect();
+    assert!(
+        newton.iter().all(|r| r.failure.is_empty()),
+        "a Newton run failed"
+    );
+    assert!(newton.iter().any(|r| r.stiffness_n_per_m == 1e6
+        && r.integrator == "implicit-midpoint"
+        && r.dt_s == 0.1));
+    // The run itself: Eq. (4) as printed fails where the projected rule completes.
+    let system = thesis_rope(1e6).unwrap();
+    let run = |hessian: mass_spring_solvers::solvers::vbd::LocalHessian| {
+        let mut spec = SolverSpec::new(SolverId::BackwardEuler, 5);
+        spec.params.integrator = OptimizationIntegrator::ImplicitMidpoint;
+        spec.params.hessian = hessian;
+        let mut solver = spec.build(&system, 0.1).unwrap();
+        let mut state = system.initial_state();
+        (0..15).try_for_each(|_| solver.step(&mut state))
+    };
+    assert!(run(mass_spring_solvers::solvers::vbd::LocalHessian::Exact).is_err());
+    assert!(run(mass_spring_solvers::solvers::vbd::LocalHessian::Projected).is_ok());
+    let (a, b) = (
+        mass_spring_solvers::model::system::Vec3::zeros(),
+        mass_spring_solvers::model::system::Vec3::new(0.5, 0.0, 0.0),
+    );
+    let lowest = |k: nalgebra::Matrix3<f64>| (-k).symmetric_eigenvalues().min();
+    use mass_spring_solvers::model::spring::{force_jacobian_definite, force_jacobian_of};
+    assert!(lowest(force_jacobian_of(&a, &b, 1.0, 1e6)) < 0.0);
+    assert!(lowest(force_jacobian_definite(&a, &b, 1.0, 1e6)) >= 0.0);
+}
+
+/// The committed long runs of `make report-long` (`report/long/benchmark_long.csv`, read
+/// back strictly) hold every long configuration once, and one row, the soft sheet's
+/// cheapest, recomputes bit for bit here. Negative case: the same configuration one step
+/// size over gives another row.
+#[test]
+fn a_long_run_recomputes_bit_for_bit() {
+    use mass_spring_report::benchmark::long::{load, LONG_CSV};
+    use mass_spring_solvers::studies::benchmark::sweep::long_configurations;
+    use mass_spring_solvers::studies::benchmark::Benchmark;
+    let dir = mass_spring_report::crate_root().join("report/long");
+    let committed = load(&dir).unwrap();
+    let expected: usize = Case::ALL
+        .iter()
+        .map(|&c| long_configurations(c).len())
+        .sum();
+    assert_eq!(
+        committed.len(),
+        expected,
+        "{LONG_CSV} holds every long configuration"
+    );
+    let case = Case::ALL
+        .into_iter()
+        .find(|c| c.scene == GridScene::Sheet && c.stiffness == 1e3)
+        .unwrap();
+    let configuration = long_configurations(case)
+        .into_iter()
+        .filter(|c| c.dt_s == 0.005)
+        .min_by(|a, b| {
+            let flops = |c: &Configuration| {
+                committed
+                    .iter()
+                    .find(|r| {
+                        r.solver == c.spec.id.id()
+                            && r.dt_s == c.dt_s
+                            && r.scene == "sheet"
+                            && r.stiffness_n_per_m == 1e3
+                    })
+                    .and_then(|r| r.flops)
+                    .unwrap_or(f64::INFINITY)
+            };
+            flops(a).total_cmp(&flops(b))
+        })
+        .unwrap();
+    let truth = CaseTruth::compute(case).unwrap();
+    let recompute = |c: Configuration| {
+        Benchmark {
+            truths: vec![truth.clone()],
+            solver_truths: Vec::new(),
+            outcomes: vec![run(&c, &truth, None).unwrap()],
+            own_start: Vec::new(),
+            statics: Vec::new(),
+        }
+        .rows()
+        .remove(0)
+    };
+    let row = recompute(configuration);
+    let committed_row = committed
+        .iter()
+        .find(|r| {
+            r.solver == row.solver
+                && r.dt_s == row.dt_s
+                && r.scene == row.scene
+                && r.stiffness_n_per_m == row.stiffness_n_per_m
+        })
+        .unwrap();
+    assert_eq!(
+        rows_csv(&[row]),
+        rows_csv(std::slice::from_ref(committed_row))
+    );
+    let other = recompute(Configuration {
+        dt_s: 0.002,
+        ..configuration
+    });
+    assert_ne!(
+        rows_csv(&[other]),
+        rows_csv(std::slice::from_ref(committed_row))
+    );
+}
+
 /// A cell of constructed costs, in the order XPBD, Fast m-s, ADMM (None: not reached).
 fn cell(regime: Regime, [xpbd, liu, admm]: [Option<f64>; 3]) -> Cell {
     Cell {
@@ -390,6 +510,19 @@ fn the_verdicts_follow_their_sentences_on_constructed_tables() {
     ];
     assert_eq!(decide(DynamicsNoneStandsOut, &tied, 0.1), "holds");
     assert_eq!(decide(DynamicsLiuWorse, &tied, 0.1), "holds");
+    // "In every cell", not "in some": a solver that beats both others in one cell and not in
+    // the next does not stand out; Fast m-s beaten by both in one cell but tying ADMM in the
+    // next is not worse than both.
+    let mixed = [
+        cell(D, [Some(1.0), Some(3.0), Some(3.0)]),
+        cell(D, [Some(3.0), Some(3.0), Some(1.0)]),
+    ];
+    assert_eq!(decide(DynamicsNoneStandsOut, &mixed, 0.1), "holds");
+    let liu_once = [
+        cell(D, [Some(1.0), Some(3.0), Some(1.0)]),
+        cell(D, [Some(1.0), Some(3.0), Some(3.0)]),
+    ];
+    assert_eq!(decide(DynamicsLiuWorse, &liu_once, 0.1), "fails");
     // The tie moves a verdict: Fast m-s at 1.2 times XPBD's and ADMM's cost is worse at
     // 10 %, a tie at 25 %.
     let close = [cell(D, [Some(1.0), Some(1.2), Some(1.0)])];
@@ -493,6 +626,27 @@ fn the_thesis_protocol_verdicts_follow_their_sentences_on_constructed_tables() {
     // A run at rest is better than one cut at the time limit, whatever its numbers.
     let c = protocol_cell([off(Xpbd), cut(Liu), good(Admm)]);
     assert!(c.better(Xpbd, Liu, 0.1) && !c.better(Liu, Xpbd, 0.1));
+    // Two of three quantities suffice: nearer in rest error and peaks, farther in T/2.
+    let two = protocol_cell([
+        protocol_run(Xpbd, true, 0.01, 100, 1.5),
+        protocol_run(Liu, true, 0.5, 20, 1.0),
+        good(Admm),
+    ]);
+    assert!(two.better(Xpbd, Liu, 0.1) && !two.better(Liu, Xpbd, 0.1));
+    // A run that falls to rest with one peak is never better, however near its numbers.
+    let fall = protocol_cell([
+        protocol_run(Xpbd, true, 0.001, 1, 1.0),
+        off(Liu),
+        good(Admm),
+    ]);
+    assert!(!fall.better(Xpbd, Liu, 0.1));
+    // A quantity nearer by less than the tolerance does not count.
+    let close = protocol_cell([
+        protocol_run(Xpbd, true, 0.0100, 100, 1.30),
+        protocol_run(Liu, true, 0.0102, 101, 1.0),
+        good(Admm),
+    ]);
+    assert!(!close.better(Xpbd, Liu, 0.1) && !close.better(Liu, Xpbd, 0.1));
     // XPBD and ADMM alike, Fast m-s off.
     let alike = [protocol_cell([good(Xpbd), off(Liu), near(Admm)])];
     let verdict =
@@ -503,6 +657,21 @@ fn the_thesis_protocol_verdicts_follow_their_sentences_on_constructed_tables() {
     // Fast m-s alike with ADMM: it is not worse than both.
     let liu_alike = [protocol_cell([good(Xpbd), near(Liu), near(Admm)])];
     assert_eq!(verdict(DynamicsLiuWorse, &liu_alike), "fails");
+    // XPBD and ADMM not similar in most cells: "no method stands out, giving similar
+    // results" fails though neither is better than both everywhere.
+    let apart = [
+        protocol_cell([
+            good(Xpbd),
+            off(Liu),
+            protocol_run(Admm, true, 0.02, 60, 1.0),
+        ]),
+        protocol_cell([
+            protocol_run(Xpbd, true, 0.02, 60, 1.0),
+            off(Liu),
+            good(Admm),
+        ]),
+    ];
+    assert_eq!(verdict(DynamicsNoneStandsOut, &apart), "fails");
     // XPBD better than both: it stands out.
     let xpbd_first = [protocol_cell([good(Xpbd), off(Liu), off(Admm)])];
     assert_eq!(verdict(DynamicsNoneStandsOut, &xpbd_first), "fails");
@@ -541,6 +710,16 @@ fn every_benchmark_run_started_from_the_inertial_prediction() {
         off.len(),
         off.first()
     );
+    // The committed file too (the sheet's runs are `make report`'s only).
+    let committed = mass_spring_report::crate_root().join("report/data/benchmark.csv");
+    let mut reader = csv::ReaderBuilder::new()
+        .flexible(false)
+        .from_path(&committed)
+        .unwrap();
+    let committed: Vec<Row> = reader.deserialize().map(|r| r.unwrap()).collect();
+    assert!(committed.iter().any(|r| r.scene == "sheet"));
+    let off = committed.iter().filter(|r| !from_prediction(r)).count();
+    assert_eq!(off, 0, "committed runs that did not start from y");
     assert!(
         rows.iter()
             .filter(|r| r.start_distance_m == Some(0.0))

@@ -79,6 +79,9 @@ fn data() -> &'static ReportData {
             mass_spring_solvers::studies::benchmark::thesis_protocol::real_time_runs(&results)
                 .expect("the real-time runs run");
         benchmark.set_protocol(&results, real_time);
+        benchmark.long =
+            mass_spring_report::benchmark::long::load(&crate_root().join("report/long"))
+                .expect("the committed long runs read");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),

@@ -17,6 +17,7 @@ use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
 
 pub mod families;
 mod figures;
+pub mod long;
 mod question;
 mod start;
 pub mod tolerance;
@@ -45,6 +46,8 @@ pub struct BenchmarkChapter {
     pub protocol: Vec<ProtocolRow>,
     /// The Table 1 reference's peak count per stiffness, for reading (a).
     pub protocol_references: Vec<(f64, usize)>,
+    /// The committed long runs of `make report-long` (`report/long/`), if any.
+    pub long: Vec<Row>,
     /// The committed wall-time measurement of `make timing`, if the repository has one.
     pub wall: Option<WallTiming>,
 }
@@ -95,6 +98,7 @@ impl BenchmarkChapter {
             references: benchmark.reference_rows(),
             protocol: Vec::new(),
             protocol_references: Vec::new(),
+            long: Vec::new(),
             wall: None,
         })
     }

@@ -26,8 +26,13 @@ impl BenchmarkChapter {
             .copied()
             .filter(|r| r.start_distance_m != Some(0.0))
             .collect();
-        let mut names: Vec<&str> = off.iter().map(|r| display_name(&r.solver)).collect();
-        names.dedup();
+        let mut names: Vec<&str> = Vec::new();
+        for r in &off {
+            let name = display_name(&r.solver);
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
         let largest = off
             .iter()
             .filter_map(|r| r.start_distance_m)
@@ -45,6 +50,16 @@ impl BenchmarkChapter {
                 names.join(", "),
                 sig(largest, 2)
             );
+        }
+        let unmeasured = self
+            .rows
+            .iter()
+            .filter(|r| {
+                r.start_distance_m.is_none() && !r.finished() && !r.first_iterate.is_empty()
+            })
+            .count();
+        if unmeasured > 0 {
+            out += &format!("; {unmeasured} runs that failed record none");
         }
         out + ")"
     }
@@ -71,8 +86,12 @@ impl BenchmarkChapter {
                 continue;
             }
             let one = self.dynamics(case);
-            let mut ids: Vec<&str> = own.iter().map(|r| r.solver.as_str()).collect();
-            ids.dedup();
+            let mut ids: Vec<&str> = Vec::new();
+            for r in &own {
+                if !ids.contains(&r.solver.as_str()) {
+                    ids.push(r.solver.as_str());
+                }
+            }
             for id in ids {
                 let mine: Vec<&Row> = own.iter().copied().filter(|r| r.solver == id).collect();
                 let distance = mine

@@ -144,7 +144,7 @@ pub struct WallTiming {
 }
 
 /// Reads every record of a CSV strictly (a header, no ragged rows), naming the file on error.
-fn read_csv<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>> {
+pub(crate) fn read_csv<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>> {
     let bad = |e: &dyn std::fmt::Display| Error::Input(format!("{}: {e}", path.display()));
     let mut reader = csv::Reader::from_path(path).map_err(|e| bad(&e))?;
     reader

@@ -149,6 +149,9 @@ fn run(args: Args) -> Result<String, Failure> {
     // long runs, from the repository and not from the output directory: the report depends on
     // nothing of this machine's.
     let wall = WallTiming::load(&root.join("report/timing")).map_err(Failure::Input)?;
+    // The committed long runs of `make report-long`, read the same way.
+    let long = mass_spring_report::benchmark::long::load(&root.join("report/long"))
+        .map_err(Failure::Input)?;
     // The chapters beyond the thesis need nothing of its runs: they run beside them, on a
     // thread of their own, so that while the thesis's pool waits for its longest job (the
     // forensic bisection's rounds) the other has the cores. They yield the cores to the
@@ -214,6 +217,7 @@ fn run(args: Args) -> Result<String, Failure> {
     let (beyond_phases, tutorial, beyond, sheet, mut benchmark, integrators) = beyond_thesis?;
     phases.extend(beyond_phases);
     benchmark.wall = wall;
+    benchmark.long = long;
     benchmark.set_protocol(&results, real_time);
     let data = ReportData {
         results,

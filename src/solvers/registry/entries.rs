@@ -25,7 +25,16 @@ impl SolverId {
                 file: "src/solvers/backward_euler.rs",
                 family: Family::Thesis,
                 iteration: Some("Newton iteration"),
-                options: &[FIRST_ITERATE_PREVIOUS, INTEGRATOR],
+                options: &[
+                    FIRST_ITERATE_PREVIOUS,
+                    OptionInfo {
+                        name: "hessian",
+                        help: "Newton's Hessian: exact (Eq. (4) as printed; a step whose matrix \
+                               is not positive definite fails) or projected (rebuilt there with \
+                               each spring's transverse term clamped at 0) [default: exact]",
+                    },
+                    INTEGRATOR,
+                ],
                 relative_cost: 9.0,
                 accelerates: None,
                 builder: Builder::Springs(integrated),

@@ -391,7 +391,8 @@ fn stage_solver(
     let mut solver: Box<dyn MinimizingSolver + Send> = match spec.id {
         SolverId::BackwardEuler => Box::new(
             BackwardEuler::new(system, dt, iterations)?
-                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous)),
+                .with_first_iterate(params.first_iterate_or(FirstIterate::Previous))
+                .with_hessian(params.hessian),
         ),
         SolverId::DampedBackwardEuler => Box::new(
             BackwardEuler::dissipative(system, dt, iterations, params.dissipation())?

@@ -169,6 +169,52 @@ impl Benchmark {
     }
 }
 
+impl Benchmark {
+    /// The long runs of `cases` ([`sweep::long_configurations`], `make report-long`), with
+    /// their cases' truths, measured against the exact motion (no solver error: these steps
+    /// have no converged reference).
+    pub fn compute_long(cases: &[Case], progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
+        let configurations: Vec<Configuration> = cases
+            .iter()
+            .flat_map(|&c| sweep::long_configurations(c))
+            .collect();
+        let long_cases: Vec<Case> = cases
+            .iter()
+            .copied()
+            .filter(|&c| configurations.iter().any(|k| k.case == c))
+            .collect();
+        let truths: Vec<CaseTruth> = run_parallel(
+            &long_cases,
+            |c| c.stiffness,
+            |c| CaseTruth::compute(*c),
+            &|_, _| {},
+        )
+        .into_iter()
+        .collect::<Result<_>>()?;
+        let truth_of = |case: Case| {
+            truths
+                .iter()
+                .find(|t| t.case == case)
+                .expect("a truth per case")
+        };
+        let outcomes = run_parallel(
+            &configurations,
+            |c| expected_cost(c, truth_of(c.case).window),
+            |c| run::run(c, truth_of(c.case), None),
+            progress,
+        )
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?;
+        Ok(Self {
+            truths,
+            solver_truths: Vec::new(),
+            outcomes,
+            own_start: Vec::new(),
+            statics: Vec::new(),
+        })
+    }
+}
+
 /// A configuration's expected cost over `window` seconds, to order the parallel jobs: the
 /// flop model of its steps.
 fn expected_cost(c: &Configuration, window: f64) -> f64 {

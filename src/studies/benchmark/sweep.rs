@@ -5,6 +5,7 @@
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::integrators::stopping::Stopping;
 use crate::solvers::registry::{SolverId, SolverSpec};
+use crate::solvers::vbd::LocalHessian;
 use crate::studies::beyond::{
     grid_settings, own_first_iterate, takes_first_iterate, GridScene, COMPARISON_START,
 };
@@ -43,6 +44,24 @@ pub fn dts(case: Case) -> &'static [f64] {
 /// The sheet's smaller time steps, s, for Newton under Backward Euler only: where its error
 /// reaches its order (on the sheet the other solvers stop at 0.01 s).
 pub const SHEET_NEWTON_DTS: [f64; 3] = [0.005, 0.002, 0.001];
+
+/// The long runs of `make report-long` on a case ([`super::Benchmark::compute_long`]): on the
+/// sheet, every solver but Newton (in [`configurations`] there) at its first setting under
+/// Backward Euler at [`SHEET_NEWTON_DTS`], where the sheet's errors reach their order; none on
+/// the rope, whose sweep reaches its asymptotic regime within `make report`.
+pub fn long_configurations(case: Case) -> Vec<Configuration> {
+    if case.scene != GridScene::Sheet {
+        return Vec::new();
+    }
+    solvers()
+        .into_iter()
+        .filter(|&id| id != SolverId::BackwardEuler)
+        .flat_map(|id| {
+            let spec = settings(id)[0];
+            SHEET_NEWTON_DTS.map(|dt_s| Configuration { case, spec, dt_s })
+        })
+        .collect()
+}
 
 /// The solvers of the benchmark: every solver of the grid of section 10 but the damped pair
 /// (at zero damping they are Backward Euler and ADMM-PD, and the exact motion is undamped),
@@ -95,7 +114,19 @@ pub fn one_start(mut spec: SolverSpec) -> SolverSpec {
     if has_own_start(spec.id) {
         spec.params.first_iterate = Some(COMPARISON_START);
     }
+    spec.params.hessian = newton_hessian(spec.id, spec.params.hessian);
     spec
+}
+
+/// Newton's Hessian in the benchmark: projected where Eq. (4)'s matrix is not positive
+/// definite (compressed springs under the second-order integrators' large steps), so that its
+/// runs complete; the other solvers keep theirs.
+pub fn newton_hessian(id: SolverId, own: LocalHessian) -> LocalHessian {
+    if id == SolverId::BackwardEuler {
+        LocalHessian::Projected
+    } else {
+        own
+    }
 }
 
 /// Whether `id`'s own start is not the benchmark's: the solvers of the own-start variant.
@@ -113,7 +144,8 @@ pub fn own_start_configurations(case: Case) -> Vec<Configuration> {
         return out;
     }
     for id in solvers().into_iter().filter(|&id| has_own_start(id)) {
-        for (k, spec) in own_start_settings(id).into_iter().enumerate() {
+        for (k, mut spec) in own_start_settings(id).into_iter().enumerate() {
+            spec.params.hessian = newton_hessian(id, spec.params.hessian);
             for &dt_s in dts(case) {
                 if k == 0 || dt_s >= FINE_DT_S {
                     out.push(Configuration { case, spec, dt_s });

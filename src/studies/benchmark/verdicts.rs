@@ -11,8 +11,8 @@
 //! cell when `a` reaches it and `b` either does not or costs more than $`(1 + t)`$ times `a`'s
 //! cost, $`t`$ the tie; the **winners** of a cell are the solvers no other beats.
 //!
-//! Each rule is decided under every [`Setting`]: the ties of [`TIES`], fixed before any run
-//! (issue 47), and the integrators a minimizing solver may use ([`Schemes`]: the thesis's
+//! Each rule is decided under every [`Setting`]: the ties of [`TIES`], set by issue 47 (with
+//! the earlier benchmark's results known), and the integrators a minimizing solver may use ([`Schemes`]: the thesis's
 //! Backward Euler, or the best of the four; XPBD keeps its own scheme in both). A conclusion
 //! **holds** or **fails** only where every setting agrees; otherwise it *depends on* the
 //! setting that moves it ([`Overall`]).
