@@ -463,15 +463,19 @@ fn the_point_option_at_its_maximum_exits_2_or_succeeds_under_4_gib() {
 
 // Issue 48: `timing` against a concurrent report run, and options that mean what they say.
 
-/// [4] `timing --out DIR` takes the lock `report` takes for the directory holding DIR
+/// [4] `timing --out DIR` takes the lock `report` takes for the report directory holding DIR
 /// (`report/timing` → `.report.lock`): with it held, timing is refused at once (exit 2) and
 /// writes nothing, where it measured and wrote beside a report run replacing the directory.
+/// In a directory of the user's own (no manifest) it locks DIR beside it, not the parent's
+/// parent (where it once failed for want of permission).
 #[test]
 fn timing_waits_for_no_report_run_and_writes_nothing_while_one_holds_the_lock() {
     use rustix::fs::{flock, FlockOperation};
     let base = std::env::temp_dir().join(format!("timing-lock-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&base);
     std::fs::create_dir_all(base.join("report")).unwrap();
+    // A report directory: it holds a report's manifest.
+    std::fs::write(base.join("report/MANIFEST"), "").unwrap();
     let lock = std::fs::File::create(base.join(".report.lock")).unwrap();
     flock(&lock, FlockOperation::NonBlockingLockExclusive).unwrap();
     let out = base.join("report/timing");
@@ -484,6 +488,13 @@ fn timing_waits_for_no_report_run_and_writes_nothing_while_one_holds_the_lock() 
         out.display()
     );
     drop(lock);
+    // A directory of the user's own: its lock beside it, none in its parent's parent.
+    std::fs::create_dir_all(base.join("mine")).unwrap();
+    let mine = base.join("mine/t");
+    let (code, _, err) = timing(&["--quick", "--out", mine.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(base.join("mine/.t.lock").exists());
+    assert!(!base.join(".mine.lock").exists());
     std::fs::remove_dir_all(&base).unwrap();
 }
 

@@ -1,13 +1,14 @@
 //! `make report-long`: the benchmark's long runs ([`mass_spring_report::benchmark::long`]),
 //! deterministic, into `report/long/` (or `--out DIR`): what does not fit `make report`'s
 //! budget. The file is checked and opened before the runs and replaced atomically after them;
-//! the run holds the lock `report` takes for the directory holding `DIR`. Exit status 2 for
+//! the run holds the lock `report` takes for the directory holding `DIR` when that is a report,
+//! else `DIR`'s own ([`lock_for_output`]). Exit status 2 for
 //! bad input, 1 for a failure after.
 
 use clap::Parser;
 use mass_spring_report::benchmark::long::LONG_CSV;
 use mass_spring_report::benchmark::rows_csv;
-use mass_spring_report::publish::lock_report_directory;
+use mass_spring_report::publish::lock_for_output;
 use mass_spring_solvers::error::{Error, Failure};
 use mass_spring_solvers::platform::output_file::{Links, OutputFile};
 use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
@@ -38,14 +39,7 @@ fn run(args: Args) -> Result<String, Failure> {
     let out = args
         .out
         .unwrap_or_else(|| mass_spring_report::crate_root().join("report/long"));
-    let absolute = std::path::absolute(&out)
-        .map_err(|e| Failure::Input(Error::Input(format!("--out {}: {e}", out.display()))))?;
-    // The lock of the report directory holding the output (report/ for report/long), held to
-    // the end: a report run replacing that directory meanwhile would drop this file.
-    let _lock = match absolute.parent() {
-        Some(holder) => lock_report_directory(holder).map_err(Failure::Input)?,
-        None => None,
-    };
+    let _lock = lock_for_output(&out).map_err(Failure::Input)?;
     std::fs::create_dir_all(&out).map_err(|e| {
         Failure::Input(Error::Input(format!(
             "cannot create {}: {e}",

@@ -48,7 +48,7 @@ use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::platform::paths::{describe_file_type, NAME_MAX};
 use ownership::{
     existing_ownership, foreign_entries, manifest_text, read_manifest,
-    refuse_what_cannot_be_published, relative_inside, Manifest, Ownership,
+    refuse_what_cannot_be_published, relative_inside, strays, Manifest, Ownership,
 };
 use std::collections::BTreeSet;
 use std::fs::{self, File};
@@ -455,6 +455,15 @@ impl ReportTarget {
             self.journal_swap(checkpoints)?;
             &self.old
         };
+        // What was added to the target after its foreign entries were listed, while the new
+        // report was staged, is in the previous directory only: carried over before it goes.
+        for rel in strays(old, &self.dir, &self.ownership)? {
+            let dst = self.dir.join(&rel);
+            if let Some(parent) = dst.parent() {
+                fs::create_dir_all(parent).map_err(|e| io_error("creating", parent, e))?;
+            }
+            carry_over(&old.join(&rel), &dst)?;
+        }
         remove_tree(old)?;
         checkpoints.pass("removed the previous report")?;
         Ok(())
@@ -563,6 +572,18 @@ pub fn lock_report_directory(dir: &Path) -> Result<Option<DirectoryLock>> {
     }))
 }
 
+/// The lock a writer of the directory `out` holds for its run (`timing` into `report/timing`,
+/// `report_long` into `report/long`): the lock of the report directory holding `out` when its
+/// parent is one (it holds a report's manifest), so that no report run replaces it meanwhile;
+/// else the lock of `out` itself, beside it, in a directory the user chose.
+pub fn lock_for_output(out: &Path) -> Result<Option<DirectoryLock>> {
+    let absolute = std::path::absolute(out).map_err(|e| io_error("resolving", out, e))?;
+    match absolute.parent() {
+        Some(holder) if holder.join(MANIFEST).exists() => lock_report_directory(holder),
+        _ => lock_report_directory(&absolute),
+    }
+}
+
 /// Whether `path` holds a previous report set aside by the journal: empty (an empty output
 /// directory was replaced), with the report's manifest, or a report from before manifests.
 fn is_previous_report(path: &Path) -> bool {
@@ -648,6 +669,33 @@ pub fn fixture(tag: &str, count: usize) -> Vec<OutputFile> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Entries added to the target while the new report was staged (after its foreign entries
+    /// were listed) are strays of the previous directory, carried over before it is removed: a
+    /// file at the top and one inside a foreign directory already carried, not the previous
+    /// report's files nor what is already in the new one. Without the step (the code before
+    /// it), both would go with the previous directory.
+    #[test]
+    fn entries_added_while_the_report_is_staged_are_carried_over() {
+        let base = std::env::temp_dir().join(format!("mss-strays-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&base);
+        let (old, new) = (base.join("old"), base.join("new"));
+        for dir in [&old, &new] {
+            fs::create_dir_all(dir.join("notes")).unwrap();
+            fs::write(dir.join("REPORT.md"), "report").unwrap();
+            fs::write(dir.join("notes/a.txt"), "carried").unwrap();
+        }
+        fs::write(old.join(MANIFEST), "").unwrap();
+        fs::write(old.join("late.txt"), "mine").unwrap();
+        fs::write(old.join("notes/b.txt"), "mine too").unwrap();
+        let ownership = Ownership::Listed([PathBuf::from("REPORT.md")].into_iter().collect());
+        let found = strays(&old, &new, &ownership).unwrap();
+        assert_eq!(
+            found,
+            vec![PathBuf::from("late.txt"), PathBuf::from("notes/b.txt")]
+        );
+        fs::remove_dir_all(&base).unwrap();
+    }
 
     /// The output directory replaced after the last check, just before the journal's first
     /// rename: that rename moves the user's directory aside, the check after it finds it is not

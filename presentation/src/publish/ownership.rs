@@ -285,6 +285,43 @@ fn check_replaceable(_dir: &Path, _meta: &fs::Metadata) -> Result<()> {
     Ok(())
 }
 
+/// The entries of `old`, the previous report once the new one is in place at `new`, that
+/// neither the previous run wrote nor are in `new`: entries added to the target while the new
+/// report was staged, after its foreign entries were listed (a file inside a foreign
+/// directory counts alone). Each is carried over into `new` before `old` is removed.
+pub(super) fn strays(old: &Path, new: &Path, ownership: &Ownership) -> Result<Vec<PathBuf>> {
+    fn walk(
+        old: &Path,
+        new: &Path,
+        rel_dir: &Path,
+        ownership: &Ownership,
+        out: &mut Vec<PathBuf>,
+    ) -> Result<()> {
+        for name in sorted_entries(&old.join(rel_dir))? {
+            let rel = rel_dir.join(&name);
+            // At the top, what the foreign entries leave out too: the manifest and a
+            // legacy run's staging directory.
+            if rel_dir.as_os_str().is_empty()
+                && (name == MANIFEST || name.to_string_lossy().starts_with(LEGACY_STAGING_PREFIX))
+            {
+                continue;
+            }
+            let path = old.join(&rel);
+            let meta = fs::symlink_metadata(&path).map_err(|e| io_error("reading", &path, e))?;
+            let in_new = fs::symlink_metadata(new.join(&rel)).is_ok();
+            if meta.is_dir() && (in_new || ownership.owns_something_under(&rel)) {
+                walk(old, new, &rel, ownership, out)?;
+            } else if !in_new && !ownership.owns_file(&rel) {
+                out.push(rel);
+            }
+        }
+        Ok(())
+    }
+    let mut out = Vec::new();
+    walk(old, new, Path::new(""), ownership, &mut out)?;
+    Ok(out)
+}
+
 /// The entries of the existing report that the previous run did not write, topmost first
 /// (a foreign directory is one entry). A foreign entry at a path `new_files` needs is an error.
 pub(super) fn foreign_entries(

@@ -69,27 +69,8 @@ pub struct Benchmark {
 impl Benchmark {
     /// Every truth and run of `cases`, each a parallel job (the dearest first).
     pub fn compute(cases: &[Case], progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
-        let truths: Vec<CaseTruth> = run_parallel(
-            cases,
-            |c| {
-                c.stiffness.sqrt()
-                    * if c.scene == crate::studies::beyond::GridScene::Sheet {
-                        100.0
-                    } else {
-                        1.0
-                    }
-            },
-            |c| CaseTruth::compute(*c),
-            &|_, _| {},
-        )
-        .into_iter()
-        .collect::<Result<_>>()?;
-        let truth_of = |case: Case| {
-            truths
-                .iter()
-                .find(|t| t.case == case)
-                .expect("a truth per case")
-        };
+        let truths = case_truths(cases)?;
+        let truth_of = |case: Case| truth_in(&truths, case);
         let mut solver_jobs: Vec<(Case, f64, Converged)> = Vec::new();
         for &case in cases {
             for dt in SOLVER_ERROR_DTS
@@ -183,20 +164,8 @@ impl Benchmark {
             .copied()
             .filter(|&c| configurations.iter().any(|k| k.case == c))
             .collect();
-        let truths: Vec<CaseTruth> = run_parallel(
-            &long_cases,
-            |c| c.stiffness,
-            |c| CaseTruth::compute(*c),
-            &|_, _| {},
-        )
-        .into_iter()
-        .collect::<Result<_>>()?;
-        let truth_of = |case: Case| {
-            truths
-                .iter()
-                .find(|t| t.case == case)
-                .expect("a truth per case")
-        };
+        let truths = case_truths(&long_cases)?;
+        let truth_of = |case: Case| truth_in(&truths, case);
         let outcomes = run_parallel(
             &configurations,
             |c| expected_cost(c, truth_of(c.case).window),
@@ -213,6 +182,33 @@ impl Benchmark {
             statics: Vec::new(),
         })
     }
+}
+
+/// The truths of `cases`, each a parallel job, the dearest first (the sheet's exact motions,
+/// the stiff ones longest).
+fn case_truths(cases: &[Case]) -> Result<Vec<CaseTruth>> {
+    run_parallel(
+        cases,
+        |c| {
+            let scene = match c.scene {
+                crate::studies::beyond::GridScene::Sheet => 100.0,
+                crate::studies::beyond::GridScene::Rope => 1.0,
+            };
+            c.stiffness.sqrt() * scene
+        },
+        |c| CaseTruth::compute(*c),
+        &|_, _| {},
+    )
+    .into_iter()
+    .collect()
+}
+
+/// The truth of `case` among `truths` (computed for every case that runs).
+fn truth_in(truths: &[CaseTruth], case: Case) -> &CaseTruth {
+    truths
+        .iter()
+        .find(|t| t.case == case)
+        .expect("a truth per case")
 }
 
 /// A configuration's expected cost over `window` seconds, to order the parallel jobs: the

@@ -16,7 +16,8 @@
 //! atomically after them, all or none: a full disk leaves the previous files whole. Exit
 //! status 2 for bad input (found before anything is measured), 1 for a failure after.
 //! The run holds, from before the files are opened to its end, the lock `report` takes for the
-//! directory holding `DIR` (`.report.lock` beside `report/` for `report/timing`), so that a
+//! directory holding `DIR` when that is a report (`.report.lock` beside `report/` for
+//! `report/timing`), else `DIR`'s own lock beside it ([`lock_for_output`]), so that a
 //! report run never replaces that directory, and these files with it, while they are written.
 //! `--quick` skips the scaling study and times the benchmark's configurations of the soft rope
 //! at its two largest time steps only, in batches of 0.1 ms (about a second; for the tests).
@@ -30,7 +31,7 @@ use clap::Parser;
 use mass_spring_report::benchmark::rows_csv;
 use mass_spring_report::benchmark::wall::{WallTiming, MACHINE_CSV, WALL_CSV};
 use mass_spring_report::navigation;
-use mass_spring_report::publish::lock_report_directory;
+use mass_spring_report::publish::lock_for_output;
 use mass_spring_solvers::error::{Error, Failure, Result};
 use mass_spring_solvers::platform::output_file::{Links, OutputFile};
 use measure::{checkout, load_average, machine, machine_md, BATCH_SECONDS};
@@ -147,12 +148,7 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
     }
     // The lock of the report directory holding the output (report/ for report/timing), held
     // to the end: a report run replacing that directory meanwhile would drop these files.
-    let absolute = std::path::absolute(&out)
-        .map_err(|e| Failure::Input(Error::Input(format!("--out {}: {e}", out.display()))))?;
-    let _lock = match absolute.parent() {
-        Some(holder) => lock_report_directory(holder).map_err(Failure::Input)?,
-        None => None,
-    };
+    let _lock = lock_for_output(&out).map_err(Failure::Input)?;
     let cases = benchmark::cases(args.quick);
     let mut names: Vec<String> = ["TIMING.md", WALL_CSV, MACHINE_CSV]
         .map(String::from)
