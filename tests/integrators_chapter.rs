@@ -125,6 +125,16 @@ fn the_sections_claims_are_the_datas() {
             "{i}"
         );
     }
+    // The costs are not at matched accuracy, and the section says how far apart they are.
+    let errors = c.costs.iter().map(|r| r.solver_error_m);
+    let least = errors.clone().fold(f64::INFINITY, f64::min);
+    let most = errors.fold(0.0, f64::max);
+    assert!(most > 100.0 * least, "{least:e} {most:e}");
+    assert!(section.contains(&format!(
+        "run from {} m to {} m, so a cost per step here is not a cost at matched accuracy",
+        sig(least, 2),
+        sig(most, 2)
+    )));
     // Every table that shows a run names its integrator.
     for i in OptimizationIntegrator::ALL {
         assert!(section.contains(i.label()));
