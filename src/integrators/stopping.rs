@@ -302,12 +302,21 @@ impl Convergence {
 
     /// A step starts from the iterate `x` (its nodes); the count mode reads nothing.
     pub fn begin(&mut self, x: impl Iterator<Item = Vec3>) {
-        self.iterations = 0;
-        self.met = false;
-        if let Stopping::Tolerance(_) = self.stopping {
-            self.previous.clear();
+        if self.restart() {
             self.previous.extend(x);
         }
+    }
+
+    /// A new step's counters reset; whether the mode keeps its iterates (the tolerance
+    /// mode, its previous iterate cleared).
+    fn restart(&mut self) -> bool {
+        self.iterations = 0;
+        self.met = false;
+        let keep = matches!(self.stopping, Stopping::Tolerance(_));
+        if keep {
+            self.previous.clear();
+        }
+        keep
     }
 
     /// A step of `system` from `(x_n, v_n)` at `dt` starts from the iterate `x`: as
@@ -321,12 +330,7 @@ impl Convergence {
         dt: f64,
         x: impl Iterator<Item = Vec3>,
     ) {
-        self.iterations = 0;
-        self.met = false;
-        let keep = matches!(self.stopping, Stopping::Tolerance(_));
-        if keep {
-            self.previous.clear();
-        }
+        let keep = self.restart();
         let mut largest = 0.0_f64;
         for (i, x) in x.enumerate() {
             let y =

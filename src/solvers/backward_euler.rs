@@ -61,9 +61,21 @@ pub fn spring_jacobians<T: Lane>(
     x_k: &[Vector3<T>],
     jacobians: &mut [Matrix3<T>],
 ) {
+    spring_jacobians_with(springs, x_k, jacobians, spring::force_jacobian_of);
+}
+
+/// Eq. (4) for every spring, or another rule for each spring's block (`jacobian`: projected
+/// Newton's [`spring::force_jacobian_definite`]): [`spring_jacobians`]'s loop.
+#[inline(always)]
+pub fn spring_jacobians_with<T: Lane>(
+    springs: SpringArrays<T>,
+    x_k: &[Vector3<T>],
+    jacobians: &mut [Matrix3<T>],
+    jacobian: impl Fn(&Vector3<T>, &Vector3<T>, T, T) -> Matrix3<T>,
+) {
     let values = springs.rest_lengths.iter().zip(springs.stiffness);
     for (jac, (&(a, b), (&l0, &k))) in jacobians.iter_mut().zip(springs.ends.iter().zip(values)) {
-        *jac = spring::force_jacobian_of(&x_k[a], &x_k[b], l0, k);
+        *jac = jacobian(&x_k[a], &x_k[b], l0, k);
     }
 }
 
@@ -402,27 +414,26 @@ impl BackwardEuler {
         self.convergence.stopping() == crate::integrators::stopping::Stopping::Count
     }
 
-    /// One Newton iteration's linear system at the iterate `x_k`: the springs' Jacobians
-    /// (Eq. (4), or `projected` to the negative semidefinite cone,
+    /// Eqs. (4), (10), (12): one Newton iteration's linear system at the iterate `x_k`: the
+    /// springs' Jacobians (Eq. (4), or `projected` to the negative semidefinite cone,
     /// [`spring::force_jacobian_definite`]), the forces, the right-hand side of Eqs. (10) and
     /// (12) and the matrix $`M - dt^2 K_k`$ factored; an error if it is not positive definite.
     fn linearise(&mut self, state: &State, dt: f64, projected: bool) -> Result<()> {
         let x_k = &self.x_k;
+        // The fields, not [`Self::springs`]: the Jacobians are written beside them.
+        let springs = SpringArrays {
+            ends: &self.ends,
+            rest_lengths: &self.rest_lengths,
+            stiffness: &self.stiffness,
+        };
         if projected {
-            for (jac, (&(a, b), (&l0, &k))) in self.jacobians.iter_mut().zip(
-                self.ends
-                    .iter()
-                    .zip(self.rest_lengths.iter().zip(&self.stiffness)),
-            ) {
-                *jac = spring::force_jacobian_definite(&x_k[a], &x_k[b], l0, k);
-            }
+            spring_jacobians_with(
+                springs,
+                x_k,
+                &mut self.jacobians,
+                spring::force_jacobian_definite,
+            );
         } else {
-            // The fields, not [`Self::springs`]: the Jacobians are written beside them.
-            let springs = SpringArrays {
-                ends: &self.ends,
-                rest_lengths: &self.rest_lengths,
-                stiffness: &self.stiffness,
-            };
             spring_jacobians(springs, x_k, &mut self.jacobians);
         }
         self.system.forces(x_k, &mut self.forces);

@@ -45,12 +45,8 @@ impl BenchmarkChapter {
         let header: Vec<&str> = header.iter().map(String::as_str).collect();
         let mut t = MarkdownTable::new(&header);
         for case in self.cases() {
-            let mut ids: Vec<SolverId> = Vec::new();
-            for c in long_configurations(case) {
-                if !ids.contains(&c.spec.id) {
-                    ids.push(c.spec.id);
-                }
-            }
+            let ids =
+                super::start::distinct(long_configurations(case).into_iter().map(|c| c.spec.id));
             for id in ids {
                 let error_at = |rows: &[Row], dt: f64| {
                     rows.iter()

@@ -26,13 +26,7 @@ impl BenchmarkChapter {
             .copied()
             .filter(|r| r.start_distance_m != Some(0.0))
             .collect();
-        let mut names: Vec<&str> = Vec::new();
-        for r in &off {
-            let name = display_name(&r.solver);
-            if !names.contains(&name) {
-                names.push(name);
-            }
-        }
+        let names = distinct(off.iter().map(|r| display_name(&r.solver)));
         let largest = off
             .iter()
             .filter_map(|r| r.start_distance_m)
@@ -86,12 +80,7 @@ impl BenchmarkChapter {
                 continue;
             }
             let one = self.dynamics(case);
-            let mut ids: Vec<&str> = Vec::new();
-            for r in &own {
-                if !ids.contains(&r.solver.as_str()) {
-                    ids.push(r.solver.as_str());
-                }
-            }
+            let ids = distinct(own.iter().map(|r| r.solver.as_str()));
             for id in ids {
                 let mine: Vec<&Row> = own.iter().copied().filter(|r| r.solver == id).collect();
                 let distance = mine
@@ -128,6 +117,17 @@ impl BenchmarkChapter {
         }
         t.render()
     }
+}
+
+/// The items of `items` in the order they first come, each once.
+pub(super) fn distinct<T: PartialEq>(items: impl Iterator<Item = T>) -> Vec<T> {
+    let mut out: Vec<T> = Vec::new();
+    for item in items {
+        if !out.contains(&item) {
+            out.push(item);
+        }
+    }
+    out
 }
 
 /// A registry id's display name.

@@ -3,7 +3,7 @@
 use super::metrics::Trajectory;
 use super::metrics::{energy_decay_per_period, largest_distance, modal_period, rms_distance};
 use super::sweep::Configuration;
-use super::truth::{record, CaseTruth, SolverTruth};
+use super::truth::{CaseTruth, SolverTruth};
 use crate::error::Result;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::MassSpringSystem;
@@ -95,13 +95,7 @@ pub fn run(
     let case = configuration.case;
     let system = case.scene.system(case.stiffness)?;
     let mut solver = build_solver(configuration, &system)?;
-    let trajectory = record(
-        solver.as_mut(),
-        system.initial_state(),
-        truth.window,
-        &truth.mode,
-        &truth.equilibrium,
-    );
+    let trajectory = truth.record_window(solver.as_mut(), &system);
     let start_distance_m = solver.start_distance_m();
     let log = solver
         .iteration_log()

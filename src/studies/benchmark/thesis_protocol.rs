@@ -336,13 +336,8 @@ pub fn decide(conclusion: Conclusion, cells: &[ProtocolCell], tolerance: f64) ->
     if decided.is_empty() || conclusion == Conclusion::StaticsAdmmVersatile {
         return Verdict::Undecided;
     }
-    let in_every = |test: &dyn Fn(&ProtocolCell) -> bool| {
-        if decided.iter().all(|c| test(c)) {
-            Verdict::Holds
-        } else {
-            Verdict::Fails
-        }
-    };
+    let in_every =
+        |test: &dyn Fn(&ProtocolCell) -> bool| Verdict::from_holds(decided.iter().all(|c| test(c)));
     let others = |s: SolverId| THESIS_THREE.into_iter().filter(move |&o| o != s);
     match conclusion {
         Conclusion::StaticsProjectiveDynamics => in_every(&|c| {
@@ -363,11 +358,9 @@ pub fn decide(conclusion: Conclusion, cells: &[ProtocolCell], tolerance: f64) ->
                 .iter()
                 .filter(|c| c.similar(Xpbd, Admm, tolerance))
                 .count();
-            if stands_out || (alike as f64) < SIMILAR_MAJORITY * decided.len() as f64 {
-                Verdict::Fails
-            } else {
-                Verdict::Holds
-            }
+            Verdict::from_holds(
+                !stands_out && (alike as f64) >= SIMILAR_MAJORITY * decided.len() as f64,
+            )
         }
         Conclusion::DynamicsLiuWorse => {
             in_every(&|c| c.better(Admm, Liu, tolerance) && c.better(Xpbd, Liu, tolerance))

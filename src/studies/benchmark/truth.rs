@@ -203,6 +203,22 @@ pub struct CaseTruth {
 }
 
 impl CaseTruth {
+    /// `solver` on the case's `system`, from its start over the window, recorded
+    /// ([`record`]): every run measured against this truth.
+    pub fn record_window(
+        &self,
+        solver: &mut dyn TimeStepper,
+        system: &MassSpringSystem,
+    ) -> Result<Trajectory> {
+        record(
+            solver,
+            system.initial_state(),
+            self.window,
+            &self.mode,
+            &self.equilibrium,
+        )
+    }
+
     /// The equilibrium, the mode, the window and the exact motion of a case (and its motion
     /// at twice the step, for the halving gap).
     pub fn compute(case: Case) -> Result<Self> {
@@ -344,13 +360,7 @@ impl SolverTruth {
     pub fn compute(method: Converged, dt: f64, truth: &CaseTruth) -> Result<Self> {
         let system = truth.case.scene.system(truth.case.stiffness)?;
         let mut solver = method.solver(truth.case, &system, dt)?;
-        let trajectory = record(
-            solver.as_mut(),
-            system.initial_state(),
-            truth.window,
-            &truth.mode,
-            &truth.equilibrium,
-        )?;
+        let trajectory = truth.record_window(solver.as_mut(), &system)?;
         let log = solver.iteration_log().filter(|_| method == Converged::Xpbd);
         Ok(Self {
             method,

@@ -196,7 +196,8 @@ impl Verdict {
         }
     }
 
-    fn from_holds(holds: bool) -> Self {
+    /// Holds if `holds`, else fails.
+    pub(super) fn from_holds(holds: bool) -> Self {
         if holds {
             Verdict::Holds
         } else {
