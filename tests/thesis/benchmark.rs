@@ -21,7 +21,7 @@ use mass_spring_solvers::studies::benchmark::truth::{
     lowest_excited_mode, CaseTruth, Converged, SolverTruth, XPBD_REFERENCE_RESIDUAL_M,
 };
 use mass_spring_solvers::studies::benchmark::verdicts::{
-    Cell, Conclusion, Overall, Regime, Schemes, Scope, Setting, THESIS_THREE,
+    Cell, Conclusion, Measure, Overall, Regime, Schemes, Scope, Setting, THESIS_THREE,
 };
 use mass_spring_solvers::studies::benchmark::Case;
 use mass_spring_solvers::studies::beyond::GridScene;
@@ -550,10 +550,12 @@ fn the_verdicts_follow_their_sentences_on_constructed_tables() {
     assert_eq!(decide(StaticsAdmmVersatile, &admm_first, 0.1), "undecided");
     // Summed over settings: agreeing settings give their verdict, a tie that moves it and
     // schemes that move it are named.
-    let setting = |tie: f64, schemes: Schemes| Setting {
+    let on = |tie: f64, schemes: Schemes, measure: Measure| Setting {
         tie,
         scope: Scope::Schemes(schemes),
+        measure: Some(measure),
     };
+    let setting = |tie: f64, schemes: Schemes| on(tie, schemes, Measure::Flops);
     let (be, any) = (Schemes::BackwardEuler, Schemes::AllFour);
     let holds = mass_spring_solvers::studies::benchmark::verdicts::Verdict::Holds;
     let fails = mass_spring_solvers::studies::benchmark::verdicts::Verdict::Fails;
@@ -569,6 +571,70 @@ fn the_verdicts_follow_their_sentences_on_constructed_tables() {
         Overall::of(&[(setting(0.1, be), holds), (setting(0.1, any), fails)]).id(),
         "depends on the integrators"
     );
+    // What the cost counts is an axis of its own: a verdict that flips between flops and
+    // wall time at the same tie and integrators depends on it, and on nothing else.
+    let wall = |tie: f64, schemes: Schemes| on(tie, schemes, Measure::WallTime);
+    assert_eq!(
+        Overall::of(&[
+            (setting(0.1, be), holds),
+            (setting(0.25, be), holds),
+            (wall(0.1, be), fails),
+            (wall(0.25, be), fails),
+        ])
+        .id(),
+        "depends on flops against wall time"
+    );
+    assert_eq!(
+        Overall::of(&[
+            (setting(0.1, be), holds),
+            (setting(0.25, be), fails),
+            (wall(0.1, be), fails),
+            (wall(0.25, be), fails),
+        ])
+        .id(),
+        "depends on the tie and flops against wall time"
+    );
+}
+
+/// Reading (b) under wall time reads the cells' wall times, not their flops: a constructed
+/// case in which the two costs order Fast m-s and ADMM the other way flips "Fast m-s is worse
+/// than ADMM and XPBD" between the measures, and the overall verdict names the measure. The
+/// wrong implementation it catches: a wall-time setting that decides on the flops (its cells
+/// built from the flop cost), which gives the same verdict under both measures.
+#[test]
+fn the_wall_time_setting_decides_on_wall_time() {
+    use SolverId::{AdmmPd, FastMassSpring, Xpbd};
+    // Flops: XPBD 1.0, Fast m-s 3.0, ADMM 1.5 (Fast m-s the dearest by more than every tie);
+    // wall time: XPBD 1.0, Fast m-s 1.2, ADMM 1.5 (ADMM dearer than Fast m-s: it is not).
+    let cells_of = |_: Schemes, m: Measure| {
+        let costs = match m {
+            Measure::Flops => [1.0, 3.0, 1.5],
+            Measure::WallTime => [1.0, 1.2, 1.5],
+        };
+        vec![Cell {
+            regime: Regime::Dynamics,
+            costs: vec![
+                (Xpbd, Some(costs[0])),
+                (FastMassSpring, Some(costs[1])),
+                (AdmmPd, Some(costs[2])),
+            ],
+        }]
+    };
+    let decided = Conclusion::DynamicsLiuWorse.at_matched_cost(&Measure::ALL, &cells_of);
+    let verdict = |m: Measure| {
+        decided
+            .sensitivity
+            .iter()
+            .filter(|(s, _)| s.measure == Some(m) && s.tie == 0.1)
+            .map(|(_, v)| v.id())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(verdict(Measure::Flops), ["holds", "holds"]);
+    assert_eq!(verdict(Measure::WallTime), ["fails", "fails"]);
+    assert_eq!(decided.overall.id(), "depends on flops against wall time");
+    // With flops alone there is no such axis.
+    let flops_only = Conclusion::DynamicsLiuWorse.at_matched_cost(&[Measure::Flops], &cells_of);
+    assert_eq!(flops_only.overall.id(), "holds");
 }
 
 /// One run of reading (a), constructed: at rest or cut, its rest-state error (m), peak count
@@ -949,4 +1015,57 @@ fn the_tolerance_points_reach_their_targets() {
     .unwrap();
     let achieved = outcome.measured.unwrap().solver.unwrap().rms;
     assert!(achieved > 10.0 * 1e-4, "{achieved:e}");
+}
+
+/// Reading (b)'s wall-time cells are the committed timing's: each dynamics cell's cost under
+/// Backward Euler recomputed from `report/timing/benchmark_wall.csv` alone (the least wall
+/// time of a solver's timed fixed-count Backward Euler configurations whose measured relative
+/// error reaches the level), and each statics cell's as its cheapest configuration's flops
+/// times the solver's wall time per flop. Negative case: the cells by flops differ from them.
+#[test]
+fn the_wall_time_cells_are_the_committed_timings() {
+    use mass_spring_report::benchmark::wall::{WallIndex, WallTiming};
+    let timing = WallTiming::load(&mass_spring_report::crate_root().join("report/timing"))
+        .expect("the committed timing reads")
+        .expect("the repository holds a timing");
+    let mut chapter = chapter().clone();
+    chapter.wall = Some(timing.clone());
+    let index = WallIndex::new(&timing.rows);
+    let wall = |case: Case, r: &Row| chapter.wall_cost(&index, case, r);
+    let by_wall = chapter.thesis_cells_by(Regime::Dynamics, Schemes::BackwardEuler, &wall);
+    let by_flops = chapter.thesis_cells(Regime::Dynamics, Schemes::BackwardEuler);
+    let mut differ = false;
+    for (cell, flop_cell) in by_wall.iter().zip(&by_flops) {
+        for (solver, cost) in &cell.cell.costs {
+            let ours = timing
+                .rows
+                .iter()
+                .filter(|w| {
+                    w.scene == "rope"
+                        && w.stiffness_n_per_m == cell.case.stiffness
+                        && w.solver == solver.id()
+                        && w.stopping == "count"
+                        && (w.integrator.is_empty() || w.integrator == "backward-euler")
+                        && w.physical_rel <= cell.level
+                })
+                .map(|w| w.wall_s)
+                .min_by(f64::total_cmp);
+            assert_eq!(*cost, ours, "{solver:?} {:?} {}", cell.case, cell.level);
+        }
+        differ |= cell.cell.costs != flop_cell.cell.costs;
+    }
+    assert!(differ, "the wall-time cells are the flop cells");
+    for cell in chapter.thesis_cells_by(Regime::Statics, Schemes::BackwardEuler, &wall) {
+        for (i, solver) in THESIS_THREE.into_iter().enumerate() {
+            let estimate = cell.cheapest[i].and_then(|r| {
+                let ns = mass_spring_report::benchmark::wall::ns_per_flop(
+                    &timing.rows,
+                    cell.case,
+                    solver,
+                )?;
+                Some(r.flops? * ns * 1e-9)
+            });
+            assert_eq!(cell.cell.cost(solver), estimate, "{solver:?}");
+        }
+    }
 }

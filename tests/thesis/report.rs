@@ -82,6 +82,10 @@ fn data() -> &'static ReportData {
         benchmark.long =
             mass_spring_report::benchmark::long::load(&crate_root().join("report/long"))
                 .expect("the committed long runs read");
+        benchmark.wall = mass_spring_report::benchmark::wall::WallTiming::load(
+            &crate_root().join("report/timing"),
+        )
+        .expect("the committed timing reads");
         ReportData {
             results,
             forensics: Some(forensic_results().clone()),

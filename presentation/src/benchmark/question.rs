@@ -2,6 +2,7 @@
 //! verdict on each conclusion of §4.4 and §5, and the chapter's section.
 
 use super::*;
+use crate::benchmark::wall::{ns_per_flop, WallIndex};
 use crate::chapter_figure::ChapterFigure;
 use crate::format::{full, sig, sig4, MarkdownTable};
 use mass_spring_solvers::solvers::registry::SolverId;
@@ -9,16 +10,26 @@ use mass_spring_solvers::studies::benchmark::rows::{ReferenceRow, Row};
 use mass_spring_solvers::studies::benchmark::sweep::{solvers, BASELINES, SECOND_ORDER};
 use mass_spring_solvers::studies::benchmark::thesis_protocol::{self, StepGroup, REAL_TIME_DTS};
 use mass_spring_solvers::studies::benchmark::verdicts::{
-    cheapest, Cell, Conclusion, Decided, Regime, Schemes, DYNAMICS_LEVELS, STATICS_LEVELS_M,
-    THESIS_THREE, TIE, TIES,
+    cheapest_by, flops, Cell, Conclusion, Decided, Measure, Regime, Schemes, DYNAMICS_LEVELS,
+    STATICS_LEVELS_M, THESIS_THREE, TIE, TIES,
 };
 use mass_spring_solvers::studies::benchmark::Case;
 use mass_spring_solvers::studies::beyond::GridScene;
 
 impl BenchmarkChapter {
-    /// The rope cells of a regime under `schemes`: (case, level, the cell of the thesis's
-    /// three, each one's cheapest row).
+    /// The rope cells of a regime under `schemes`, by counted flops: (case, level, the cell of
+    /// the thesis's three, each one's cheapest row).
     pub fn thesis_cells(&self, regime: Regime, schemes: Schemes) -> Vec<ThesisCell<'_>> {
+        self.thesis_cells_by(regime, schemes, &|_, r| flops(r))
+    }
+
+    /// [`Self::thesis_cells`] with each row's cost on its case given by `cost`.
+    pub fn thesis_cells_by(
+        &self,
+        regime: Regime,
+        schemes: Schemes,
+        cost: &dyn Fn(Case, &Row) -> Option<f64>,
+    ) -> Vec<ThesisCell<'_>> {
         let mut cells = Vec::new();
         for case in self
             .cases()
@@ -29,13 +40,14 @@ impl BenchmarkChapter {
                 Regime::Dynamics => self.dynamics(case),
                 Regime::Statics => self.statics(case),
             };
+            let cost = |r: &Row| cost(case, r);
             for &level in regime.levels() {
                 cells.push(ThesisCell {
                     case,
                     level,
-                    cell: Cell::of(&rows, regime, level, &THESIS_THREE, schemes),
+                    cell: Cell::of(&rows, regime, level, &THESIS_THREE, schemes, &cost),
                     cheapest: THESIS_THREE
-                        .map(|s| cheapest(&rows, regime, s, level, schemes))
+                        .map(|s| cheapest_by(&rows, regime, s, level, schemes, &cost))
                         .to_vec(),
                 });
             }
@@ -43,20 +55,60 @@ impl BenchmarkChapter {
         cells
     }
 
+    /// A rope row's wall time on `case`, s, from the committed measurement of `make timing`
+    /// (`index`, its rows by configuration): a dynamics row's own (None if it was not timed);
+    /// a statics row's estimated as its flops times its solver's wall time per flop on the
+    /// case's dynamics runs ([`ns_per_flop`]), since statics runs are not timed.
+    pub fn wall_cost(&self, index: &WallIndex, case: Case, row: &Row) -> Option<f64> {
+        if row.kind == "statics" {
+            let id = solvers().into_iter().find(|s| s.id() == row.solver)?;
+            let ns = ns_per_flop(&self.wall.as_ref()?.rows, case, id)?;
+            return row.flops.map(|f| f * ns * 1e-9);
+        }
+        index.wall_s(row)
+    }
+
+    /// What reading (b)'s costs count: flops, and wall time where a measurement exists.
+    pub fn measures(&self) -> Vec<Measure> {
+        if self.wall.is_some() {
+            Measure::ALL.to_vec()
+        } else {
+            vec![Measure::Flops]
+        }
+    }
+
+    /// The rope cells of every regime under `schemes`, each cost counted by `measure`.
+    fn cells_by(&self, schemes: Schemes, measure: Measure, index: &WallIndex) -> Vec<Cell> {
+        let wall = |case: Case, r: &Row| self.wall_cost(index, case, r);
+        let flop = |_: Case, r: &Row| flops(r);
+        let cost: &dyn Fn(Case, &Row) -> Option<f64> = match measure {
+            Measure::Flops => &flop,
+            Measure::WallTime => &wall,
+        };
+        [Regime::Statics, Regime::Dynamics]
+            .into_iter()
+            .flat_map(|r| self.thesis_cells_by(r, schemes, cost))
+            .map(|t| t.cell)
+            .collect()
+    }
+
     /// Each of the thesis's conclusions decided at matched cost (reading (b)) under every
     /// setting from the rope cells.
     pub fn verdicts(&self) -> Vec<Decided> {
+        let index = WallIndex::new(self.wall.as_ref().map_or(&[][..], |w| &w.rows));
+        let measures = self.measures();
+        let sets: Vec<((Schemes, Measure), Vec<Cell>)> = measures
+            .iter()
+            .flat_map(|&m| Schemes::ALL.map(|s| ((s, m), self.cells_by(s, m, &index))))
+            .collect();
+        let cells_of = |s: Schemes, m: Measure| {
+            sets.iter()
+                .find(|(key, _)| *key == (s, m))
+                .map_or_else(Vec::new, |(_, c)| c.clone())
+        };
         Conclusion::ALL
             .into_iter()
-            .map(|c| {
-                c.at_matched_cost(&|schemes| {
-                    [Regime::Statics, Regime::Dynamics]
-                        .into_iter()
-                        .flat_map(|r| self.thesis_cells(r, schemes))
-                        .map(|t| t.cell)
-                        .collect()
-                })
-            })
+            .map(|c| c.at_matched_cost(&measures, &cells_of))
             .collect()
     }
 
@@ -191,9 +243,13 @@ pub struct ThesisCell<'a> {
     pub cheapest: Vec<Option<&'a Row>>,
 }
 
-/// A cell's cost under Backward Euler and, where another integrator is cheaper, under it:
-/// `2.4e6 (BE)`, `2.4e6 (BE); 1.1e6 (TR-BDF2)`, `2.4e6 (own scheme)`.
-fn scheme_costs(backward_euler: Option<&Row>, any: Option<&Row>) -> String {
+/// A cell's cost (as `cost` gives it) under Backward Euler and, where another integrator is
+/// cheaper, under it: `2.4e6 (BE)`, `2.4e6 (BE); 1.1e6 (TR-BDF2)`, `2.4e6 (own scheme)`.
+fn scheme_costs(
+    backward_euler: Option<&Row>,
+    any: Option<&Row>,
+    cost: &dyn Fn(&Row) -> Option<f64>,
+) -> String {
     let named = |r: &Row| {
         let scheme = match r.integrator.as_str() {
             "" => "own scheme".to_string(),
@@ -202,14 +258,37 @@ fn scheme_costs(backward_euler: Option<&Row>, any: Option<&Row>) -> String {
                 .parse::<mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator>()
                 .map_or(key.to_string(), |i| i.label().to_string()),
         };
-        format!("{} ({scheme})", sig(r.flops.unwrap_or(f64::NAN), 2))
+        format!("{} ({scheme})", sig(cost(r).unwrap_or(f64::NAN), 2))
     };
     match (backward_euler, any) {
         (None, None) => "not reached".into(),
-        (Some(b), Some(a)) if a.flops == b.flops => named(b),
+        (Some(b), Some(a)) if cost(a) == cost(b) => named(b),
         (Some(b), Some(a)) => format!("{}; {}", named(b), named(a)),
         (None, Some(a)) => format!("not reached (BE); {}", named(a)),
         (Some(b), None) => named(b),
+    }
+}
+
+/// `rope, k = 1e3 N/m, dynamics, 10 %`.
+fn cell_label(cell: &ThesisCell) -> String {
+    let level = match cell.cell.regime {
+        Regime::Dynamics => format!("dynamics, {} %", full(100.0 * cell.level)),
+        Regime::Statics => format!("statics, {:e} m", cell.level),
+    };
+    format!("{}, {level}", cell.case.label())
+}
+
+/// The solvers no other beats in `cell` at the tie [`TIE`], or `none reaches it`.
+fn winners(cell: &Cell) -> String {
+    let winners = cell.winners(TIE);
+    if winners.is_empty() {
+        "none reaches it".into()
+    } else {
+        winners
+            .iter()
+            .map(|s| s.info().display_name)
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -535,17 +614,17 @@ impl BenchmarkChapter {
              and an accuracy (dynamics: a relative physical error of 10 %, 1 % or 0.1 %; statics: an \
              RMS rest distance of 1e-2, 1e-3 or 1e-4 m per node); a solver *beats* another in a cell \
              when it reaches it and the other does not, or the other costs more than (1 + tie) \
-             times as much. The cost is counted flops only: wall time is not among the settings \
-             (the committed timing of section 12.7 predates the one start), and in the decided \
-             dynamics cells the three run one iteration at the same step, so their ratios are \
-             the flop model's per-step constants, which the flop model's own spread against wall \
-             time (section 12.7) exceeds. Each cost names its integrator: the minimizing solvers \
+             times as much. {wall} In the decided dynamics cells the three run one iteration at the same step, so their flop \
+             ratios are the flop model's per-step constants, which the flop model's own spread \
+             against wall time (section 12.7) exceeds: the wall-time setting asks whether a \
+             verdict survives that. Each cost names its integrator: the minimizing solvers \
              (Fast m-s, ADMM) under Backward Euler, and under the best of the four integrators \
              where that is cheaper; XPBD keeps its own first-order scheme in both, so the \
              setting \"any\" asks what a second-order integrator, which XPBD lacks, buys the \
              other two. The thesis's own reading (a), by its three measured quantities, follows \
              the tables of this one. The winners are those no other beats at the tie of {} %.\n\n",
-            full(100.0 * TIE)
+            full(100.0 * TIE),
+            wall = self.wall_provenance()
         );
         let mut t = MarkdownTable::new(&["cell", "XPBD", "Fast m-s", "ADMM", "winners"]);
         for regime in [Regime::Statics, Regime::Dynamics] {
@@ -555,37 +634,38 @@ impl BenchmarkChapter {
                 .into_iter()
                 .zip(all_four)
             {
-                let level = match regime {
-                    Regime::Dynamics => format!("dynamics, {} %", full(100.0 * cell.level)),
-                    Regime::Statics => format!("statics, {:e} m", cell.level),
-                };
-                let mut cells = vec![format!("{}, {level}", cell.case.label())];
+                let mut cells = vec![cell_label(&cell)];
                 for (be, any) in cell.cheapest.iter().zip(&best.cheapest) {
-                    cells.push(scheme_costs(*be, *any));
+                    cells.push(scheme_costs(*be, *any, &flops));
                 }
-                let winners = cell.cell.winners(TIE);
-                cells.push(if winners.is_empty() {
-                    "none reaches it".into()
-                } else {
-                    winners
-                        .iter()
-                        .map(|s| s.info().display_name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                });
+                cells.push(winners(&cell.cell));
                 t.row(cells);
             }
         }
         md += &t.render();
-        md += "\nEach conclusion is decided under six settings: the ties of 10, 25 and 50 % \
-               (set by issue 47, written with the earlier benchmark's results known) and the \
-               integrators admitted. A verdict is *holds* or *fails* only where every setting \
+        md += &self.wall_cells_table();
+        md += &format!(
+            "\nEach conclusion is decided under {} settings: the ties of 10, 25 and 50 % \
+             (set by issue 47, written with the earlier benchmark's results known), the \
+             integrators admitted and what the cost counts ({}).",
+            Schemes::ALL.len() * TIES.len() * self.measures().len(),
+            self.measures()
+                .iter()
+                .map(|m| match m {
+                    Measure::Flops => "counted flops",
+                    Measure::WallTime => "wall time",
+                })
+                .collect::<Vec<_>>()
+                .join(" or ")
+        );
+        md += " A verdict is *holds* or *fails* only where every setting \
                agrees; otherwise it *depends on* what moves it. The statics cells rest on the \
                runs section 12.5 counts as not cut by its time limit (at k = 1e3 N/m the runs at \
                dt = 0.01 s are cut), so they are decided on the coarser step there.\n\n";
         md += &verdict_table(&self.verdicts(), true);
         md += &format!(
-            "\nBE: Backward Euler only; any: the best of the four integrators. The ties: {}.\n\n",
+            "\nBE: Backward Euler only; any: the best of the four integrators; flops: counted \
+             flops; wall: wall time. The ties: {}.\n\n",
             TIES.map(|t| format!("{} %", full(100.0 * t))).join(", ")
         );
         md += &self.protocol_section();
@@ -600,6 +680,59 @@ impl BenchmarkChapter {
 }
 
 impl BenchmarkChapter {
+    /// Where reading (b)'s wall times come from, as a sentence.
+    fn wall_provenance(&self) -> String {
+        match &self.wall {
+            Some(w) => format!(
+                "The cost is counted twice: in flops, and in wall time as `make timing` measured \
+                 it ({}, [section 12.7](#s12.7)); a statics run, which is not timed, is costed at \
+                 its flops times its solver's wall time per flop on the case's dynamics runs (an \
+                 estimate).",
+                w.provenance()
+            ),
+            None => "The cost is counted flops only: this repository holds no measurement of \
+                     `make timing` (`report/timing/`)."
+                .into(),
+        }
+    }
+
+    /// The cells of reading (b) in wall time (ms), under Backward Euler and the best of the
+    /// four integrators, and their winners; empty without a measurement.
+    fn wall_cells_table(&self) -> String {
+        let Some(timing) = &self.wall else {
+            return String::new();
+        };
+        let index = WallIndex::new(&timing.rows);
+        let wall = |case: Case, r: &Row| self.wall_cost(&index, case, r);
+        let mut t = MarkdownTable::new(&[
+            "cell",
+            "XPBD (ms)",
+            "Fast m-s (ms)",
+            "ADMM (ms)",
+            "winners by wall time (BE; any)",
+        ]);
+        for regime in [Regime::Statics, Regime::Dynamics] {
+            let all_four = self.thesis_cells_by(regime, Schemes::AllFour, &wall);
+            for (cell, best) in self
+                .thesis_cells_by(regime, Schemes::BackwardEuler, &wall)
+                .into_iter()
+                .zip(all_four)
+            {
+                let ms = |r: &Row| wall(cell.case, r).map(|w| 1e3 * w);
+                let mut cells = vec![cell_label(&cell)];
+                for (be, any) in cell.cheapest.iter().zip(&best.cheapest) {
+                    cells.push(scheme_costs(*be, *any, &ms));
+                }
+                cells.push(format!("{}; {}", winners(&cell.cell), winners(&best.cell)));
+                t.row(cells);
+            }
+        }
+        format!(
+            "\nThe same cells in wall time (a statics cost estimated, see above):\n\n{}",
+            t.render()
+        )
+    }
+
     /// The solver-error references: which converged, and the XPBD references' residuals; a
     /// solver error measured against a reference with a capped step is not reported.
     pub fn references_paragraph(&self) -> String {
@@ -663,12 +796,16 @@ fn verdict_table(decided: &[Decided], criteria: bool) -> String {
         return String::new();
     };
     let mut header = vec!["conclusion".to_string(), "verdict".to_string()];
-    header.extend(
-        first
-            .sensitivity
-            .iter()
-            .map(|(s, _)| format!("{}, tie {} %", s.scope.short(), full(100.0 * s.tie))),
-    );
+    header.extend(first.sensitivity.iter().map(|(s, _)| {
+        let measure = s
+            .measure
+            .map_or(String::new(), |m| format!(", {}", m.short()));
+        format!(
+            "{}{measure}, tie {} %",
+            s.scope.short(),
+            full(100.0 * s.tie)
+        )
+    }));
     if criteria {
         header.push("criterion".into());
     }

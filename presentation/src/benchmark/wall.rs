@@ -119,6 +119,51 @@ impl WallRow {
     }
 }
 
+/// The timed configurations by their key columns, for looking up `benchmark.csv`'s rows
+/// ([`WallRow::is`]'s match, by hashing).
+#[derive(Debug, Default)]
+pub struct WallIndex(std::collections::HashMap<String, f64>);
+
+impl WallIndex {
+    /// The index of `rows`.
+    pub fn new(rows: &[WallRow]) -> Self {
+        Self(
+            rows.iter()
+                .map(|w| {
+                    let key = Self::key(
+                        (&w.scene, w.stiffness_n_per_m, &w.solver),
+                        (w.iterations, &w.integrator, &w.stopping, w.dt_s),
+                    );
+                    (key, w.wall_s)
+                })
+                .collect(),
+        )
+    }
+
+    /// The wall time of `row`'s configuration, s, if it was timed.
+    pub fn wall_s(&self, row: &mass_spring_solvers::studies::benchmark::rows::Row) -> Option<f64> {
+        let key = Self::key(
+            (&row.scene, row.stiffness_n_per_m, &row.solver),
+            (row.iterations, &row.integrator, &row.stopping, row.dt_s),
+        );
+        self.0.get(&key).copied()
+    }
+
+    /// The key columns, the integrator's empty name (the thesis's scheme, or none) read as
+    /// Backward Euler, as [`WallRow::is`] reads it.
+    fn key(
+        (scene, stiffness, solver): (&str, f64, &str),
+        (iterations, integrator, stopping, dt): (usize, &str, &str, f64),
+    ) -> String {
+        let integrator = if integrator.is_empty() {
+            "backward-euler"
+        } else {
+            integrator
+        };
+        format!("{scene}|{stiffness:?}|{solver}|{iterations}|{integrator}|{stopping}|{dt:?}")
+    }
+}
+
 /// Who measured: the commit, the machine and when.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Machine {

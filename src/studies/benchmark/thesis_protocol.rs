@@ -376,7 +376,7 @@ pub fn decide(conclusion: Conclusion, cells: &[ProtocolCell], tolerance: f64) ->
 }
 
 /// `conclusion` decided by reading (a) under every setting: each tolerance of [`TIES`] on the
-/// thesis's time steps and on the real-time ones, in [`Setting::all`]'s order.
+/// thesis's time steps and on the real-time ones, in [`Setting::grid`]'s order.
 pub fn as_the_thesis_asks(
     conclusion: Conclusion,
     rows: &[ProtocolRow],
@@ -390,6 +390,7 @@ pub fn as_the_thesis_asks(
                 let setting = Setting {
                     tie,
                     scope: Scope::TimeSteps(group),
+                    measure: None,
                 };
                 (setting, decide(conclusion, &cells, tie))
             })

@@ -12,8 +12,9 @@
 //! cost, $`t`$ the tie; the **winners** of a cell are the solvers no other beats.
 //!
 //! Each rule is decided under every [`Setting`]: the ties of [`TIES`], set by issue 47 (with
-//! the earlier benchmark's results known), and the integrators a minimizing solver may use ([`Schemes`]: the thesis's
-//! Backward Euler, or the best of the four; XPBD keeps its own scheme in both). A conclusion
+//! the earlier benchmark's results known), the integrators a minimizing solver may use ([`Schemes`]: the thesis's
+//! Backward Euler, or the best of the four; XPBD keeps its own scheme in both), and what a
+//! cost counts ([`Measure`]: counted flops, or wall time where a measurement exists). A conclusion
 //! **holds** or **fails** only where every setting agrees; otherwise it *depends on* the
 //! setting that moves it ([`Overall`]).
 
@@ -97,8 +98,38 @@ impl Schemes {
     }
 }
 
+/// What a cell's costs count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Measure {
+    /// The benchmark's counted floating-point operations.
+    Flops,
+    /// Wall time, as a measurement of `make timing` gives it (the science layer never times:
+    /// the caller supplies each row's).
+    WallTime,
+}
+
+impl Measure {
+    pub const ALL: [Measure; 2] = [Measure::Flops, Measure::WallTime];
+
+    /// A short column label.
+    pub fn short(self) -> &'static str {
+        match self {
+            Measure::Flops => "flops",
+            Measure::WallTime => "wall",
+        }
+    }
+}
+
+/// A row's cost under one [`Measure`] (None: not measured).
+pub type CostOf<'c> = &'c dyn Fn(&Row) -> Option<f64>;
+
+/// A row's counted flops.
+pub fn flops(row: &Row) -> Option<f64> {
+    row.flops
+}
+
 /// `solver`'s cheapest configuration in `rows` (one case's) that reaches `level` under
-/// `schemes`, at fixed iteration counts.
+/// `schemes`, at fixed iteration counts, by counted flops.
 pub fn cheapest<'a>(
     rows: &[&'a Row],
     regime: Regime,
@@ -106,12 +137,25 @@ pub fn cheapest<'a>(
     level: f64,
     schemes: Schemes,
 ) -> Option<&'a Row> {
+    cheapest_by(rows, regime, solver, level, schemes, &flops)
+}
+
+/// [`cheapest`] by the cost `cost` (a row it gives none is not a candidate).
+pub fn cheapest_by<'a>(
+    rows: &[&'a Row],
+    regime: Regime,
+    solver: SolverId,
+    level: f64,
+    schemes: Schemes,
+    cost: CostOf,
+) -> Option<&'a Row> {
     rows.iter()
         .copied()
         .filter(|r| r.solver == solver.id() && schemes.admits(r) && r.count_mode())
         .filter(|r| regime.accuracy(r).is_some_and(|a| a <= level))
-        .filter(|r| r.flops.is_some())
-        .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()))
+        .filter_map(|r| cost(r).map(|c| (r, c)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(r, _)| r)
 }
 
 /// One cell: its regime and each solver's cheapest cost (None: not reached).
@@ -122,13 +166,15 @@ pub struct Cell {
 }
 
 impl Cell {
-    /// The cell of `rows` (one case's) at `level` among `solvers` under `schemes`.
+    /// The cell of `rows` (one case's) at `level` among `solvers` under `schemes`, each
+    /// solver's cost the least `cost` of its configurations that reach the level.
     pub fn of(
         rows: &[&Row],
         regime: Regime,
         level: f64,
         solvers: &[SolverId],
         schemes: Schemes,
+        cost: CostOf,
     ) -> Self {
         Self {
             regime,
@@ -137,7 +183,7 @@ impl Cell {
                 .map(|&s| {
                     (
                         s,
-                        cheapest(rows, regime, s, level, schemes).and_then(|r| r.flops),
+                        cheapest_by(rows, regime, s, level, schemes, cost).and_then(cost),
                     )
                 })
                 .collect(),
@@ -267,19 +313,30 @@ impl Scope {
     }
 }
 
-/// One setting of the sensitivity: a tie (or similarity tolerance) and a scope.
+/// One setting of the sensitivity: a tie (or similarity tolerance), a scope and, for a
+/// reading at matched cost, what the cost counts.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Setting {
     pub tie: f64,
     pub scope: Scope,
+    /// None for reading (a), which compares measured quantities, not costs.
+    pub measure: Option<Measure>,
 }
 
 impl Setting {
-    /// Every setting of `scopes`: each at each tie of [`TIES`].
-    pub fn all(scopes: &[Scope]) -> Vec<Setting> {
-        scopes
+    /// Every setting of `measures` × `scopes` × [`TIES`], in that order.
+    pub fn grid(scopes: &[Scope], measures: &[Option<Measure>]) -> Vec<Setting> {
+        measures
             .iter()
-            .flat_map(|&scope| TIES.map(|tie| Setting { tie, scope }))
+            .flat_map(|&measure| {
+                scopes.iter().flat_map(move |&scope| {
+                    TIES.map(|tie| Setting {
+                        tie,
+                        scope,
+                        measure,
+                    })
+                })
+            })
             .collect()
     }
 }
@@ -289,11 +346,13 @@ impl Setting {
 pub enum Overall {
     /// Every setting gives this verdict.
     Agreed(Verdict),
-    /// The settings disagree: whether the verdict moves with the tie at a fixed scope, and
-    /// the axis of the scope if it moves with it at a fixed tie.
+    /// The settings disagree: whether the verdict moves with the tie (the rest fixed), the
+    /// axis of the scope if it moves with it (the rest fixed), and whether it moves with what
+    /// the cost counts (the rest fixed).
     DependsOn {
         tie: bool,
         scope: Option<&'static str>,
+        measure: bool,
     },
 }
 
@@ -312,8 +371,10 @@ impl Overall {
                 .any(|(a, va)| verdicts.iter().any(|(b, vb)| same(a, b) && va != vb))
         };
         Overall::DependsOn {
-            tie: moves(&|a, b| a.scope == b.scope),
-            scope: moves(&|a, b| a.tie == b.tie).then(|| verdicts[0].0.scope.axis()),
+            tie: moves(&|a, b| a.scope == b.scope && a.measure == b.measure),
+            scope: moves(&|a, b| a.tie == b.tie && a.measure == b.measure)
+                .then(|| verdicts[0].0.scope.axis()),
+            measure: moves(&|a, b| a.tie == b.tie && a.scope == b.scope),
         }
     }
 
@@ -321,12 +382,25 @@ impl Overall {
     pub fn id(self) -> String {
         match self {
             Overall::Agreed(v) => v.id().into(),
-            Overall::DependsOn { tie, scope } => {
-                let on: Vec<&str> = [tie.then_some("the tie"), scope]
-                    .into_iter()
-                    .flatten()
-                    .collect();
-                format!("depends on {}", on.join(" and "))
+            Overall::DependsOn {
+                tie,
+                scope,
+                measure,
+            } => {
+                let on: Vec<&str> = [
+                    tie.then_some("the tie"),
+                    scope,
+                    measure.then_some("flops against wall time"),
+                ]
+                .into_iter()
+                .flatten()
+                .collect();
+                let last = on.len() - 1;
+                let list = match last {
+                    0 => on[0].to_string(),
+                    _ => format!("{} and {}", on[..last].join(", "), on[last]),
+                };
+                format!("depends on {list}")
             }
         }
     }
@@ -493,19 +567,28 @@ impl Conclusion {
         }
     }
 
-    /// The verdict under every setting of reading (b), from the cells of each scheme
-    /// (`cells_of`).
-    pub fn at_matched_cost(self, cells_of: &dyn Fn(Schemes) -> Vec<Cell>) -> Decided {
-        let by_scheme: Vec<(Schemes, Vec<Cell>)> =
-            Schemes::ALL.into_iter().map(|s| (s, cells_of(s))).collect();
+    /// The verdict under every setting of reading (b), each of `measures` and each scheme,
+    /// from the cells `cells_of` gives for them.
+    pub fn at_matched_cost(
+        self,
+        measures: &[Measure],
+        cells_of: &dyn Fn(Schemes, Measure) -> Vec<Cell>,
+    ) -> Decided {
+        let sets: Vec<((Schemes, Measure), Vec<Cell>)> = measures
+            .iter()
+            .flat_map(|&m| Schemes::ALL.map(|s| ((s, m), cells_of(s, m))))
+            .collect();
         let scopes = Schemes::ALL.map(Scope::Schemes);
-        let sensitivity: Vec<(Setting, Verdict)> = Setting::all(&scopes)
+        let measures: Vec<Option<Measure>> = measures.iter().copied().map(Some).collect();
+        let sensitivity: Vec<(Setting, Verdict)> = Setting::grid(&scopes, &measures)
             .into_iter()
             .map(|setting| {
-                let cells = &by_scheme
+                let cells = &sets
                     .iter()
-                    .find(|(s, _)| Scope::Schemes(*s) == setting.scope)
-                    .expect("a cell set per scheme")
+                    .find(|((s, m), _)| {
+                        Scope::Schemes(*s) == setting.scope && Some(*m) == setting.measure
+                    })
+                    .expect("a cell set per scheme and measure")
                     .1;
                 (setting, self.decide(cells, setting.tie))
             })
