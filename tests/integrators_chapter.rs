@@ -9,7 +9,9 @@ use mass_spring_report::integrators::{
     IntegratorsChapter, COSTS_HEADER, DAMPING_CASE, INTEGRATORS_HEADER, ORDER_CASE,
 };
 use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
-use mass_spring_solvers::studies::integrator_study::minimizing_solvers;
+use mass_spring_solvers::studies::integrator_study::{
+    minimizing_solvers, stops_at_residual, COST_TARGETS_M,
+};
 use std::sync::OnceLock;
 
 fn chapter() -> &'static IntegratorsChapter {
@@ -50,15 +52,21 @@ fn integrators_csv_holds_every_order_and_damping_at_full_precision() {
         assert!(damping[2].is_empty());
     }
     let costs = records(&c.costs_csv(), &COSTS_HEADER);
+    let residual_solvers = minimizing_solvers()
+        .into_iter()
+        .filter(|&id| stops_at_residual(id))
+        .count();
     assert_eq!(
         costs.len(),
-        minimizing_solvers().len() * OptimizationIntegrator::ALL.len()
+        (minimizing_solvers().len() + COST_TARGETS_M.len() * residual_solvers)
+            * OptimizationIntegrator::ALL.len()
     );
     for (row, cost) in costs.iter().zip(&c.costs) {
         assert_eq!(&row[0], cost.solver.id());
         assert_eq!(&row[1], cost.integrator.key());
-        assert_eq!(row[3].parse::<f64>().unwrap(), cost.flops_per_step);
-        assert_eq!(row[5].parse::<f64>().unwrap(), cost.solver_error_m);
+        assert_eq!(row[2].parse::<f64>().ok(), cost.target_m);
+        assert_eq!(row[4].parse::<f64>().unwrap(), cost.flops_per_step);
+        assert_eq!(row[6].parse::<f64>().unwrap(), cost.solver_error_m);
     }
     // Deterministic: the same inputs give the same bytes.
     let again = IntegratorsChapter::compute(&|_, _| {}).unwrap();
@@ -108,25 +116,19 @@ fn the_sections_claims_are_the_datas() {
             < 1e-4
     );
     for i in OptimizationIntegrator::ALL {
-        let rows: Vec<_> = c.costs.iter().filter(|r| r.integrator == i).collect();
-        let fewest = rows
-            .iter()
-            .min_by(|a, b| a.flops_per_step.total_cmp(&b.flops_per_step))
-            .unwrap();
-        assert!(section.contains(&format!(
-            "{} {} ({} flops)",
-            i.label(),
-            fewest.solver.display_name(),
-            sig(fewest.flops_per_step, 3)
-        )));
         let order = c.orders.iter().find(|o| o.integrator == i).unwrap().order;
         assert!(
             section.contains(&format!("{} {}", i.label(), sig(order, 4))),
             "{i}"
         );
     }
-    // The costs are not at matched accuracy, and the section says how far apart they are.
-    let errors = c.costs.iter().map(|r| r.solver_error_m);
+    // The costs to the update tolerance are not at matched accuracy, and the section says how
+    // far apart they are.
+    let errors = c
+        .costs
+        .iter()
+        .filter(|r| r.target_m.is_none())
+        .map(|r| r.solver_error_m);
     let least = errors.clone().fold(f64::INFINITY, f64::min);
     let most = errors.fold(0.0, f64::max);
     assert!(most > 100.0 * least, "{least:e} {most:e}");
@@ -138,5 +140,75 @@ fn the_sections_claims_are_the_datas() {
     // Every table that shows a run names its integrator.
     for i in OptimizationIntegrator::ALL {
         assert!(section.contains(i.label()));
+    }
+}
+
+/// The costs at matched solver error compare like for like: each integrator's cheapest at a
+/// target, recomputed here from the rows (the least flops per step among the rows of that
+/// target with no capped stage and a solver error at most the target), is the chapter's; the
+/// residual stop tightens with the target (no solver's error grows from one target to the
+/// next smaller); and the rule is not empty: some row misses its target, and the comparison
+/// it replaces (the cheapest to the update tolerance, each at its own error) names another
+/// solver somewhere.
+#[test]
+fn the_matched_costs_are_cheapest_among_the_rows_that_met_their_target() {
+    let c = chapter();
+    let mut missed = 0;
+    let mut unmatched_differs = false;
+    for i in OptimizationIntegrator::ALL {
+        for target in COST_TARGETS_M {
+            let rows: Vec<_> = c
+                .costs
+                .iter()
+                .filter(|r| r.integrator == i && r.target_m == Some(target))
+                .collect();
+            assert!(!rows.is_empty());
+            missed += rows
+                .iter()
+                .filter(|r| r.capped > 0 || r.solver_error_m > target)
+                .count();
+            let met = rows
+                .iter()
+                .filter(|r| r.capped == 0 && r.solver_error_m <= target)
+                .min_by(|a, b| a.flops_per_step.total_cmp(&b.flops_per_step));
+            assert_eq!(
+                c.cheapest_at(i, target)
+                    .map(|r| (r.solver, r.flops_per_step)),
+                met.map(|r| (r.solver, r.flops_per_step)),
+                "{i} {target:e}"
+            );
+            let own_error = c
+                .costs
+                .iter()
+                .filter(|r| r.integrator == i && r.target_m.is_none())
+                .min_by(|a, b| a.flops_per_step.total_cmp(&b.flops_per_step));
+            unmatched_differs |= own_error.map(|r| r.solver) != met.map(|r| r.solver);
+        }
+    }
+    assert!(
+        missed > 0,
+        "every row met its target: the rule is not exercised"
+    );
+    assert!(
+        unmatched_differs,
+        "matching the accuracy changes no cheapest: the negative case tests nothing"
+    );
+    let section = c.section(13, &c.figures().unwrap());
+    let matched = c.costs.iter().filter(|r| r.target_m.is_some());
+    assert!(section.contains(&format!(
+        "{} of the {} cells met their target",
+        matched.clone().filter(|r| r.met()).count(),
+        matched.count()
+    )));
+    for i in OptimizationIntegrator::ALL {
+        for target in COST_TARGETS_M {
+            if let Some(r) = c.cheapest_at(i, target) {
+                assert!(section.contains(&format!(
+                    "{} ({})",
+                    r.solver.display_name(),
+                    sig(r.flops_per_step, 3)
+                )));
+            }
+        }
     }
 }

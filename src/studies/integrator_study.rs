@@ -20,19 +20,24 @@
 //!   test of [`crate::integrators::stopping`], at most [`COST_CAP`] iterations), for [`COST_TIME_S`]; the
 //!   iterations and flops ([`crate::studies::work_precision::logged_flops`]) per time step, and the
 //!   solver error it bought: the largest node distance to the same integrator's run with the
-//!   stages solved to round-off, over every step.
+//!   stages solved to round-off, over every step; and the same **at matched solver error**:
+//!   every stage stopped at its own residual ([`crate::integrators::stopping::Stopping::Residual`],
+//!   section 12.8's rule [`step_residual_tolerance`]) for each solver error of
+//!   [`COST_TARGETS_M`], so that the costs of the solvers that met a target compare like for
+//!   like (the damped pair has no residual stop: its residual would leave the dissipation out).
 
 use crate::error::{Error, Result};
 use crate::integrators::dissipation::Dissipation;
 use crate::integrators::optimization_integrator::{Integrated, OptimizationIntegrator};
+use crate::integrators::stopping::Stopping;
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::converged_stage::ConvergedNewton;
 use crate::solvers::registry::{SolverId, SolverSpec};
 use crate::studies::beyond::{GridScene, CONVERGENCE_DAMPING};
 use crate::studies::work_precision::{
-    flops_setup, logged_flops, rk4_stability_limit, whole_steps, EXACT_STABILITY_FRACTION,
-    SAMPLE_INTERVAL_S,
+    flops_setup, logged_flops, rk4_stability_limit, step_residual_tolerance, whole_steps,
+    EXACT_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
 };
 
 /// The stiffness of the order study, N/m (the issue: the k = 1e3 rope).
@@ -55,6 +60,9 @@ pub const COST_DT: f64 = 1e-2;
 pub const COST_TIME_S: f64 = 0.5;
 pub const COST_TOLERANCE_M: f64 = 1e-6;
 pub const COST_CAP: usize = 5000;
+/// The solver errors (the largest node distance over the run, m) the matched-accuracy costs
+/// aim at.
+pub const COST_TARGETS_M: [f64; 3] = [1e-4, 1e-6, 1e-8];
 
 /// `integrator` with every stage solved to round-off on `system` at `dt`, with `dissipation`.
 pub fn exact_stages(
@@ -331,6 +339,28 @@ pub struct CostRow {
     pub capped: u64,
     /// The largest node distance to the run with exact stages, m.
     pub solver_error_m: f64,
+    /// None: every stage stopped at [`COST_TOLERANCE_M`] on the update; a target ε: every
+    /// stage stopped at its residual ε Δt / T ([`step_residual_tolerance`]).
+    pub target_m: Option<f64>,
+}
+
+impl CostRow {
+    /// Whether it met its target: every stage converged and the solver error at most it.
+    pub fn met(&self) -> bool {
+        self.target_m
+            .is_some_and(|t| self.capped == 0 && self.solver_error_m <= t)
+    }
+}
+
+/// The damped solvers of the cost study (with [`CONVERGENCE_DAMPING`]).
+fn is_damped(id: SolverId) -> bool {
+    matches!(id, SolverId::DampedBackwardEuler | SolverId::DampedAdmm)
+}
+
+/// Whether `id` can stop its stages at a residual (the matched-accuracy costs): every
+/// minimizing solver but the damped pair.
+pub fn stops_at_residual(id: SolverId) -> bool {
+    !is_damped(id)
 }
 
 /// The minimizing solvers, in registry order.
@@ -341,22 +371,38 @@ pub fn minimizing_solvers() -> Vec<SolverId> {
         .collect()
 }
 
-/// The spec of `id` in the cost study: to [`COST_TOLERANCE_M`] capped at [`COST_CAP`], the
-/// damped solvers with the convergence study's Rayleigh damping.
-pub fn cost_spec(id: SolverId, integrator: OptimizationIntegrator) -> Result<SolverSpec> {
-    let mut spec = SolverSpec::new(id, COST_CAP).to_tolerance(COST_TOLERANCE_M)?;
+/// The spec of `id` in the cost study: to [`COST_TOLERANCE_M`] on the update, or with `target`
+/// to its residual for that solver error, capped at [`COST_CAP`]; the damped solvers with the
+/// convergence study's Rayleigh damping.
+pub fn cost_spec(
+    id: SolverId,
+    integrator: OptimizationIntegrator,
+    target: Option<f64>,
+) -> Result<SolverSpec> {
+    let mut spec = match target {
+        None => SolverSpec::new(id, COST_CAP).to_tolerance(COST_TOLERANCE_M)?,
+        Some(t) => SolverSpec {
+            stopping: Stopping::residual(step_residual_tolerance(t, COST_DT, COST_TIME_S))?,
+            ..SolverSpec::new(id, COST_CAP)
+        },
+    };
     spec.params.integrator = integrator;
-    if matches!(id, SolverId::DampedBackwardEuler | SolverId::DampedAdmm) {
+    if is_damped(id) {
         spec.params.damping = CONVERGENCE_DAMPING;
     }
     Ok(spec)
 }
 
 impl CostRow {
-    /// `id` under `integrator` (module doc).
-    pub fn compute(id: SolverId, integrator: OptimizationIntegrator) -> Result<Self> {
+    /// `id` under `integrator`, to the update tolerance or, with `target`, to its residual
+    /// (module doc).
+    pub fn compute(
+        id: SolverId,
+        integrator: OptimizationIntegrator,
+        target: Option<f64>,
+    ) -> Result<Self> {
         let system = GridScene::Rope.system(COST_STIFFNESS)?;
-        let spec = cost_spec(id, integrator)?;
+        let spec = cost_spec(id, integrator, target)?;
         let steps = whole_steps(COST_TIME_S, COST_DT)?;
         let mut solver = spec.build(&system, COST_DT)?;
         let mut exact = exact_stages(&system, COST_DT, integrator, spec.params.dissipation())?;
@@ -379,6 +425,7 @@ impl CostRow {
             flops_per_step: flops / steps as f64,
             capped: log.capped,
             solver_error_m,
+            target_m: target,
         })
     }
 }

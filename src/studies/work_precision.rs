@@ -497,3 +497,15 @@ pub fn logged_flops(spec: &SolverSpec, system: &MassSpringSystem, log: &Iteratio
         };
     total + log.extra as f64 * flops_of_extra(spec, system)
 }
+
+/// The residual tolerance of each step, m, for a solver error of `target` m over `window`
+/// seconds at steps of `dt`: $`\varepsilon\,\Delta t / W`$, so that the steps' residuals,
+/// summed over the window's $`W/\Delta t`$ steps, stay within the target. A residual bounds
+/// its step's distance to the step solved exactly (for a minimizing solver the gradient over
+/// mass is $`(I + \tau^2 M^{-1}K)\,\delta x`$, with $`K \succeq 0`$ near the rope's taut
+/// states), and the errors of successive steps add at most, if the motion does not amplify
+/// them; a per-step tolerance of $`\varepsilon`$ itself would let a run of $`W/\Delta t`$
+/// steps drift that many times further (the test of `tests/thesis/benchmark.rs` shows it).
+pub fn step_residual_tolerance(target: f64, dt: f64, window: f64) -> f64 {
+    target * dt / window
+}

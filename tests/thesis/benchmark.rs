@@ -944,7 +944,7 @@ fn the_second_order_integrators_converge_at_order_two_on_the_rope() {
 }
 
 /// The tolerance points reach the solver error they aim at. Hypothesis, written and committed
-/// before the first run of the scaled tolerance (`sweep::step_residual_tolerance`): every
+/// before the first run of the scaled tolerance (`work_precision::step_residual_tolerance`): every
 /// tolerance point of the rope whose steps never reached the iteration cap ends with an RMS
 /// solver error per node within 10 × its target; it fails if one such point ends further.
 /// Negative case, the plausible wrong hypothesis that a per-step residual of the target itself

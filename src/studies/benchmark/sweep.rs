@@ -9,7 +9,7 @@ use crate::solvers::vbd::LocalHessian;
 use crate::studies::beyond::{
     grid_settings, own_first_iterate, takes_first_iterate, GridScene, COMPARISON_START,
 };
-use crate::studies::work_precision::Case;
+use crate::studies::work_precision::{step_residual_tolerance, Case};
 
 /// One configuration: a solver with its settings at a time step, on a case.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -219,22 +219,10 @@ pub const SOLVER_ERROR_TARGETS_M: [f64; 3] = [1e-4, 1e-6, 1e-8];
 /// The iteration cap of a tolerance point's steps.
 pub const TOLERANCE_CAP: usize = 200;
 
-/// The residual tolerance of each step, m, for a solver error of `target` m over `window`
-/// seconds at steps of `dt`: $`\varepsilon\,\Delta t / W`$, so that the steps' residuals,
-/// summed over the window's $`W/\Delta t`$ steps, stay within the target. A residual bounds
-/// its step's distance to the step solved exactly (for a minimizing solver the gradient over
-/// mass is $`(I + \tau^2 M^{-1}K)\,\delta x`$, with $`K \succeq 0`$ near the rope's taut
-/// states), and the errors of successive steps add at most, if the motion does not amplify
-/// them; a per-step tolerance of $`\varepsilon`$ itself would let a run of $`W/\Delta t`$
-/// steps drift that many times further (the test of `tests/thesis/benchmark.rs` shows it).
-pub fn step_residual_tolerance(target: f64, dt: f64, window: f64) -> f64 {
-    target * dt / window
-}
-
 /// The tolerance points of a case whose window is `window` s: every solver that stops at a
 /// tolerance, under the thesis's scheme, aiming at each of [`SOLVER_ERROR_TARGETS_M`] at the
 /// time steps where the solver error is measured ([`SOLVER_ERROR_DTS`]), each step stopping at
-/// its own residual ([`crate::integrators::stopping::Stopping::Residual`], [`step_residual_tolerance`]) or
+/// its own residual ([`crate::integrators::stopping::Stopping::Residual`], [`crate::studies::work_precision::step_residual_tolerance`]) or
 /// at [`TOLERANCE_CAP`] iterations; not PBD, which has no converged trajectory to measure a
 /// solver error against ([`super::truth::Converged`]). None on the stiff sheet: tried there,
 /// 52 of its 60 points reached the cap in some step, and they cost 4.0e10 flops, twice every
