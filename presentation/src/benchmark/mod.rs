@@ -151,10 +151,12 @@ impl BenchmarkChapter {
             .collect()
     }
 
-    /// The statics rows of a case.
+    /// The statics rows of a case: this report's and the committed long ones of `make
+    /// report-long` ([`mass_spring_solvers::studies::benchmark::statics::long_statics_configurations`]).
     pub fn statics(&self, case: Case) -> Vec<&Row> {
         self.rows
             .iter()
+            .chain(&self.long)
             .filter(|r| r.kind == "statics")
             .filter(|r| of_case(&r.scene, r.stiffness_n_per_m, case))
             .collect()

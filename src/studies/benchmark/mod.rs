@@ -127,14 +127,7 @@ impl Benchmark {
             .into_iter()
             .filter(|c| cases.contains(&c.case))
             .collect();
-        let statics = run_parallel(
-            &statics_jobs,
-            |c| expected_cost(c, statics::STATICS_MAX_TIME_S),
-            |c| run_statics(c, &truth_of(c.case).equilibrium),
-            &|_, _| {},
-        )
-        .into_iter()
-        .collect::<Result<Vec<_>>>()?;
+        let statics = run_statics_jobs(&statics_jobs, &truths)?;
         Ok(Self {
             truths,
             solver_truths,
@@ -153,16 +146,26 @@ impl Benchmark {
 impl Benchmark {
     /// The long runs of `cases` ([`sweep::long_configurations`], `make report-long`), with
     /// their cases' truths, measured against the exact motion (no solver error: these steps
-    /// have no converged reference).
+    /// have no converged reference), and the long statics runs
+    /// ([`statics::long_statics_configurations`]).
     pub fn compute_long(cases: &[Case], progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
         let configurations: Vec<Configuration> = cases
             .iter()
             .flat_map(|&c| sweep::long_configurations(c))
             .collect();
+        let statics_jobs: Vec<Configuration> = statics::long_statics_configurations()
+            .into_iter()
+            .filter(|c| cases.contains(&c.case))
+            .collect();
         let long_cases: Vec<Case> = cases
             .iter()
             .copied()
-            .filter(|&c| configurations.iter().any(|k| k.case == c))
+            .filter(|&c| {
+                configurations
+                    .iter()
+                    .chain(&statics_jobs)
+                    .any(|k| k.case == c)
+            })
             .collect();
         let truths = case_truths(&long_cases)?;
         let truth_of = |case: Case| truth_in(&truths, case);
@@ -174,14 +177,27 @@ impl Benchmark {
         )
         .into_iter()
         .collect::<Result<Vec<_>>>()?;
+        let statics = run_statics_jobs(&statics_jobs, &truths)?;
         Ok(Self {
             truths,
             solver_truths: Vec::new(),
             outcomes,
             own_start: Vec::new(),
-            statics: Vec::new(),
+            statics,
         })
     }
+}
+
+/// The statics runs `jobs`, each a parallel job, against their cases' equilibria in `truths`.
+fn run_statics_jobs(jobs: &[Configuration], truths: &[CaseTruth]) -> Result<Vec<StaticsOutcome>> {
+    run_parallel(
+        jobs,
+        |c| expected_cost(c, statics::STATICS_MAX_TIME_S),
+        |c| run_statics(c, &truth_in(truths, c.case).equilibrium),
+        &|_, _| {},
+    )
+    .into_iter()
+    .collect()
 }
 
 /// The truths of `cases`, each a parallel job, the dearest first (the sheet's exact motions,
