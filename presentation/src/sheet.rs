@@ -4,7 +4,8 @@
 //! solvers on the rope hold one dimension up?
 
 use crate::benchmark::{
-    mean_with_interval, BenchmarkChapter, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD,
+    mean_with_interval, BenchmarkChapter, ASYMPTOTIC_ERROR, ASYMPTOTIC_SLOPE, BOOTSTRAP_RESAMPLES,
+    ROUND_OFF_SPREAD,
 };
 use crate::chapter_figure::ChapterFigure;
 use crate::data::CsvFile;
@@ -190,6 +191,7 @@ impl SheetChapter {
             "best three on the rope",
             "best three on the sheet",
             ">τ",
+            ">before the asymptotic regime, rope / sheet",
         ]);
         let top = |r: &[SolverId]| {
             r.iter()
@@ -205,11 +207,39 @@ impl SheetChapter {
                 (c.setting + 1).to_string(),
                 top(&c.rope),
                 top(&c.sheet),
-                c.tau.map_or("–".into(), |tau| format!("{tau:.2}")),
+                c.tau.map_or("–".into(), |tau| format!("{tau:.2}"))
+                    + if c.pre_asymptotic() { " ‡" } else { "" },
+                format!(
+                    "{} of {} / {} of {}",
+                    c.before_asymptotic.0,
+                    c.rope.len(),
+                    c.before_asymptotic.1,
+                    c.sheet.len()
+                ),
             ]);
         }
         md += &t.render();
         md += "\n";
+        let settled: Vec<f64> = cells
+            .iter()
+            .filter(|c| !c.pre_asymptotic())
+            .filter_map(|c| c.tau)
+            .collect();
+        md += &format!(
+            "‡: more than half of the ranked solvers on the rope or on the sheet are before the \
+             asymptotic regime (section 12.4's rule: a local slope below {ASYMPTOTIC_SLOPE} or an \
+             error above {ASYMPTOTIC_ERROR} of doing nothing's), so τ there ranks errors that do \
+             not yet fall with the step: {} of the {} cells. {}\n\n",
+            cells.iter().filter(|c| c.pre_asymptotic()).count(),
+            cells.len(),
+            match mean_with_interval(&settled) {
+                Some((mean, lo, hi)) => format!(
+                    "Over the other {}, mean τ = {mean:.2} [{lo:.2}, {hi:.2}].",
+                    settled.len()
+                ),
+                None => "No cell is in the asymptotic regime on both scenes.".into(),
+            }
+        );
         let taus: Vec<f64> = cells.iter().filter_map(|c| c.tau).collect();
         md += &match mean_with_interval(&taus) {
             Some((mean, lo, hi)) => format!(

@@ -1070,3 +1070,114 @@ fn the_wall_time_cells_are_the_committed_timings() {
         }
     }
 }
+
+/// The committed `report/data/benchmark.csv` (every case, the sheet's included), read strictly.
+fn committed_rows() -> Vec<Row> {
+    let path = mass_spring_report::crate_root().join("report/data/benchmark.csv");
+    let mut reader = csv::ReaderBuilder::new()
+        .flexible(false)
+        .from_path(path)
+        .unwrap();
+    reader.deserialize().map(|r| r.unwrap()).collect()
+}
+
+/// Section 11.3's ‡ recomputed from the committed rows with this test's own rule: a ranked
+/// solver's row is before the asymptotic regime when its relative error is at least 0.5 or
+/// its error falls to the next smaller step of the same configuration (the next larger at the
+/// smallest) at a log-log slope below 0.5; a cell is marked when more than half of either
+/// scene's ranked solvers are. Negative case: the rule without its slope test (the error
+/// alone) counts differently somewhere.
+#[test]
+fn the_ranking_cells_before_the_asymptotic_regime_are_the_rules() {
+    let rows = committed_rows();
+    let mut chapter = chapter().clone();
+    chapter.rows = rows.clone();
+    let cells = chapter.rankings();
+    assert!(!cells.is_empty());
+    let dynamics = |scene: &str, k: f64, solver: SolverId, iterations: usize| {
+        let mut s: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| {
+                r.kind == "dynamics"
+                    && r.scene == scene
+                    && r.stiffness_n_per_m == k
+                    && r.solver == solver.id()
+                    && r.iterations == iterations
+                    && (r.integrator.is_empty() || r.integrator == "backward-euler")
+                    && r.stopping == "count"
+                    && r.failure.is_empty()
+            })
+            .filter_map(|r| Some((r.dt_s, r.physical_rel?)))
+            .collect();
+        s.sort_by(|a, b| a.0.total_cmp(&b.0));
+        s
+    };
+    let before = |scene: &str, k: f64, dt: f64, setting: usize, ids: &[SolverId], slope: bool| {
+        ids.iter()
+            .filter(|&&id| {
+                let it = mass_spring_solvers::studies::benchmark::sweep::settings(id)[setting]
+                    .iterations;
+                let s = dynamics(scene, k, id, it);
+                let Some(at) = s.iter().position(|p| p.0 == dt) else {
+                    return true;
+                };
+                let e = s[at].1;
+                if e >= 0.5 {
+                    return true;
+                }
+                let n = if at > 0 { at - 1 } else { at + 1 };
+                slope
+                    && s.get(n)
+                        .is_some_and(|&(dn, en)| (e / en).ln() / (dt / dn).ln() < 0.5)
+            })
+            .count()
+    };
+    let mut error_only_differs = false;
+    for c in &cells {
+        let ours = (
+            before("rope", c.stiffness, c.dt_s, c.setting, &c.rope, true),
+            before("sheet", c.stiffness, c.dt_s, c.setting, &c.sheet, true),
+        );
+        assert_eq!(
+            c.before_asymptotic, ours,
+            "{} {} {}",
+            c.stiffness, c.dt_s, c.setting
+        );
+        assert_eq!(
+            c.pre_asymptotic(),
+            2 * ours.0 > c.rope.len() || 2 * ours.1 > c.sheet.len()
+        );
+        error_only_differs |= ours
+            != (
+                before("rope", c.stiffness, c.dt_s, c.setting, &c.rope, false),
+                before("sheet", c.stiffness, c.dt_s, c.setting, &c.sheet, false),
+            );
+    }
+    assert!(error_only_differs, "the slope test changes no count");
+}
+
+/// Section 12.6's sentence on the statics runs the time limit cut, recounted from the rows:
+/// the thesis's three solvers' statics runs on the rope and those of them cut at the limit,
+/// which is the thesis's 3000 s.
+#[test]
+fn the_statics_cut_count_is_the_rows() {
+    use mass_spring_solvers::studies::benchmark::statics::STATICS_MAX_TIME_S;
+    assert_eq!(STATICS_MAX_TIME_S, 3000.0);
+    let chapter = chapter();
+    let three = ["xpbd", "fast_mass_spring", "admm_pd"];
+    let statics: Vec<&Row> = chapter
+        .rows
+        .iter()
+        .filter(|r| r.kind == "statics" && r.scene == "rope" && three.contains(&r.solver.as_str()))
+        .collect();
+    let cut = statics
+        .iter()
+        .filter(|r| r.failure.is_empty() && r.at_rest == Some(false))
+        .count();
+    assert_eq!(chapter.thesis_statics().len(), statics.len());
+    let section = chapter.section(12, &[]);
+    assert!(section.contains(&format!(
+        "of the thesis's three solvers' {} statics runs, {cut} were cut",
+        statics.len()
+    )));
+}

@@ -111,6 +111,18 @@ pub struct RankingCell {
     pub rope: Vec<SolverId>,
     pub sheet: Vec<SolverId>,
     pub tau: Option<f64>,
+    /// How many of the ranked solvers' rows on the rope and on the sheet are before the
+    /// asymptotic regime ([`BenchmarkChapter::before_asymptotic`]).
+    pub before_asymptotic: (usize, usize),
+}
+
+impl RankingCell {
+    /// Whether more than half of its ranked solvers, on either scene, are before the
+    /// asymptotic regime: τ there compares errors that do not yet fall with the step.
+    pub fn pre_asymptotic(&self) -> bool {
+        2 * self.before_asymptotic.0 > self.rope.len()
+            || 2 * self.before_asymptotic.1 > self.sheet.len()
+    }
 }
 
 /// Errors within this relative spread are the same to round-off: a cell where every solver's
@@ -167,6 +179,20 @@ impl BenchmarkChapter {
                         self.ranking(sheet, dt_s, setting, &ranked),
                     ) {
                         let tau = kendall_tau(&r, &s);
+                        let before = |case: Case, ids: &[SolverId]| {
+                            ids.iter()
+                                .filter(|&&id| {
+                                    let iterations =
+                                        mass_spring_solvers::studies::benchmark::sweep::settings(
+                                            id,
+                                        )[setting]
+                                            .iterations;
+                                    self.row(case, id, iterations, dt_s)
+                                        .is_none_or(|row| self.before_asymptotic(case, row))
+                                })
+                                .count()
+                        };
+                        let before_asymptotic = (before(rope, &r), before(sheet, &s));
                         cells.push(RankingCell {
                             stiffness,
                             dt_s,
@@ -174,6 +200,7 @@ impl BenchmarkChapter {
                             rope: r,
                             sheet: s,
                             tau,
+                            before_asymptotic,
                         });
                     }
                 }
