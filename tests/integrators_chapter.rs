@@ -193,22 +193,49 @@ fn the_matched_costs_are_cheapest_among_the_rows_that_met_their_target() {
         unmatched_differs,
         "matching the accuracy changes no cheapest: the negative case tests nothing"
     );
+    // The residual stop tightens with the target: no solver's error grows from one target to
+    // the next smaller, under any integrator.
+    for r in c.costs.iter().filter(|r| r.target_m.is_some()) {
+        let tighter = c.costs.iter().find(|t| {
+            t.solver == r.solver
+                && t.integrator == r.integrator
+                && t.target_m == r.target_m.map(|m| m / 100.0)
+        });
+        if let Some(t) = tighter {
+            assert!(t.solver_error_m <= r.solver_error_m, "{r:?} {t:?}");
+        }
+    }
     let section = c.section(13, &c.figures().unwrap());
     let matched = c.costs.iter().filter(|r| r.target_m.is_some());
+    let under_be = matched
+        .clone()
+        .filter(|r| r.integrator == OptimizationIntegrator::BackwardEuler);
     assert!(section.contains(&format!(
-        "{} of the {} cells met their target",
+        "{} of the {} cells met their target ({} of {} under Backward Euler)",
         matched.clone().filter(|r| r.met()).count(),
-        matched.count()
+        matched.count(),
+        under_be.clone().filter(|r| r.met()).count(),
+        under_be.count()
     )));
+    // The cheapest table's row of each integrator, whole.
     for i in OptimizationIntegrator::ALL {
-        for target in COST_TARGETS_M {
-            if let Some(r) = c.cheapest_at(i, target) {
-                assert!(section.contains(&format!(
-                    "{} ({})",
-                    r.solver.display_name(),
-                    sig(r.flops_per_step, 3)
-                )));
-            }
-        }
+        let cells: Vec<String> = COST_TARGETS_M
+            .iter()
+            .map(|&target| {
+                c.cheapest_at(i, target).map_or("none met it".into(), |r| {
+                    let name = match r.solver {
+                        mass_spring_solvers::solvers::registry::SolverId::BackwardEuler => "Newton",
+                        other => other.display_name(),
+                    };
+                    format!(
+                        "{name} ({}, {} m)",
+                        sig(r.flops_per_step, 3),
+                        sig(r.solver_error_m, 2)
+                    )
+                })
+            })
+            .collect();
+        let row = format!("| {} | {} |", i.label(), cells.join(" | "));
+        assert!(section.contains(&row), "{row}");
     }
 }

@@ -257,10 +257,11 @@ fn findings(data: &ReportData) -> String {
                     .filter(|d| matches!(d.overall, Overall::DependsOn { measure: true, .. }))
                     .count();
                 format!(
-                    ", in counted flops and in wall time ({})",
+                    ", in counted flops and in wall time (the least and the largest batch mean; a statics run's estimated from its configuration's dynamics run; {})",
                     match moved {
-                        0 => "no verdict moves between the two".to_string(),
-                        n => format!("{n} verdicts move between the two"),
+                        0 => "no verdict moves with what the cost counts".to_string(),
+                        1 => "1 verdict moves with what the cost counts".to_string(),
+                        n => format!("{n} verdicts move with what the cost counts"),
                     }
                 )
             } else {
@@ -303,18 +304,15 @@ fn findings(data: &ReportData) -> String {
             accelerations.join(", ")
         );
     }
-    let taus: Vec<f64> = data
-        .benchmark
-        .rankings()
-        .iter()
-        .filter_map(|c| c.tau)
-        .collect();
+    let rankings = data.benchmark.rankings();
+    let taus: Vec<f64> = rankings.iter().filter_map(|c| c.tau).collect();
     if let Some((mean, lo, hi)) = benchmark::mean_with_interval(&taus) {
         md += &format!(
             "- **The sheet** (section 11): the solvers' ranking by physical error on the rope and on the \
              sheet agree with Kendall τ = {mean:.2} (95 % bootstrap interval {lo:.2} to {hi:.2}, {} \
-             cells).\n",
-            taus.len()
+             cells), but in {} of those cells most ranked solvers are before the asymptotic regime.\n",
+            taus.len(),
+            rankings.iter().filter(|c| c.pre_asymptotic()).count()
         );
     }
     let slopes: Vec<String> = data

@@ -428,6 +428,7 @@ pub const FILES: &[FileSchema] = &[
         columns: &[
             ("solver", ""),
             ("integrator", ""),
+            ("target_m", "m"),
             ("iterations_per_step", ""),
             ("flops_per_step", ""),
             ("capped_stages", ""),

@@ -228,32 +228,60 @@ impl SheetChapter {
         md += &format!(
             "‡: more than half of the ranked solvers on the rope or on the sheet are before the \
              asymptotic regime (section 12.4's rule: a local slope below {ASYMPTOTIC_SLOPE} or an \
-             error above {ASYMPTOTIC_ERROR} of doing nothing's), so τ there ranks errors that do \
-             not yet fall with the step: {} of the {} cells. {}\n\n",
+             error above {ASYMPTOTIC_ERROR} of doing nothing's; the sheet's slopes read to its \
+             long runs at 0.005 s), so τ there ranks errors that do not yet fall with the step: \
+             {} of the {} cells. The majority rule was written with these cells in view (an \
+             interpretation, not a pre-registration). {}\n\n",
             cells.iter().filter(|c| c.pre_asymptotic()).count(),
             cells.len(),
-            match mean_with_interval(&settled) {
-                Some((mean, lo, hi)) => format!(
-                    "Over the other {}, mean τ = {mean:.2} [{lo:.2}, {hi:.2}].",
-                    settled.len()
-                ),
-                None => "No cell is in the asymptotic regime on both scenes.".into(),
-            }
+            settled_taus(&settled)
         );
         let taus: Vec<f64> = cells.iter().filter_map(|c| c.tau).collect();
         md += &match mean_with_interval(&taus) {
             Some((mean, lo, hi)) => format!(
-                "Mean τ = {mean:.2}, 95 % bootstrap interval [{lo:.2}, {hi:.2}] over {} cells: {}.\n\n",
+                "Mean τ = {mean:.2}, 95 % bootstrap interval [{lo:.2}, {hi:.2}] over {} cells: {}, \
+                 in cells most of which ({}) rank errors before the asymptotic regime.\n\n",
                 taus.len(),
                 if lo > 0.0 {
                     "the rope's ranking carries over to the sheet more than by chance"
                 } else {
                     "the data cannot tell the rope's ranking from an unrelated one on the sheet"
-                }
+                },
+                cells.iter().filter(|c| c.pre_asymptotic()).count()
             ),
             None => "No cell ranks the solvers on both scenes.\n\n".into(),
         };
         md
+    }
+}
+
+/// The fewest cells whose mean τ gets a bootstrap interval: over fewer, the interval is the
+/// range of a handful of values and says nothing.
+pub const FEWEST_FOR_INTERVAL: usize = 5;
+
+/// The τ of the cells in the asymptotic regime: their mean and bootstrap interval over at
+/// least [`FEWEST_FOR_INTERVAL`] of them, else the values themselves.
+fn settled_taus(settled: &[f64]) -> String {
+    if settled.is_empty() {
+        return "No cell is in the asymptotic regime on both scenes.".into();
+    }
+    if settled.len() < FEWEST_FOR_INTERVAL {
+        return format!(
+            "The other {} read τ = {} (too few for an interval).",
+            settled.len(),
+            settled
+                .iter()
+                .map(|t| format!("{t:.2}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    match mean_with_interval(settled) {
+        Some((mean, lo, hi)) => format!(
+            "Over the other {}, mean τ = {mean:.2} [{lo:.2}, {hi:.2}].",
+            settled.len()
+        ),
+        None => String::new(),
     }
 }
 

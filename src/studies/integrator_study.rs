@@ -34,7 +34,7 @@ use crate::integrators::time_stepper::TimeStepper;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::converged_stage::ConvergedNewton;
 use crate::solvers::registry::{SolverId, SolverSpec};
-use crate::studies::beyond::{GridScene, CONVERGENCE_DAMPING};
+use crate::studies::beyond::{from_comparison_start, GridScene, CONVERGENCE_DAMPING};
 use crate::studies::work_precision::{
     flops_setup, logged_flops, rk4_stability_limit, step_residual_tolerance, whole_steps,
     EXACT_STABILITY_FRACTION, SAMPLE_INTERVAL_S,
@@ -371,9 +371,10 @@ pub fn minimizing_solvers() -> Vec<SolverId> {
         .collect()
 }
 
-/// The spec of `id` in the cost study: to [`COST_TOLERANCE_M`] on the update, or with `target`
-/// to its residual for that solver error, capped at [`COST_CAP`]; the damped solvers with the
-/// convergence study's Rayleigh damping.
+/// The spec of `id` in the cost study: to [`COST_TOLERANCE_M`] on the update from its own
+/// start, or with `target` to its residual for that solver error from the comparisons' one
+/// start (the inertial prediction, [`from_comparison_start`]), capped at [`COST_CAP`]; the
+/// damped solvers with the convergence study's Rayleigh damping.
 pub fn cost_spec(
     id: SolverId,
     integrator: OptimizationIntegrator,
@@ -381,10 +382,10 @@ pub fn cost_spec(
 ) -> Result<SolverSpec> {
     let mut spec = match target {
         None => SolverSpec::new(id, COST_CAP).to_tolerance(COST_TOLERANCE_M)?,
-        Some(t) => SolverSpec {
+        Some(t) => from_comparison_start(SolverSpec {
             stopping: Stopping::residual(step_residual_tolerance(t, COST_DT, COST_TIME_S))?,
             ..SolverSpec::new(id, COST_CAP)
-        },
+        }),
     };
     spec.params.integrator = integrator;
     if is_damped(id) {

@@ -397,7 +397,14 @@ fn a_long_run_recomputes_bit_for_bit() {
         .iter()
         .map(|&c| long_configurations(c).len())
         .sum::<usize>()
-        + mass_spring_solvers::studies::benchmark::statics::long_statics_configurations().len();
+        + mass_spring_solvers::studies::benchmark::statics::long_statics_configurations().len()
+        + Case::ALL
+            .iter()
+            .map(|&c| {
+                mass_spring_solvers::studies::benchmark::sweep::second_window_configurations(c)
+                    .len()
+            })
+            .sum::<usize>();
     assert_eq!(
         committed.len(),
         expected,
@@ -459,6 +466,67 @@ fn a_long_run_recomputes_bit_for_bit() {
     assert_ne!(
         rows_csv(&[other]),
         rows_csv(std::slice::from_ref(committed_row))
+    );
+    // One row of each other long table: a statics run of XPBD substeps and a run of section
+    // 12.2's second window, each recomputed bit for bit.
+    let committed_as = |kind: &str, c: &Configuration, window_s: f64| {
+        committed
+            .iter()
+            .find(|r| {
+                r.kind == kind
+                    && r.solver == c.spec.id.id()
+                    && r.iterations == c.spec.iterations
+                    && r.dt_s == c.dt_s
+                    && r.scene == "rope"
+                    && r.stiffness_n_per_m == c.case.stiffness
+                    && r.window_s == window_s
+            })
+            .expect("the long row is committed")
+    };
+    use mass_spring_solvers::studies::benchmark::statics::{
+        long_statics_configurations, run_statics, STATICS_MAX_TIME_S,
+    };
+    let statics = long_statics_configurations()
+        .into_iter()
+        .find(|c| c.case.stiffness == 1e6 && c.dt_s == 0.1 && c.spec.iterations == 1)
+        .unwrap();
+    let rope_truth = CaseTruth::compute(statics.case).unwrap();
+    let outcome = run_statics(&statics, &rope_truth.equilibrium).unwrap();
+    let row = Benchmark {
+        truths: vec![rope_truth],
+        solver_truths: Vec::new(),
+        outcomes: Vec::new(),
+        own_start: Vec::new(),
+        statics: vec![outcome],
+    }
+    .rows()
+    .remove(0);
+    assert_eq!(
+        rows_csv(&[row]),
+        rows_csv(&[committed_as("statics", &statics, STATICS_MAX_TIME_S).clone()])
+    );
+    let soft_rope = Case::ALL[0];
+    let second =
+        mass_spring_solvers::studies::benchmark::sweep::second_window_configurations(soft_rope)
+            .into_iter()
+            .max_by(|a, b| a.dt_s.total_cmp(&b.dt_s))
+            .unwrap();
+    let long_truth = CaseTruth::compute(soft_rope)
+        .unwrap()
+        .over_periods(mass_spring_solvers::studies::benchmark::truth::SECOND_WINDOW_PERIODS)
+        .unwrap();
+    let row = Benchmark {
+        truths: vec![long_truth.clone()],
+        solver_truths: Vec::new(),
+        outcomes: vec![run(&second, &long_truth, None).unwrap()],
+        own_start: Vec::new(),
+        statics: Vec::new(),
+    }
+    .rows()
+    .remove(0);
+    assert_eq!(
+        rows_csv(&[row]),
+        rows_csv(&[committed_as("dynamics", &second, long_truth.window).clone()])
     );
 }
 
@@ -610,7 +678,7 @@ fn the_wall_time_setting_decides_on_wall_time() {
     let cells_of = |_: Schemes, m: Measure| {
         let costs = match m {
             Measure::Flops => [1.0, 3.0, 1.5],
-            Measure::WallTime => [1.0, 1.2, 1.5],
+            Measure::WallTime | Measure::WallTimeSlowest => [1.0, 1.2, 1.5],
         };
         vec![Cell {
             regime: Regime::Dynamics,
@@ -1018,55 +1086,84 @@ fn the_tolerance_points_reach_their_targets() {
     assert!(achieved > 10.0 * 1e-4, "{achieved:e}");
 }
 
-/// Reading (b)'s wall-time cells are the committed timing's: each dynamics cell's cost under
-/// Backward Euler recomputed from `report/timing/benchmark_wall.csv` alone (the least wall
-/// time of a solver's timed fixed-count Backward Euler configurations whose measured relative
-/// error reaches the level), and each statics cell's as its cheapest configuration's flops
-/// times the solver's wall time per flop. Negative case: the cells by flops differ from them.
+/// Reading (b)'s wall-time cells are the committed timing's, recomputed from the CSV files
+/// alone: each dynamics cell's cost under Backward Euler the least wall time (or largest batch
+/// mean, wall × (1 + spread)) of a solver's timed fixed-count Backward Euler configurations
+/// whose measured relative error reaches the level, and each statics cell's the least, over
+/// the solver's statics runs at rest within the level, of its flops times the wall time per
+/// flop of the timed configuration with the same key columns. Every row that could decide a
+/// cell is timed. Negative case: the cells by flops differ from them, and so do the slowest.
 #[test]
 fn the_wall_time_cells_are_the_committed_timings() {
-    use mass_spring_report::benchmark::wall::{WallIndex, WallTiming};
+    use mass_spring_report::benchmark::wall::{WallIndex, WallRow, WallTiming};
     let timing = WallTiming::load(&mass_spring_report::crate_root().join("report/timing"))
         .expect("the committed timing reads")
         .expect("the repository holds a timing");
     let mut chapter = chapter().clone();
     chapter.wall = Some(timing.clone());
+    assert_eq!(
+        chapter.untimed(),
+        0,
+        "a row that could decide a cell is not timed"
+    );
     let index = WallIndex::new(&timing.rows);
-    let wall = |case: Case, r: &Row| chapter.wall_cost(&index, case, r);
-    let by_wall = chapter.thesis_cells_by(Regime::Dynamics, Schemes::BackwardEuler, &wall);
-    let by_flops = chapter.thesis_cells(Regime::Dynamics, Schemes::BackwardEuler);
-    let mut differ = false;
-    for (cell, flop_cell) in by_wall.iter().zip(&by_flops) {
-        for (solver, cost) in &cell.cell.costs {
-            let ours = timing
-                .rows
-                .iter()
-                .filter(|w| {
-                    w.scene == "rope"
-                        && w.stiffness_n_per_m == cell.case.stiffness
-                        && w.solver == solver.id()
-                        && w.stopping == "count"
-                        && (w.integrator.is_empty() || w.integrator == "backward-euler")
-                        && w.physical_rel <= cell.level
-                })
-                .map(|w| w.wall_s)
-                .min_by(f64::total_cmp);
-            assert_eq!(*cost, ours, "{solver:?} {:?} {}", cell.case, cell.level);
+    let be = |integrator: &str| integrator.is_empty() || integrator == "backward-euler";
+    let rows = rows_from_csv();
+    for slowest in [false, true] {
+        let cost = |w: &WallRow| w.wall_s * if slowest { 1.0 + w.wall_spread } else { 1.0 };
+        let wall = |_: Case, r: &Row| chapter.wall_cost(&index, r, slowest);
+        let by_flops = chapter.thesis_cells(Regime::Dynamics, Schemes::BackwardEuler);
+        let by_wall = chapter.thesis_cells_by(Regime::Dynamics, Schemes::BackwardEuler, &wall);
+        let mut differ = false;
+        for (cell, flop_cell) in by_wall.iter().zip(&by_flops) {
+            for (solver, c) in &cell.cell.costs {
+                let ours = timing
+                    .rows
+                    .iter()
+                    .filter(|w| {
+                        w.scene == "rope"
+                            && w.stiffness_n_per_m == cell.case.stiffness
+                            && w.solver == solver.id()
+                            && w.stopping == "count"
+                            && be(&w.integrator)
+                            && w.physical_rel <= cell.level
+                    })
+                    .map(cost)
+                    .min_by(f64::total_cmp);
+                assert_eq!(*c, ours, "{solver:?} {:?} {}", cell.case, cell.level);
+            }
+            differ |= cell.cell.costs != flop_cell.cell.costs;
         }
-        differ |= cell.cell.costs != flop_cell.cell.costs;
-    }
-    assert!(differ, "the wall-time cells are the flop cells");
-    for cell in chapter.thesis_cells_by(Regime::Statics, Schemes::BackwardEuler, &wall) {
-        for (i, solver) in THESIS_THREE.into_iter().enumerate() {
-            let estimate = cell.cheapest[i].and_then(|r| {
-                let ns = mass_spring_report::benchmark::wall::ns_per_flop(
-                    &timing.rows,
-                    cell.case,
-                    solver,
-                )?;
-                Some(r.flops? * ns * 1e-9)
-            });
-            assert_eq!(cell.cell.cost(solver), estimate, "{solver:?}");
+        assert!(differ, "the wall-time cells are the flop cells");
+        for cell in chapter.thesis_cells_by(Regime::Statics, Schemes::BackwardEuler, &wall) {
+            for solver in THESIS_THREE {
+                let ours = rows
+                    .iter()
+                    .filter(|r| {
+                        r.kind == "statics"
+                            && r.scene == "rope"
+                            && r.stiffness_n_per_m == cell.case.stiffness
+                            && r.solver == solver.id()
+                            && r.stopping == "count"
+                            && be(&r.integrator)
+                            && r.at_rest == Some(true)
+                            && r.rest_error_rms_m.is_some_and(|e| e <= cell.level)
+                    })
+                    .filter_map(|r| {
+                        let timed = timing.rows.iter().find(|w| {
+                            w.scene == r.scene
+                                && w.stiffness_n_per_m == r.stiffness_n_per_m
+                                && w.solver == r.solver
+                                && w.iterations == r.iterations
+                                && w.dt_s == r.dt_s
+                                && w.stopping == r.stopping
+                                && be(&w.integrator)
+                        })?;
+                        Some(r.flops? * cost(timed) / timed.flops)
+                    })
+                    .min_by(f64::total_cmp);
+                assert_eq!(cell.cell.cost(solver), ours, "{solver:?} {:?}", cell.case);
+            }
         }
     }
 }
@@ -1083,18 +1180,38 @@ fn committed_rows() -> Vec<Row> {
 
 /// Section 11.3's ‡ recomputed from the committed rows with this test's own rule: a ranked
 /// solver's row is before the asymptotic regime when its relative error is at least 0.5 or
-/// its error falls to the next smaller step of the same configuration (the next larger at the
-/// smallest) at a log-log slope below 0.5; a cell is marked when more than half of either
-/// scene's ranked solvers are. Negative case: the rule without its slope test (the error
-/// alone) counts differently somewhere.
+/// its error falls to the next smaller step of the same configuration and window (the long
+/// runs' included; the next larger at the smallest) at a log-log slope below 0.5; a cell is
+/// marked when more than half of either scene's ranked solvers are. Negative case: the rule
+/// that reads only `benchmark.csv`'s steps (the sheet's smallest step's slope then taken to
+/// the next larger, 0.02 s) counts differently somewhere.
 #[test]
 fn the_ranking_cells_before_the_asymptotic_regime_are_the_rules() {
-    let rows = committed_rows();
+    let committed = committed_rows();
+    let long = mass_spring_report::benchmark::long::load(
+        &mass_spring_report::crate_root().join("report/long"),
+    )
+    .unwrap();
     let mut chapter = chapter().clone();
-    chapter.rows = rows.clone();
+    chapter.rows = committed.clone();
+    chapter.long = long.clone();
+    let window = |scene: &str, k: f64| {
+        committed
+            .iter()
+            .find(|r| r.kind == "dynamics" && r.scene == scene && r.stiffness_n_per_m == k)
+            .unwrap()
+            .window_s
+    };
+    let rows: Vec<Row> = committed
+        .iter()
+        .chain(long.iter().filter(|r| {
+            r.kind == "dynamics" && r.window_s == window(&r.scene, r.stiffness_n_per_m)
+        }))
+        .cloned()
+        .collect();
     let cells = chapter.rankings();
     assert!(!cells.is_empty());
-    let dynamics = |scene: &str, k: f64, solver: SolverId, iterations: usize| {
+    let dynamics = |rows: &[Row], scene: &str, k: f64, solver: SolverId, iterations: usize| {
         let mut s: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| {
@@ -1112,12 +1229,12 @@ fn the_ranking_cells_before_the_asymptotic_regime_are_the_rules() {
         s.sort_by(|a, b| a.0.total_cmp(&b.0));
         s
     };
-    let before = |scene: &str, k: f64, dt: f64, setting: usize, ids: &[SolverId], slope: bool| {
+    let before = |scene: &str, k: f64, dt: f64, setting: usize, ids: &[SolverId], all: bool| {
         ids.iter()
             .filter(|&&id| {
                 let it = mass_spring_solvers::studies::benchmark::sweep::settings(id)[setting]
                     .iterations;
-                let s = dynamics(scene, k, id, it);
+                let s = dynamics(if all { &rows } else { &committed }, scene, k, id, it);
                 let Some(at) = s.iter().position(|p| p.0 == dt) else {
                     return true;
                 };
@@ -1126,13 +1243,12 @@ fn the_ranking_cells_before_the_asymptotic_regime_are_the_rules() {
                     return true;
                 }
                 let n = if at > 0 { at - 1 } else { at + 1 };
-                slope
-                    && s.get(n)
-                        .is_some_and(|&(dn, en)| (e / en).ln() / (dt / dn).ln() < 0.5)
+                s.get(n)
+                    .is_some_and(|&(dn, en)| (e / en).ln() / (dt / dn).ln() < 0.5)
             })
             .count()
     };
-    let mut error_only_differs = false;
+    let mut without_long_differs = false;
     for c in &cells {
         let ours = (
             before("rope", c.stiffness, c.dt_s, c.setting, &c.rope, true),
@@ -1147,13 +1263,13 @@ fn the_ranking_cells_before_the_asymptotic_regime_are_the_rules() {
             c.pre_asymptotic(),
             2 * ours.0 > c.rope.len() || 2 * ours.1 > c.sheet.len()
         );
-        error_only_differs |= ours
+        without_long_differs |= ours
             != (
                 before("rope", c.stiffness, c.dt_s, c.setting, &c.rope, false),
                 before("sheet", c.stiffness, c.dt_s, c.setting, &c.sheet, false),
             );
     }
-    assert!(error_only_differs, "the slope test changes no count");
+    assert!(without_long_differs, "the long runs change no count");
 }
 
 /// Section 12.6's sentence on the statics runs the time limit cut, recounted from the rows:
@@ -1180,4 +1296,63 @@ fn the_statics_cut_count_is_the_rows() {
         "of the thesis's three solvers' {} statics runs, {cut} were cut",
         statics.len()
     )));
+}
+
+/// Section 12.2's second window, recomputed from `report/long/benchmark_long.csv` with this
+/// test's own least squares: per rope case, Newton's runs under Backward Euler whose window is
+/// longer than the case's, their slope over the decade and error at the smallest step, as the
+/// table prints them; the window is twice the first. Negative case: the first window's slope
+/// (from `benchmark.csv`) differs from it.
+#[test]
+fn the_second_window_slopes_are_the_long_runs() {
+    use mass_spring_report::format::sig;
+    let long = mass_spring_report::benchmark::long::load(
+        &mass_spring_report::crate_root().join("report/long"),
+    )
+    .unwrap();
+    let mut chapter = chapter().clone();
+    chapter.long = long.clone();
+    let section = chapter.section(12, &[]);
+    let slope = |points: &[(f64, f64)]| {
+        let n = points.len() as f64;
+        let (x, y): (Vec<f64>, Vec<f64>) =
+            points.iter().map(|p| (p.0.log10(), p.1.log10())).unzip();
+        let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+        x.iter()
+            .zip(&y)
+            .map(|(a, b)| (a - mx) * (b - my))
+            .sum::<f64>()
+            / x.iter().map(|a| (a - mx) * (a - mx)).sum::<f64>()
+    };
+    for case in super::report::ROPES {
+        let window = chapter.truth(case).unwrap().window_s;
+        let mut points: Vec<(f64, f64)> = long
+            .iter()
+            .filter(|r| {
+                r.kind == "dynamics"
+                    && r.scene == "rope"
+                    && r.stiffness_n_per_m == case.stiffness
+                    && r.solver == "backward_euler"
+                    && r.window_s > window
+            })
+            .map(|r| {
+                assert!((r.window_s / window - 2.0).abs() < 0.05, "{}", r.window_s);
+                (r.dt_s, r.physical_rel.unwrap())
+            })
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert!(points.len() >= 2);
+        let second = slope(&points);
+        assert!(section.contains(&format!("{}, {}", sig(second, 3), sig(points[0].1, 3))));
+        let first: Vec<(f64, f64)> = chapter
+            .convergence_lines(case)
+            .into_iter()
+            .find(|(name, _)| name == "Newton, Backward Euler")
+            .unwrap()
+            .1
+            .into_iter()
+            .filter(|p| p.0 <= 10.0 * points[0].0 * (1.0 + 1e-9))
+            .collect();
+        assert_ne!(sig(slope(&first), 3), sig(second, 3));
+    }
 }

@@ -2,7 +2,7 @@
 //! verdict on each conclusion of §4.4 and §5, and the chapter's section.
 
 use super::*;
-use crate::benchmark::wall::{ns_per_flop, WallIndex};
+use crate::benchmark::wall::WallIndex;
 use crate::chapter_figure::ChapterFigure;
 use crate::format::{full, sig, sig4, MarkdownTable};
 use mass_spring_solvers::solvers::registry::SolverId;
@@ -10,8 +10,8 @@ use mass_spring_solvers::studies::benchmark::rows::{ReferenceRow, Row};
 use mass_spring_solvers::studies::benchmark::sweep::{solvers, BASELINES, SECOND_ORDER};
 use mass_spring_solvers::studies::benchmark::thesis_protocol::{self, StepGroup, REAL_TIME_DTS};
 use mass_spring_solvers::studies::benchmark::verdicts::{
-    cheapest_by, flops, Cell, Conclusion, Decided, Measure, Regime, Schemes, DYNAMICS_LEVELS,
-    STATICS_LEVELS_M, THESIS_THREE, TIE, TIES,
+    cheapest_by, flops, Cell, Conclusion, Decided, Measure, Regime, Schemes, Scope,
+    DYNAMICS_LEVELS, STATICS_LEVELS_M, THESIS_THREE, TIE, TIES,
 };
 use mass_spring_solvers::studies::benchmark::Case;
 use mass_spring_solvers::studies::beyond::GridScene;
@@ -65,17 +65,46 @@ impl BenchmarkChapter {
             .collect()
     }
 
-    /// A rope row's wall time on `case`, s, from the committed measurement of `make timing`
-    /// (`index`, its rows by configuration): a dynamics row's own (None if it was not timed);
-    /// a statics row's estimated as its flops times its solver's wall time per flop on the
-    /// case's dynamics runs ([`ns_per_flop`]), since statics runs are not timed.
-    pub fn wall_cost(&self, index: &WallIndex, case: Case, row: &Row) -> Option<f64> {
+    /// A rope row's wall time, s, from the committed measurement of `make timing` (`index`,
+    /// its rows by configuration), the least batch mean or, if `slowest`, the largest: a
+    /// dynamics row's own; a statics row's (statics runs are not timed) estimated as its flops
+    /// times the wall time per flop of the dynamics run of the same configuration. None where
+    /// the configuration was not timed ([`Self::untimed`] counts those).
+    pub fn wall_cost(&self, index: &WallIndex, row: &Row, slowest: bool) -> Option<f64> {
+        let timed = index.timed(row)?;
+        let wall = timed.wall_s
+            * if slowest {
+                1.0 + timed.wall_spread
+            } else {
+                1.0
+            };
         if row.kind == "statics" {
-            let id = solvers().into_iter().find(|s| s.id() == row.solver)?;
-            let ns = ns_per_flop(&self.wall.as_ref()?.rows, case, id)?;
-            return row.flops.map(|f| f * ns * 1e-9);
+            return row.flops.map(|f| f * wall / timed.flops);
         }
-        index.wall_s(row)
+        Some(wall)
+    }
+
+    /// The rope rows of the thesis's three that could decide a cell (a finished fixed-count
+    /// dynamics run, or a statics run at rest) but have no timing: a cell reads them as not
+    /// reached in wall time.
+    pub fn untimed(&self) -> usize {
+        let Some(timing) = &self.wall else {
+            return 0;
+        };
+        let index = WallIndex::new(&timing.rows);
+        self.cases()
+            .into_iter()
+            .filter(|c| c.scene == GridScene::Rope)
+            .flat_map(|c| {
+                self.dynamics(c).into_iter().chain(
+                    self.statics(c)
+                        .into_iter()
+                        .filter(|r| r.at_rest == Some(true)),
+                )
+            })
+            .filter(|r| THESIS_THREE.iter().any(|s| s.id() == r.solver) && r.count_mode())
+            .filter(|r| index.timed(r).is_none())
+            .count()
     }
 
     /// What reading (b)'s costs count: flops, and wall time where a measurement exists.
@@ -89,11 +118,13 @@ impl BenchmarkChapter {
 
     /// The rope cells of every regime under `schemes`, each cost counted by `measure`.
     fn cells_by(&self, schemes: Schemes, measure: Measure, index: &WallIndex) -> Vec<Cell> {
-        let wall = |case: Case, r: &Row| self.wall_cost(index, case, r);
+        let wall = |_: Case, r: &Row| self.wall_cost(index, r, false);
+        let slowest = |_: Case, r: &Row| self.wall_cost(index, r, true);
         let flop = |_: Case, r: &Row| flops(r);
         let cost: &dyn Fn(Case, &Row) -> Option<f64> = match measure {
             Measure::Flops => &flop,
             Measure::WallTime => &wall,
+            Measure::WallTimeSlowest => &slowest,
         };
         [Regime::Statics, Regime::Dynamics]
             .into_iter()
@@ -151,7 +182,7 @@ impl BenchmarkChapter {
     pub fn convergence_lines(&self, case: Case) -> Vec<(String, Vec<(f64, f64)>)> {
         let mut lines: Vec<(String, Vec<(f64, f64)>)> = vec![
             (
-                "Newton, Backward Euler".into(),
+                NEWTON_BACKWARD_EULER.into(),
                 self.convergence(case, SolverId::BackwardEuler),
             ),
             (
@@ -166,6 +197,31 @@ impl BenchmarkChapter {
             ));
         }
         lines
+    }
+
+    /// Section 12.2's second window on a case: its length, s, and Newton's (dt, relative
+    /// physical error) points under Backward Euler over it, smallest dt first, from the long
+    /// runs (those whose window is longer than the case's); None without them.
+    pub fn second_window(&self, case: Case) -> Option<(f64, Vec<(f64, f64)>)> {
+        let window = self.truth(case)?.window_s;
+        let rows: Vec<&Row> = self
+            .long
+            .iter()
+            .filter(|r| {
+                r.kind == "dynamics"
+                    && families::of_case(&r.scene, r.stiffness_n_per_m, case)
+                    && r.solver == SolverId::BackwardEuler.id()
+                    && r.thesis_scheme()
+                    && r.window_s > window
+            })
+            .collect();
+        let long_window = rows.first()?.window_s;
+        let mut points: Vec<(f64, f64)> = rows
+            .iter()
+            .filter_map(|r| Some((r.dt_s, r.physical_rel?)))
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Some((long_window, points))
     }
 
     /// Where the errors were shown to converge: per case, the lines of
@@ -214,9 +270,20 @@ impl BenchmarkChapter {
         if error >= ASYMPTOTIC_ERROR {
             return true;
         }
+        // The long runs of the same window extend the series below this report's steps (the
+        // sheet's 0.005-0.001 s), so that the smallest step's slope is read to the next
+        // smaller one, as everywhere else.
+        let long = self.long.iter().filter(|r| {
+            r.kind == "dynamics"
+                && r.finished()
+                && r.count_mode()
+                && families::of_case(&r.scene, r.stiffness_n_per_m, case)
+                && r.window_s == row.window_s
+        });
         let mut series: Vec<(f64, f64)> = self
             .dynamics(case)
             .into_iter()
+            .chain(long)
             .filter(|r| {
                 r.solver == row.solver
                     && r.iterations == row.iterations
@@ -236,6 +303,9 @@ impl BenchmarkChapter {
         slope < ASYMPTOTIC_SLOPE
     }
 }
+
+/// The name of Newton's convergence line under Backward Euler.
+const NEWTON_BACKWARD_EULER: &str = "Newton, Backward Euler";
 
 /// A convergence line or a configuration is in the asymptotic regime where its error falls at
 /// least this fast with the step (a local slope in log-log) ...
@@ -464,22 +534,52 @@ impl BenchmarkChapter {
             ">smallest decade of dt (s)",
             ">fitted slope of the physical error",
             ">relative error at its smallest dt",
+            ">the same over the second window: slope, error",
         ]);
         for case in self.cases() {
             for (name, points) in self.convergence_lines(case) {
                 if let Some((slope, lo, hi)) = decade_slope(&points) {
+                    let second = (name == NEWTON_BACKWARD_EULER)
+                        .then(|| self.second_window(case))
+                        .flatten();
                     t.row(vec![
                         case.label(),
                         name,
                         format!("{} – {}", full(lo), full(hi)),
                         sig(slope, 3),
                         points.first().map_or("–".into(), |p| sig(p.1, 3)),
+                        second
+                            .and_then(|(_, points)| {
+                                let (slope, _, _) = decade_slope(&points)?;
+                                Some(format!("{}, {}", sig(slope, 3), sig(points.first()?.1, 3)))
+                            })
+                            .unwrap_or_else(|| "–".into()),
                     ]);
                 }
             }
         }
         md += &t.render();
-        md += "\n";
+        md += &format!(
+            "\nThe second window is {} periods of the lowest mode instead of {} ({}): Newton under \
+             Backward Euler over the same smallest decade, from `make report-long` \
+             ([`long/{}`](long/{})), on the rope (the sheet's steps stop where its Backward Euler \
+             error is not yet of order one). A first-order scheme's error accumulates with the \
+             time it runs, so its slope is read over both.\n\n",
+            full(mass_spring_solvers::studies::benchmark::truth::SECOND_WINDOW_PERIODS),
+            full(mass_spring_solvers::studies::benchmark::WINDOW_PERIODS),
+            self.cases()
+                .into_iter()
+                .filter_map(|c| Some(format!(
+                    "{}: {} s against {} s",
+                    c.label(),
+                    full(self.second_window(c)?.0),
+                    full(self.truth(c)?.window_s)
+                )))
+                .collect::<Vec<_>>()
+                .join("; "),
+            super::long::LONG_CSV,
+            super::long::LONG_CSV,
+        );
         md += &self.long_section();
         md += "Backward Euler is first order: its relative physical error falls in proportion to dt once dt is \
                small beside the periods of the modes that carry the motion (on the stiff rope, modes of 26-49 \
@@ -569,9 +669,15 @@ impl BenchmarkChapter {
              the stop of each solver's cheapest configuration that comes to rest within an RMS \
              distance per free node of the exact equilibrium, and how many of its runs the time \
              limit cut before the rule stopped them (lost to this section, not at rest). XPBD \
-             substeps' runs, which rest only after hundreds of simulated seconds at one substep \
-             per iteration, are `make report-long`'s ([`long/{}`](long/{})).\n\n",
+             substeps' runs, a substep per iteration and up to {} simulated seconds to rest, are \
+             `make report-long`'s ([`long/{}`](long/{})).\n\n",
             crate::format::short(mass_spring_solvers::studies::benchmark::statics::STATICS_MAX_TIME_S),
+            self.long
+                .iter()
+                .filter(|r| r.kind == "statics" && r.at_rest == Some(true))
+                .filter_map(|r| r.end_time_s)
+                .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.max(t))))
+                .map_or("–".into(), |t| sig(t, 3)),
             super::long::LONG_CSV,
             super::long::LONG_CSV,
         );
@@ -628,8 +734,8 @@ impl BenchmarkChapter {
              and an accuracy (dynamics: a relative physical error of 10 %, 1 % or 0.1 %; statics: an \
              RMS rest distance of 1e-2, 1e-3 or 1e-4 m per node); a solver *beats* another in a cell \
              when it reaches it and the other does not, or the other costs more than (1 + tie) \
-             times as much. {wall} In the decided dynamics cells the three run one iteration at the same step, so their flop \
-             ratios are the flop model's per-step constants, which the flop model's own spread \
+             times as much. {wall} Under Backward Euler, in the decided dynamics cells the three \
+             run one iteration at the same step, so their flop ratios are the flop model's per-step constants, which the flop model's own spread \
              against wall time (section 12.7) exceeds: the wall-time setting asks whether a \
              verdict survives that. Each cost names its integrator: the minimizing solvers \
              (Fast m-s, ADMM) under Backward Euler, and under the best of the four integrators \
@@ -665,12 +771,9 @@ impl BenchmarkChapter {
             Schemes::ALL.len() * TIES.len() * self.measures().len(),
             self.measures()
                 .iter()
-                .map(|m| match m {
-                    Measure::Flops => "counted flops",
-                    Measure::WallTime => "wall time",
-                })
+                .map(|m| m.label())
                 .collect::<Vec<_>>()
-                .join(" or ")
+                .join(", ")
         );
         md += " A verdict is *holds* or *fails* only where every setting \
                agrees; otherwise it *depends on* what moves it.";
@@ -686,7 +789,8 @@ impl BenchmarkChapter {
         md += &verdict_table(&self.verdicts(), true);
         md += &format!(
             "\nBE: Backward Euler only; any: the best of the four integrators; flops: counted \
-             flops; wall: wall time. The ties: {}.\n\n",
+             flops; wall: wall time, the least batch mean; wall, slowest: the largest. Each cell \
+             gives the verdicts at the ties {} in turn.\n\n",
             TIES.map(|t| format!("{} %", full(100.0 * t))).join(", ")
         );
         md += &self.protocol_section();
@@ -705,11 +809,14 @@ impl BenchmarkChapter {
     fn wall_provenance(&self) -> String {
         match &self.wall {
             Some(w) => format!(
-                "The cost is counted twice: in flops, and in wall time as `make timing` measured \
-                 it ({}, [section 12.7](#s12.7)); a statics run, which is not timed, is costed at \
-                 its flops times its solver's wall time per flop on the case's dynamics runs (an \
-                 estimate).",
-                w.provenance()
+                "The cost is counted in flops and in wall time as `make timing` measured it ({}, \
+                 section 12.7), both the least and the largest of each configuration's batch \
+                 means, so that a verdict inside the timing's own spread shows as moving with \
+                 the measure; a statics run, which is not timed, is costed at its flops times \
+                 the wall time per flop of the dynamics run of the same configuration (an \
+                 estimate). Of the rows that could decide a cell, {} have no timing.",
+                w.provenance(),
+                self.untimed()
             ),
             None => "The cost is counted flops only: this repository holds no measurement of \
                      `make timing` (`report/timing/`)."
@@ -724,7 +831,7 @@ impl BenchmarkChapter {
             return String::new();
         };
         let index = WallIndex::new(&timing.rows);
-        let wall = |case: Case, r: &Row| self.wall_cost(&index, case, r);
+        let wall = |_: Case, r: &Row| self.wall_cost(&index, r, false);
         let mut t = MarkdownTable::new(&[
             "cell",
             "XPBD (ms)",
@@ -816,16 +923,23 @@ fn verdict_table(decided: &[Decided], criteria: bool) -> String {
     let Some(first) = decided.first() else {
         return String::new();
     };
+    // One column per scope and measure, its cell the verdicts at each tie in turn (the
+    // settings come tie by tie within each group, `Setting::grid`'s order).
+    let groups: Vec<(Scope, Option<Measure>)> = first
+        .sensitivity
+        .iter()
+        .map(|(s, _)| (s.scope, s.measure))
+        .fold(Vec::new(), |mut g, k| {
+            if !g.contains(&k) {
+                g.push(k);
+            }
+            g
+        });
+    let ties = TIES.map(|t| full(100.0 * t)).join("/");
     let mut header = vec!["conclusion".to_string(), "verdict".to_string()];
-    header.extend(first.sensitivity.iter().map(|(s, _)| {
-        let measure = s
-            .measure
-            .map_or(String::new(), |m| format!(", {}", m.short()));
-        format!(
-            "{}{measure}, tie {} %",
-            s.scope.short(),
-            full(100.0 * s.tie)
-        )
+    header.extend(groups.iter().map(|(scope, measure)| {
+        let measure = measure.map_or(String::new(), |m| format!(", {}", m.short()));
+        format!("{}{measure}, tie {ties} %", scope.short())
     }));
     if criteria {
         header.push("criterion".into());
@@ -837,7 +951,14 @@ fn verdict_table(decided: &[Decided], criteria: bool) -> String {
             d.conclusion.label().to_string(),
             format!("**{}**", d.overall.id()),
         ];
-        cells.extend(d.sensitivity.iter().map(|(_, v)| v.id().to_string()));
+        cells.extend(groups.iter().map(|&(scope, measure)| {
+            d.sensitivity
+                .iter()
+                .filter(|(s, _)| s.scope == scope && s.measure == measure)
+                .map(|(_, v)| v.id())
+                .collect::<Vec<_>>()
+                .join(" / ")
+        }));
         if criteria {
             cells.push(d.conclusion.criterion().into());
         }

@@ -120,13 +120,13 @@ impl WallRow {
 }
 
 /// The timed configurations by their key columns, for looking up `benchmark.csv`'s rows
-/// ([`WallRow::is`]'s match, by hashing).
+/// ([`WallRow::is`]'s match, by hashing): each one's timed row.
 #[derive(Debug, Default)]
-pub struct WallIndex(std::collections::HashMap<String, f64>);
+pub struct WallIndex<'a>(std::collections::HashMap<String, &'a WallRow>);
 
-impl WallIndex {
+impl<'a> WallIndex<'a> {
     /// The index of `rows`.
-    pub fn new(rows: &[WallRow]) -> Self {
+    pub fn new(rows: &'a [WallRow]) -> Self {
         Self(
             rows.iter()
                 .map(|w| {
@@ -134,14 +134,18 @@ impl WallIndex {
                         (&w.scene, w.stiffness_n_per_m, &w.solver),
                         (w.iterations, &w.integrator, &w.stopping, w.dt_s),
                     );
-                    (key, w.wall_s)
+                    (key, w)
                 })
                 .collect(),
         )
     }
 
-    /// The wall time of `row`'s configuration, s, if it was timed.
-    pub fn wall_s(&self, row: &mass_spring_solvers::studies::benchmark::rows::Row) -> Option<f64> {
+    /// The timed row of `row`'s configuration (for a statics row, the dynamics run of the
+    /// same configuration), if it was timed.
+    pub fn timed(
+        &self,
+        row: &mass_spring_solvers::studies::benchmark::rows::Row,
+    ) -> Option<&'a WallRow> {
         let key = Self::key(
             (&row.scene, row.stiffness_n_per_m, &row.solver),
             (row.iterations, &row.integrator, &row.stopping, row.dt_s),

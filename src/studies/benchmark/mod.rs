@@ -146,8 +146,9 @@ impl Benchmark {
 impl Benchmark {
     /// The long runs of `cases` ([`sweep::long_configurations`], `make report-long`), with
     /// their cases' truths, measured against the exact motion (no solver error: these steps
-    /// have no converged reference), and the long statics runs
-    /// ([`statics::long_statics_configurations`]).
+    /// have no converged reference), the long statics runs
+    /// ([`statics::long_statics_configurations`]) and section 12.2's second window
+    /// ([`sweep::second_window_configurations`]).
     pub fn compute_long(cases: &[Case], progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Self> {
         let configurations: Vec<Configuration> = cases
             .iter()
@@ -157,6 +158,10 @@ impl Benchmark {
             .into_iter()
             .filter(|c| cases.contains(&c.case))
             .collect();
+        let second_window: Vec<Configuration> = cases
+            .iter()
+            .flat_map(|&c| sweep::second_window_configurations(c))
+            .collect();
         let long_cases: Vec<Case> = cases
             .iter()
             .copied()
@@ -164,10 +169,23 @@ impl Benchmark {
                 configurations
                     .iter()
                     .chain(&statics_jobs)
+                    .chain(&second_window)
                     .any(|k| k.case == c)
             })
             .collect();
-        let truths = case_truths(&long_cases)?;
+        // A case with second-window runs has its truth over that window (the statics runs
+        // read only its equilibrium, the same over any window; no other long dynamics run
+        // shares a case with them).
+        let truths: Vec<CaseTruth> = case_truths(&long_cases)?
+            .into_iter()
+            .map(|t| {
+                if second_window.iter().any(|c| c.case == t.case) {
+                    t.over_periods(truth::SECOND_WINDOW_PERIODS)
+                } else {
+                    Ok(t)
+                }
+            })
+            .collect::<Result<_>>()?;
         let truth_of = |case: Case| truth_in(&truths, case);
         let outcomes = run_parallel(
             &configurations,
@@ -178,6 +196,8 @@ impl Benchmark {
         .into_iter()
         .collect::<Result<Vec<_>>>()?;
         let statics = run_statics_jobs(&statics_jobs, &truths)?;
+        let mut outcomes = outcomes;
+        outcomes.extend(second_window_runs(&second_window, &truths, progress)?);
         Ok(Self {
             truths,
             solver_truths: Vec::new(),
@@ -186,6 +206,23 @@ impl Benchmark {
             statics,
         })
     }
+}
+
+/// Section 12.2's second window: the runs `jobs` against their cases' `truths` (over
+/// [`truth::SECOND_WINDOW_PERIODS`] periods), in parallel.
+fn second_window_runs(
+    jobs: &[Configuration],
+    truths: &[CaseTruth],
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<Outcome>> {
+    run_parallel(
+        jobs,
+        |c| expected_cost(c, truth_in(truths, c.case).window),
+        |c| run::run(c, truth_in(truths, c.case), None),
+        progress,
+    )
+    .into_iter()
+    .collect()
 }
 
 /// The statics runs `jobs`, each a parallel job, against their cases' equilibria in `truths`.

@@ -63,6 +63,24 @@ pub fn long_configurations(case: Case) -> Vec<Configuration> {
         .collect()
 }
 
+/// Section 12.2's second window on a case (`make report-long`): Newton under Backward Euler
+/// at its first setting over the smallest decade of the case's time steps, run over
+/// [`super::truth::SECOND_WINDOW_PERIODS`] periods; on the rope only (the sheet's steps stop
+/// at 0.01 s, where its Backward Euler error is not yet of order one).
+pub fn second_window_configurations(case: Case) -> Vec<Configuration> {
+    if case.scene != GridScene::Rope {
+        return Vec::new();
+    }
+    let steps = dts(case);
+    let smallest = steps.iter().copied().fold(f64::INFINITY, f64::min);
+    let spec = settings(SolverId::BackwardEuler)[0];
+    steps
+        .iter()
+        .filter(|&&dt| dt <= 10.0 * smallest * (1.0 + 1e-9))
+        .map(|&dt_s| Configuration { case, spec, dt_s })
+        .collect()
+}
+
 /// The solvers of the benchmark: every solver of the grid of section 10 but the damped pair
 /// (at zero damping they are Backward Euler and ADMM-PD, and the exact motion is undamped),
 /// then the explicit baselines.

@@ -103,19 +103,32 @@ impl Schemes {
 pub enum Measure {
     /// The benchmark's counted floating-point operations.
     Flops,
-    /// Wall time, as a measurement of `make timing` gives it (the science layer never times:
-    /// the caller supplies each row's).
+    /// Wall time, as a measurement of `make timing` gives it: the least of its batch means
+    /// (the science layer never times: the caller supplies each row's).
     WallTime,
+    /// The same measurement's largest batch mean: with [`Measure::WallTime`], the verdicts'
+    /// sensitivity to the timing's own spread.
+    WallTimeSlowest,
 }
 
 impl Measure {
-    pub const ALL: [Measure; 2] = [Measure::Flops, Measure::WallTime];
+    pub const ALL: [Measure; 3] = [Measure::Flops, Measure::WallTime, Measure::WallTimeSlowest];
 
     /// A short column label.
     pub fn short(self) -> &'static str {
         match self {
             Measure::Flops => "flops",
             Measure::WallTime => "wall",
+            Measure::WallTimeSlowest => "wall, slowest",
+        }
+    }
+
+    /// What it counts, for prose.
+    pub fn label(self) -> &'static str {
+        match self {
+            Measure::Flops => "counted flops",
+            Measure::WallTime => "wall time (the least batch mean)",
+            Measure::WallTimeSlowest => "wall time (the largest batch mean)",
         }
     }
 }
