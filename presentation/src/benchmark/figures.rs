@@ -202,7 +202,9 @@ impl BenchmarkChapter {
             marker: Marker::Cross,
         });
         let (mut lowest, mut highest) = (f64::INFINITY, 0.0f64);
-        for curve in curves.into_iter().chain(baselines) {
+        let floor = self.truth_floor(case);
+        let mut seen: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+        for mut curve in curves.into_iter().chain(baselines) {
             for r in &curve.rows {
                 csv.record(vec![
                     r.solver.clone(),
@@ -216,10 +218,27 @@ impl BenchmarkChapter {
                 lowest = lowest.min(r.flops.unwrap());
                 highest = highest.max(r.flops.unwrap());
             }
+            // A front whose errors are another's of this panel, step for step (the same
+            // computation at another cost: one iteration from the same start), is named so.
+            let errors: Vec<(f64, f64)> = curve
+                .rows
+                .iter()
+                .map(|r| (r.dt_s, r.physical_rel.unwrap()))
+                .collect();
+            if let Some((twin, _)) = seen.iter().find(|(_, e)| same_errors(e, &errors)) {
+                curve.label = format!("{} (≈ {twin}'s errors)", curve.label);
+            } else if !errors.is_empty() {
+                seen.push((curve.label.clone(), errors));
+            }
+            // Below the exact motion's own floor an error measures the truth, not the run: such
+            // points are drawn on the floor.
             let points: Vec<(f64, f64)> = curve
                 .rows
                 .iter()
-                .map(|r| (r.flops.unwrap(), r.physical_rel.unwrap()))
+                .map(|r| {
+                    let e = r.physical_rel.unwrap();
+                    (r.flops.unwrap(), floor.map_or(e, |f| e.max(f)))
+                })
                 .collect();
             if !points.is_empty() {
                 panel.series.push(
@@ -239,8 +258,27 @@ impl BenchmarkChapter {
                 .with_line(Line::Solid)
                 .with_weight(0.6),
             );
+            if let Some(f) = floor {
+                panel.series.push(
+                    Series::line(
+                        "the exact motion's floor (points below drawn on it)",
+                        vec![(lowest, f), (highest, f)],
+                        BASELINE_GREY,
+                    )
+                    .with_line(Line::Dashed)
+                    .with_weight(0.6),
+                );
+            }
         }
         panel
+    }
+
+    /// The exact motion's own error on a case, relative to its amplitude, as the figures cut
+    /// at it: its halving gap (the change when RK4's step is halved, which bounds the coarser
+    /// motion's error and is about 15 times the exact motion's own), over the amplitude.
+    pub fn truth_floor(&self, case: Case) -> Option<f64> {
+        let truth = self.truth(case)?;
+        Some(truth.halving_gap_m / truth.amplitude_rms_m)
     }
 
     /// The figures and the data files.
@@ -270,6 +308,14 @@ impl BenchmarkChapter {
         ));
         files
     }
+}
+
+/// Whether two fronts' (dt, error) points are the same to round-off, step for step.
+fn same_errors(a: &[(f64, f64)], b: &[(f64, f64)]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| x.0 == y.0 && (x.1 - y.1).abs() <= 1e-9 * x.1.abs().max(y.1.abs()))
 }
 
 /// The figure's file stem of a case.

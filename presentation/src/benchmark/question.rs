@@ -608,7 +608,11 @@ impl BenchmarkChapter {
                  counted flops over the window (relative error: the RMS physical error per free node over the \
                  exact motion's RMS amplitude), by family; the numbers beside a front are the time step Δt (s) \
                  of its points at 0.1, 0.01, 0.001 and 0.0001 s, in its colour, where there is room; grey: the explicit baselines (RK4 dashed, \
-                 symplectic Euler dotted) and doing nothing (the equilibrium held still, error 1).* Data: \
+                 symplectic Euler dotted), doing nothing (the equilibrium held still, error 1) and, dashed, the \
+                 exact motion's floor (its halving gap over its amplitude, about 15 times its own \
+                 error): a point below it measures the truth, not the run, and is drawn on it. A \
+                 front marked ≈ has another's errors step for step: the same computation at another \
+                 cost.* Data: \
                  [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 n + 1,
                 stem = f.stem,
