@@ -283,7 +283,7 @@ fn findings(data: &ReportData) -> String {
     if !accelerations.is_empty() {
         md += &format!(
             "- **Newer solvers** (section 10): from one start, the iterations to converge one stiff step to \
-             1e-6 m (in brackets the range from starts one unit in the last place apart, where it moves): {}.\n",
+             1e-6 m (in brackets the range over starts nudged by ±1 to ±4 units in the last place, where it moves): {}.\n",
             accelerations.join(", ")
         );
     }

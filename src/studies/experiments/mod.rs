@@ -30,8 +30,8 @@ use crate::model::metrics::{
     rest_error_sum, StoppingRule,
 };
 use crate::model::scene::{RopeParams, THESIS_GRAVITY};
-use crate::model::system::MassSpringSystem;
 use crate::model::system::Vec3;
+use crate::model::system::{MassSpringSystem, State};
 use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::solvers::registry::SolverId;
 use crate::solvers::registry::SolverSpec;
@@ -205,6 +205,16 @@ fn profile_label(row: &PublishedRow, configuration: &Configuration) -> String {
 
 /// Runs one published experiment from the thesis rope at rest.
 pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Result<Run> {
+    run_experiment_from(row, configuration, |rest| rest)
+}
+
+/// Runs one published experiment from `start` applied to the thesis rope at rest (the nudged
+/// starts of [`crate::studies::round_off`]).
+pub fn run_experiment_from(
+    row: &PublishedRow,
+    configuration: &Configuration,
+    start: impl FnOnce(State) -> State,
+) -> Result<Run> {
     let (system, options) = setup(row, configuration)?;
     let mut solver = configuration
         .solver
@@ -215,7 +225,7 @@ pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Resu
             run.as_ref()
                 .map_or(String::new(), |r| format!(", {} steps", r.steps))
         },
-        || simulate(solver.as_mut(), system.initial_state(), &options),
+        || simulate(solver.as_mut(), start(system.initial_state()), &options),
     )
 }
 
