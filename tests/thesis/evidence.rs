@@ -12,7 +12,8 @@ use mass_spring_solvers::studies::experiments::{
     published_rows, reproduces, same_experiment, Measured, PublishedRow,
 };
 use mass_spring_solvers::studies::forensics::evidence::{
-    round_off_spread, Choice, ADMM_CANDIDATES_TRIED, ROUND_OFF_AGREEMENT,
+    classify, round_off_spread, Choice, SceneReadings, Selection, ADMM_CANDIDATES_TRIED,
+    ROUND_OFF_AGREEMENT,
 };
 use mass_spring_solvers::studies::forensics::gravity::Hypothesis;
 use mass_spring_solvers::studies::forensics::liu_fit::{stop_under, THRESHOLD_FLOOR_J};
@@ -163,15 +164,68 @@ fn convention_5_weakens_exactly_the_rows_an_f64_clock_breaks() {
     );
 }
 
-/// The scene was fitted on Table 1, so both Table 1 rows rest on it and no other row does.
+/// The scene was fitted on Table 1, so both Table 1 rows rest on it, are fitted (calibration:
+/// they cannot test the scene), and no other row rests on it. Negative case, a constructed
+/// row: a faithful Table 2 row stays faithful under the rule, and the same run relabelled as a
+/// Table 1 row flips to fitted (tried once against the rule before issue 49, which gave the
+/// relabelled row interpretation: this test failed).
 #[test]
-fn table_1_rests_on_the_scene_fit_and_no_other_row_does() {
+fn table_1_is_calibration_and_no_other_row_rests_on_the_scene_fit() {
     let rows = resting_on(Choice::SceneFit);
     assert_eq!(rows.len(), 2);
     assert!(rows.iter().all(|r| r.table == 1));
     assert!(rows
         .iter()
-        .all(|r| evidence_of(r).evidence == Evidence::Interpretation));
+        .all(|r| evidence_of(r).evidence == Evidence::Fitted));
+    let table_2 = forensic_results()
+        .evidence
+        .iter()
+        .find(|e| e.evidence == Evidence::Faithful && e.measured.published.table == 2)
+        .expect("a faithful Table 2 row");
+    let selection = |table: u8| {
+        let mut measured = table_2.measured.clone();
+        measured.published.table = table;
+        Selection {
+            configuration: table_2.configuration,
+            measured,
+            evidence: Evidence::Faithful,
+            effects: Vec::new(),
+            note: String::new(),
+        }
+    };
+    let no_gravity_reading = SceneReadings { gravity_9_8: None };
+    assert_eq!(
+        classify(selection(2), &no_gravity_reading).evidence,
+        Evidence::Faithful
+    );
+    assert_eq!(
+        classify(selection(1), &no_gravity_reading).evidence,
+        Evidence::Fitted
+    );
+}
+
+/// The headline's count of the rows not used to fit the scene, recomputed from
+/// `reproduction.csv` read strictly: the rows outside Table 1 that the printed equations
+/// reproduce (class faithful or interpretation).
+/// Negative case: counting Table 1's calibration rows as well gives a larger count (the
+/// headline's old 34 of 56), which the same check rejects.
+#[test]
+fn the_rows_not_used_to_fit_the_scene_are_counted_apart() {
+    let f = forensic_results();
+    let records = read_strictly(&reproduction_csv(f), REPRODUCTION_HEADER);
+    let reproduced = |r: &&HashMap<String, String>| {
+        [Evidence::Faithful, Evidence::Interpretation]
+            .iter()
+            .any(|e| e.id() == r["evidence"])
+    };
+    let tested: Vec<_> = records.iter().filter(|r| r["table"] != "1").collect();
+    let count = tested.iter().filter(|r| reproduced(r)).count();
+    // Table 1's rows read as the printed equations' reproductions, as before issue 49.
+    let with_calibration = count + records.iter().filter(|r| r["table"] == "1").count();
+    let (rows, headline) = f.rows_not_used_to_fit_the_scene();
+    assert_eq!((rows, headline), (tested.len(), count));
+    assert_eq!(rows, 54);
+    assert!(with_calibration > count, "{with_calibration} {count}");
 }
 
 /// Gravity: the rows whose selected configuration at 9.8 m/s² fails the rule, recomputed from

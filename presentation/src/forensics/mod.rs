@@ -47,7 +47,8 @@ pub fn section(f: &Forensics) -> String {
            (a value chosen with neither this row nor its twin in view, at any time in this repository's history \
            or documents, reproduces it, and the history shows the test before the data); **selected** (a \
            departure chosen from several candidates tried on the same rows); **fitted** (a value chosen with \
-           this row or its twin in view, whatever a later split does). A row takes the weakest class any of its \
+           this row or its twin in view, whatever a later split does; Table 1's two rows, on which the scene was \
+           fitted, are fitted: calibration). A row takes the weakest class any of its \
            choices gives it. Before any of this, the noise test: a row whose match rests on a kinetic-energy peak \
            below 1e-15 J (forensic finding 1), or whose T/2 spans more than the 0.5 % tolerance across runs that \
            have its peak count and agree to round-off before their last peak, is **noise-limited**; a row none \

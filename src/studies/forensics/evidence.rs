@@ -11,14 +11,16 @@
 //!    rest on it;
 //! 2. **interpretation**: a point the text leaves open, resolved one way, and either the other
 //!    reading does not reproduce the row (its outcome is given) or the choice was identified on
-//!    this row (the scene, fitted on Table 1);
+//!    this row;
 //! 3. **predicted**: a value chosen with neither this row nor its twin in view, at any time in
 //!    this repository's history or documents, reproduces the row, and the history shows the
 //!    test before the data. No row qualifies today: every value of the Liu hypothesis was
 //!    fitted on the Liu rows (findings 3-4, in the first commit);
 //! 4. **selected**: a departure chosen from several candidates tried on the same rows (the ADMM
 //!    start, from [`ADMM_CANDIDATES_TRIED`]);
-//! 5. **fitted**: a value chosen with this row or its twin in view, whatever a later split does.
+//! 5. **fitted**: a value chosen with this row or its twin in view, whatever a later split does;
+//!    Table 1's two rows among them: the scene was fitted on them (calibration), so they cannot
+//!    test it.
 //!
 //! The row takes the weakest class any of its choices gives it. Before any of this, the
 //! **noise test**: a row whose match rests on a kinetic-energy peak below [`NOISE_PEAK_J`]
@@ -31,6 +33,10 @@
 use super::configurations::{AdmmCandidate, ConfigurationId, ConfigurationRun, LiuHypothesis};
 use crate::solvers::registry::SolverId;
 use crate::studies::experiments::{Measured, PublishedRow, HALF_PERIOD_TOLERANCE};
+
+/// The table the scene was fitted on (`docs/thesis-scene.md`: the k = 1e6 reference half-period
+/// alone pins the anchor separation); Tables 2 and 3 were run to accept it.
+pub const SCENE_FIT_TABLE: u8 = 1;
 
 /// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
 pub const NOISE_PEAK_J: f64 = 1e-15;
@@ -167,7 +173,7 @@ impl Choice {
     /// The other reading run beside it.
     pub fn other_reading(self) -> &'static str {
         match self {
-            Choice::SceneFit => "none run: the rows it was fitted on are interpretation",
+            Choice::SceneFit => "none run: the rows it was fitted on are fitted (calibration)",
             Choice::PeakStamp => "each peak stamped at its own sample",
             Choice::Clock => "time in f64",
             Choice::Gravity => "9.8 m/s² (the gravity-mismatch runs)",
@@ -481,11 +487,11 @@ pub fn classify(selection: Selection, scene: &SceneReadings) -> RowEvidence {
                 )
             })
         };
-        if m.published.table == 1 {
+        if m.published.table == SCENE_FIT_TABLE {
             effects.push(ChoiceEffect {
                 choice: Choice::SceneFit,
-                evidence: Evidence::Interpretation,
-                note: "the scene was fitted on this row".into(),
+                evidence: Evidence::Fitted,
+                note: "calibration: the scene was fitted on this row".into(),
             });
         }
         if !m.reproduces_with(m.half_period_sample_stamp) {

@@ -509,6 +509,21 @@ impl Forensics {
         )
     }
 
+    /// The rows not used to fit the scene (outside [`evidence::SCENE_FIT_TABLE`]), and how many
+    /// of them the printed equations reproduce (faithful or interpretation): the headline's
+    /// count, since the rows the scene was fitted on cannot test it.
+    pub fn rows_not_used_to_fit_the_scene(&self) -> (usize, usize) {
+        let tested = self
+            .evidence
+            .iter()
+            .filter(|e| e.measured.published.table != evidence::SCENE_FIT_TABLE);
+        let reproduced = tested
+            .clone()
+            .filter(|e| matches!(e.evidence, Evidence::Faithful | Evidence::Interpretation))
+            .count();
+        (tested.count(), reproduced)
+    }
+
     /// How many rows of `table` (all tables for None) have each class, in [`Evidence::ALL`]
     /// order.
     pub fn counts(&self, table: Option<u8>) -> [usize; 7] {
