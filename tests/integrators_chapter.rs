@@ -90,7 +90,7 @@ fn the_order_figure_passes_the_figure_test() {
 #[test]
 fn the_sections_claims_hold() {
     let c = chapter();
-    assert!(least_damping_ratio(&c) >= 10.0);
+    assert!(least_damping_ratio(c) >= 10.0);
     assert!(
         c.damping_of(OptimizationIntegrator::ImplicitMidpoint)
             .unwrap()
@@ -98,7 +98,7 @@ fn the_sections_claims_hold() {
             .abs()
             < 1e-4
     );
-    let (least, most) = solver_error_span(&c);
+    let (least, most) = solver_error_span(c);
     assert!(most > 100.0 * least, "{least:e} {most:e}");
 }
 
@@ -134,7 +134,7 @@ fn documentation_check_section_13_prints_the_computed_values() {
     let section = c.section(13, &c.figures().unwrap());
     assert!(section.contains(&format!(
         "at least {} times less",
-        sig(least_damping_ratio(&c), 3)
+        sig(least_damping_ratio(c), 3)
     )));
     for i in OptimizationIntegrator::ALL {
         let rows: Vec<_> = c.costs.iter().filter(|r| r.integrator == i).collect();
@@ -154,7 +154,7 @@ fn documentation_check_section_13_prints_the_computed_values() {
             "{i}"
         );
     }
-    let (least, most) = solver_error_span(&c);
+    let (least, most) = solver_error_span(c);
     assert!(section.contains(&format!(
         "run from {} m to {} m, so a cost per step here is not a cost at matched accuracy",
         sig(least, 2),

@@ -208,7 +208,12 @@ const FINDINGS_LEVEL: f64 = 0.01;
 /// [`navigation::linkify`]).
 fn findings(data: &ReportData) -> String {
     let r = &data.results;
-    let mut md = String::from("**Findings**\n\n");
+    let mut md = String::from(
+        "**Findings** (the solvers' names and abbreviations, Fast m-s for Liu 2013's fast mass-spring \
+         method among them, are listed in appendix B; the evidence classes (faithful, interpretation, \
+         predicted, selected, fitted, noise-limited, unexplained) and the twin pairs are defined in \
+         section 6)\n\n",
+    );
     let reproduced = r.rows.iter().filter(|m| m.reproduces()).count();
     if let Some(f) = &data.forensics {
         let counts = f.counts(None);
@@ -404,9 +409,8 @@ fn findings(data: &ReportData) -> String {
              of dt, an error below {} of doing nothing's at its smallest dt; measured for Newton under each \
              integrator and for symplectic Euler) for {}; the cheapest configuration \
              of any solver to {} % relative physical error on the rope (an explicit one only up to {:.0} % of its \
-             stability limit): {}; asked for a solver error, \
-             {} of the {} tolerance points whose steps all met their residual end within {:.0} × it \
-             (section 12.8).\n",
+             stability limit): {}; asked for a solver error, {} of the {} tolerance points whose steps all \
+             met their residual end came within {:.0} × the error asked for (section 12.8).\n",
             benchmark::ASYMPTOTIC_SLOPE,
             benchmark::ASYMPTOTIC_ERROR,
             slopes.join("; "),
@@ -522,7 +526,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
 
     md += "## 6. Forensic reproduction: how each published number arose\n\n";
     match &data.forensics {
-        Some(f) => md += &forensics::section(f),
+        Some(f) => md += &forensics::section(f, &data.results),
         None => md += "Not computed for this report.\n\n",
     }
 
@@ -557,7 +561,11 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
            tension; solved to machine precision) against the final state of our Backward Euler reference, which \
            stops at the first kinetic-energy peak below 0.001 J and so still moves a little: the expected residual \
            amplitude is $\\sqrt{2E/M}\\,/\\,\\omega$ with $E$ the last peak's energy, $M$ the free mass and \
-           $\\omega = \\pi/(T/2)$.\n\n";
+           $\\omega = \\pi/(T/2)$. The distances are far below that amplitude because the run stops at a \
+           kinetic-energy peak, the instant the swinging rope passes the middle of its swing at full speed: \
+           the amplitude is how far it swings to either side, while its final state is taken at the middle, \
+           near the equilibrium (the last column: how many times the amplitude exceeds the largest \
+           distance).\n\n";
     md += &rest_state::comparison(r, &data.catenary);
     md += "\n";
 
@@ -632,7 +640,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += "\n## Appendix B. Solver names\n\n";
     md += "Each solver has one name in this report's text, tables and figures (the thesis's \
            abbreviation of Table 8 for its own solvers), defined in the registry \
-           (`src/solvers/registry.rs`); the data files and `mss` use its code id.\n\n";
+           (`src/solvers/registry/`); the data files and `mss` use its code id.\n\n";
     md += &tables::solver_glossary().render();
 
     let document = format!("{head}{}\n{md}", navigation::contents(&md));

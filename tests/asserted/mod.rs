@@ -1,5 +1,5 @@
 //! The iteration counts and the pass/fail rows that the tests assert, in one place, each with
-//! how it is asserted: `tests/round_off.rs` recomputes every one of them from the start and
+//! how it is asserted: `tests/thesis/round_off.rs` recomputes every one of them from the start and
 //! from its eight nudges by ±1 to ±4 units in the last place
 //! ([`mass_spring_solvers::studies::round_off`]) and fails where a value that moves is
 //! asserted as a single value. The tests that assert them take them from here, so that a count

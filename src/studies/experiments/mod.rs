@@ -18,8 +18,8 @@ pub use published::{
     PUBLISHED_CSV,
 };
 pub use rule::{
-    better_time_convention, is_marginal, peak_tolerance, reproduces, TimeConvention,
-    HALF_PERIOD_TOLERANCE, MARGINAL_HALF_PERIOD,
+    better_time_convention, is_marginal, peak_tolerance, reproduces, reproduces_within,
+    TimeConvention, HALF_PERIOD_TOLERANCE, MARGINAL_HALF_PERIOD,
 };
 
 use crate::error::Result;
@@ -131,7 +131,18 @@ impl Measured {
     /// Whether this row meets the reproduction rule. A run cut at its time limit never does:
     /// its peak count and T/2 are those of an unfinished run.
     pub fn reproduces(&self) -> bool {
-        !self.hit_time_limit && reproduces(&self.published, self.peaks, self.half_period_thesis)
+        self.reproduces_within(HALF_PERIOD_TOLERANCE)
+    }
+
+    /// [`Measured::reproduces`] with the T/2 tolerance `tolerance` ([`reproduces_within`]).
+    pub fn reproduces_within(&self, tolerance: f64) -> bool {
+        !self.hit_time_limit
+            && reproduces_within(
+                &self.published,
+                self.peaks,
+                self.half_period_thesis,
+                tolerance,
+            )
     }
 
     /// Whether this run meets the reproduction rule with `half_period` in place of its thesis

@@ -239,6 +239,22 @@ impl Choice {
     }
 }
 
+/// The time convention a published row helped identify (`docs/thesis-scene.md`): convention 4
+/// (the peak stamp) on the dt = 0.1 s rows of Tables 2-7, whose T/2 are multiples of 0.1 s
+/// over the peak count; convention 5 (the f32 clock) on the long k = 1e3 runs that read about
+/// 0.5 % long, the reference of Table 1 and Table 2's dt = 0.001 s rows.
+pub fn identified_convention(row: &PublishedRow) -> Option<Choice> {
+    if row.dt_s == 0.1 && (2..=7).contains(&row.table) {
+        Some(Choice::PeakStamp)
+    } else if (row.table == SCENE_FIT_TABLE && row.stiffness == 1e3)
+        || (row.table == 2 && row.dt_s == 0.001)
+    {
+        Some(Choice::Clock)
+    } else {
+        None
+    }
+}
+
 /// What one choice does to a row's class.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChoiceEffect {
@@ -614,6 +630,30 @@ mod tests {
     /// own gravity (1e-9 m) lies far below a published floor of 3.3e-4 m, but against the
     /// reference at 9.8 m/s² reads the floor (2.9e-4 m), so it never contradicts (tried once
     /// with the same-gravity reading alone: it contradicted, and this test failed).
+    /// The rows that identified the time conventions: 18 dt = 0.1 s rows of Tables 2-7 for
+    /// convention 4, the k = 1e3 reference and Table 2's three dt = 0.001 s rows for convention
+    /// 5. Negative cases: the k = 1e6 reference, Table 3's dt = 0.001 s rows (k = 1e6, short
+    /// runs) and the dt = 0.01 s rows identified neither.
+    #[test]
+    fn the_rows_that_identified_the_conventions_are_named() {
+        use crate::studies::experiments::published_rows;
+        let of = |c| {
+            published_rows()
+                .iter()
+                .filter(|r| identified_convention(r) == Some(c))
+                .count()
+        };
+        assert_eq!((of(Choice::PeakStamp), of(Choice::Clock)), (18, 4));
+        for r in published_rows() {
+            let none = (r.table == 1 && r.stiffness == 1e6)
+                || (r.table == 3 && r.dt_s == 0.001)
+                || r.dt_s == 0.01;
+            if none {
+                assert_eq!(identified_convention(r), None, "{r:?}");
+            }
+        }
+    }
+
     #[test]
     fn the_band_decides_which_rest_errors_contradict() {
         let t7 = [0.0329, 0.0331];
