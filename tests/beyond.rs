@@ -1,6 +1,9 @@
 //! The machinery of the chapters beyond the thesis (`src/studies/beyond.rs`): the convergence curves,
 //! the search for the iterations to a tolerance, and the rankings' rank correlation.
 
+#[path = "asserted/mod.rs"]
+mod asserted;
+
 use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use mass_spring_solvers::studies::beyond::{gap, gap_curve, iterations_to, kendall_tau, Start};
@@ -33,26 +36,30 @@ fn convergence_curves_fall_as_their_methods_do() {
 }
 
 /// The search past the curves' length finds the first crossing a one-by-one scan finds
-/// (ADMM-PD from step10 at dt = 1e-2, k = 1e6: 1828 iterations, as `tests/accelerated.rs`
-/// finds by scanning).
+/// (ADMM from step10 at dt = 1e-2, k = 1e6: 1828 iterations, as `tests/accelerated.rs` finds
+/// by scanning; the count as `tests/asserted/` states it).
 #[test]
 fn iterations_to_a_tolerance_matches_a_scan() {
     let system = thesis_rope(1e6).unwrap();
-    let state = Start::Step10.state(&system).unwrap();
-    let spec = SolverSpec::new(SolverId::AdmmPd, 1);
+    let state = asserted::step10();
+    let spec = (asserted::ADMM.spec)();
     let found = iterations_to(&spec, &system, &state, 1e-2, 1e-6, 5000).unwrap();
-    assert_eq!(found, Some(1828));
+    asserted::ADMM.check(found);
     let oracle = spec.converged_step(&system, &state, 1e-2).unwrap();
     let after = |m: usize| {
         let mut next = state.clone();
-        SolverSpec::new(SolverId::AdmmPd, m)
-            .build_send(&system, 1e-2)
-            .unwrap()
-            .step(&mut next)
-            .unwrap();
+        SolverSpec {
+            iterations: m,
+            ..spec
+        }
+        .build_send(&system, 1e-2)
+        .unwrap()
+        .step(&mut next)
+        .unwrap();
         gap(&next, &oracle)
     };
-    assert!(after(1827) >= 1e-6 && after(1828) < 1e-6);
+    let n = found.unwrap();
+    assert!(after(n - 1) >= 1e-6 && after(n) < 1e-6);
     assert_eq!(
         iterations_to(&spec, &system, &state, 1e-2, 1e-6, 1000).unwrap(),
         None,

@@ -89,25 +89,17 @@ fn the_order_figure_passes_the_figure_test() {
     }
 }
 
-/// The prose's claims, recomputed: the least damping ratio is the smallest of Backward
-/// Euler's damping over a second-order scheme's and at least the 10; the midpoint damps
-/// nothing beyond round-off; the named cheapest solver of each integrator has the fewest flops
-/// per step among its rows; the orders quoted are the fitted ones.
+/// The section's claims, recomputed from the chapter's data: the least damping ratio (Backward
+/// Euler's damping over a second-order scheme's) is at least the 10; the midpoint damps
+/// nothing beyond round-off; the costs per step to the update tolerance are not at matched
+/// accuracy (the solver errors span more than a factor of 100), which is why the section
+/// compares costs to at most a solver error instead
+/// (`the_matched_costs_are_cheapest_among_the_rows_that_met_their_target`). What the section
+/// prints of them is the documentation check below, which stands in for none of these.
 #[test]
-fn the_sections_claims_are_the_datas() {
+fn the_sections_claims_hold() {
     let c = chapter();
-    let section = c.section(13, &c.figures().unwrap());
-    let be = c
-        .damping_of(OptimizationIntegrator::BackwardEuler)
-        .unwrap()
-        .per_period;
-    let ratios: Vec<f64> = OptimizationIntegrator::ALL[1..]
-        .iter()
-        .map(|&i| be / c.damping_of(i).unwrap().per_period.abs())
-        .collect();
-    let least = ratios.iter().copied().fold(f64::INFINITY, f64::min);
-    assert!(least >= 10.0, "{ratios:?}");
-    assert!(section.contains(&format!("at least {} times less", sig(least, 3))));
+    assert!(least_damping_ratio(c) >= 10.0);
     assert!(
         c.damping_of(OptimizationIntegrator::ImplicitMidpoint)
             .unwrap()
@@ -115,6 +107,48 @@ fn the_sections_claims_are_the_datas() {
             .abs()
             < 1e-4
     );
+    let (least, most) = solver_error_span(c);
+    assert!(most > 100.0 * least, "{least:e} {most:e}");
+}
+
+/// The least of Backward Euler's damping per period over each second-order scheme's.
+fn least_damping_ratio(c: &IntegratorsChapter) -> f64 {
+    let be = c
+        .damping_of(OptimizationIntegrator::BackwardEuler)
+        .unwrap()
+        .per_period;
+    OptimizationIntegrator::ALL[1..]
+        .iter()
+        .map(|&i| be / c.damping_of(i).unwrap().per_period.abs())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The least and largest solver error of the cost table's runs to the update tolerance, m.
+fn solver_error_span(c: &IntegratorsChapter) -> (f64, f64) {
+    let errors = c
+        .costs
+        .iter()
+        .filter(|r| r.target_m.is_none())
+        .map(|r| r.solver_error_m);
+    (
+        errors.clone().fold(f64::INFINITY, f64::min),
+        errors.fold(0.0, f64::max),
+    )
+}
+
+/// Documentation check (wording, not a claim): section 13 prints the values the chapter
+/// computes, each where its sentence says: the least damping ratio, each integrator's solver
+/// with the fewest flops per step among its rows, the fitted orders, the span of the solver
+/// errors, and every integrator's name. Tried once against a section printing the fewest-flops
+/// solver of Backward Euler's rows for every integrator: it fails.
+#[test]
+fn documentation_check_section_13_prints_the_computed_values() {
+    let c = chapter();
+    let section = c.section(13, &c.figures().unwrap());
+    assert!(section.contains(&format!(
+        "at least {} times less",
+        sig(least_damping_ratio(c), 3)
+    )));
     for i in OptimizationIntegrator::ALL {
         let order = c.orders.iter().find(|o| o.integrator == i).unwrap().order;
         assert!(
@@ -122,16 +156,7 @@ fn the_sections_claims_are_the_datas() {
             "{i}"
         );
     }
-    // The costs to the update tolerance are not at matched accuracy, and the section says how
-    // far apart they are.
-    let errors = c
-        .costs
-        .iter()
-        .filter(|r| r.target_m.is_none())
-        .map(|r| r.solver_error_m);
-    let least = errors.clone().fold(f64::INFINITY, f64::min);
-    let most = errors.fold(0.0, f64::max);
-    assert!(most > 100.0 * least, "{least:e} {most:e}");
+    let (least, most) = solver_error_span(c);
     assert!(section.contains(&format!(
         "run from {} m to {} m, so a cost per step here is not a cost at matched accuracy",
         sig(least, 2),
@@ -140,6 +165,39 @@ fn the_sections_claims_are_the_datas() {
     // Every table that shows a run names its integrator.
     for i in OptimizationIntegrator::ALL {
         assert!(section.contains(i.label()));
+    }
+    // The matched costs' count and the cheapest table's row of each integrator.
+    let matched = c.costs.iter().filter(|r| r.target_m.is_some());
+    let under_be = matched
+        .clone()
+        .filter(|r| r.integrator == OptimizationIntegrator::BackwardEuler);
+    assert!(section.contains(&format!(
+        "{} of the {} cells met their target ({} of {} under Backward Euler)",
+        matched.clone().filter(|r| r.met()).count(),
+        matched.count(),
+        under_be.clone().filter(|r| r.met()).count(),
+        under_be.count()
+    )));
+    // The cheapest table's row of each integrator, whole.
+    for i in OptimizationIntegrator::ALL {
+        let cells: Vec<String> = COST_TARGETS_M
+            .iter()
+            .map(|&target| {
+                c.cheapest_at(i, target).map_or("none met it".into(), |r| {
+                    let name = match r.solver {
+                        mass_spring_solvers::solvers::registry::SolverId::BackwardEuler => "Newton",
+                        other => other.display_name(),
+                    };
+                    format!(
+                        "{name} ({}, {} m)",
+                        sig(r.flops_per_step, 3),
+                        sig(r.solver_error_m, 2)
+                    )
+                })
+            })
+            .collect();
+        let row = format!("| {} | {} |", i.label(), cells.join(" | "));
+        assert!(section.contains(&row), "{row}");
     }
 }
 
@@ -204,38 +262,5 @@ fn the_matched_costs_are_cheapest_among_the_rows_that_met_their_target() {
         if let Some(t) = tighter {
             assert!(t.solver_error_m <= r.solver_error_m, "{r:?} {t:?}");
         }
-    }
-    let section = c.section(13, &c.figures().unwrap());
-    let matched = c.costs.iter().filter(|r| r.target_m.is_some());
-    let under_be = matched
-        .clone()
-        .filter(|r| r.integrator == OptimizationIntegrator::BackwardEuler);
-    assert!(section.contains(&format!(
-        "{} of the {} cells met their target ({} of {} under Backward Euler)",
-        matched.clone().filter(|r| r.met()).count(),
-        matched.count(),
-        under_be.clone().filter(|r| r.met()).count(),
-        under_be.count()
-    )));
-    // The cheapest table's row of each integrator, whole.
-    for i in OptimizationIntegrator::ALL {
-        let cells: Vec<String> = COST_TARGETS_M
-            .iter()
-            .map(|&target| {
-                c.cheapest_at(i, target).map_or("none met it".into(), |r| {
-                    let name = match r.solver {
-                        mass_spring_solvers::solvers::registry::SolverId::BackwardEuler => "Newton",
-                        other => other.display_name(),
-                    };
-                    format!(
-                        "{name} ({}, {} m)",
-                        sig(r.flops_per_step, 3),
-                        sig(r.solver_error_m, 2)
-                    )
-                })
-            })
-            .collect();
-        let row = format!("| {} | {} |", i.label(), cells.join(" | "));
-        assert!(section.contains(&row), "{row}");
     }
 }

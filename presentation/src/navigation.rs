@@ -171,9 +171,12 @@ pub fn anchors(md: &str) -> Vec<(String, usize, String)> {
     out
 }
 
+/// The anchor of the contents, which every section links back to.
+pub const CONTENTS_ID: &str = "contents";
+
 /// The linked table of contents of `md`: every section and subsection.
 pub fn contents(md: &str) -> String {
-    let mut out = String::from("**Contents**\n\n");
+    let mut out = format!("<a id=\"{CONTENTS_ID}\"></a>\n\n**Contents**\n\n");
     for (id, level, text) in anchors(md) {
         if level == 0 {
             continue;
@@ -245,6 +248,10 @@ fn number_at(text: &str) -> Option<&str> {
         })
         .map_or(text.len(), |(i, _)| i);
     let n = &text[..end];
+    // An appendix is one capital letter alone: `appendix B`.
+    if n.len() == 1 && n.starts_with(|c: char| c.is_ascii_uppercase()) {
+        return Some(n);
+    }
     let first_digit = n.find(|c: char| c.is_ascii_digit())?;
     // A number, or one capital letter and a number: B1, S1, T6, A.2.
     let letter = &n[..first_digit];
@@ -337,7 +344,11 @@ pub fn linkify(md: &str) -> String {
             out += &text;
         } else if let Some(id) = own.filter(|_| !line.starts_with("*Figure ")) {
             if let Some(heading) = text.strip_prefix("## ") {
-                out += &format!("## {}{heading}", prefix(&id));
+                // A way back from every section of a long report.
+                out += &format!(
+                    "## {}{heading}\n\n[Back to contents](#{CONTENTS_ID})",
+                    prefix(&id)
+                );
             } else if let Some(heading) = text.strip_prefix("### ") {
                 out += &format!("### {}{heading}", prefix(&id));
             } else {
@@ -376,6 +387,21 @@ mod tests {
             toc.contains("- [6. Forensics](#s6)\n  - [6.4 Liu](#s6.4)"),
             "{toc}"
         );
+    }
+
+    /// Every section links back to the contents, and an appendix is referred to by its letter
+    /// alone. Negative case: a letter that names no appendix stays plain (tried once before the
+    /// letter rule: `appendix B` stayed plain and this test failed).
+    #[test]
+    fn sections_link_back_and_appendices_by_letter() {
+        let md = "## 1. One\n\nSee appendix B and appendix C.\n\n## Appendix B. Names\n\nText.\n";
+        let out = linkify(&format!("{}{md}", contents(md)));
+        assert!(
+            out.contains("See [appendix B](#sB) and appendix C."),
+            "{out}"
+        );
+        assert_eq!(out.matches("[Back to contents](#contents)").count(), 2);
+        assert!(out.contains("<a id=\"contents\"></a>"));
     }
 
     #[test]

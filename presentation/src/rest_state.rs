@@ -61,6 +61,7 @@ pub fn comparison(results: &ResultSet, catenary: &Catenary) -> String {
         ">max distance (m)",
         ">last peak energy of the run (J)",
         ">expected residual amplitude (m)",
+        ">amplitude / max distance",
     ]);
     let mut details = String::new();
     for k in THESIS_STIFFNESSES {
@@ -95,6 +96,9 @@ pub fn comparison(results: &ResultSet, catenary: &Catenary) -> String {
             sig4(distances.iter().copied().fold(0.0, f64::max)),
             reference.last_peak_energy.map_or("–".into(), sig4),
             amplitude.map_or("–".into(), sig4),
+            amplitude.map_or("–".into(), |a| {
+                sig(a / distances.iter().copied().fold(0.0, f64::max), 2)
+            }),
         ]);
         let mut t = MarkdownTable::new(&[
             ">node",

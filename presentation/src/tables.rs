@@ -7,7 +7,7 @@
 //! ours with [`SIGNIFICANT_DIGITS`] significant digits.
 
 use crate::format::{
-    counted, full, opt4, percent, rest_error, sci3, sig4, signed, MarkdownTable,
+    counted, full, opt4, percent, rest_error, sci3, sig, sig4, signed, MarkdownTable,
     ROUND_OFF_REST_ERROR_M, SIGNIFICANT_DIGITS,
 };
 use mass_spring_solvers::model::metrics::STOP_THRESHOLD_J;
@@ -512,33 +512,36 @@ fn summary_cells(table: String, solver: &str, k: String, n: Tally) -> Vec<String
 pub use mass_spring_solvers::studies::forensics::NOISE_PEAK_J;
 use mass_spring_solvers::studies::forensics::{Forensics, RowEvidence};
 
-/// The best explanation of a row that is not reproduced: the deviations, what our run did
-/// (decided from our run, not from the published numbers), then what section 6 found for the
-/// row (`evidence`, when the forensic chapter was computed).
-pub fn explain(m: &Measured, evidence: Option<&RowEvidence>) -> String {
+/// The best explanation of a row that is not reproduced, as the cells of section 5's table:
+/// the peaks and T/2 against the published ones, what our run did (decided from our run, not
+/// from the published numbers), then what section 6 found for the row (`evidence`, when the
+/// forensic chapter was computed).
+pub fn explain(m: &Measured, evidence: Option<&RowEvidence>) -> [String; 4] {
     let p = &m.published;
     let tolerance = peak_tolerance(p.ke_peaks);
-    let mut facts = format!(
-        "peaks {} against {} ({}, tolerance ±{tolerance})",
+    let peaks = format!(
+        "{} against {} ({}, ±{tolerance})",
         m.peaks,
         p.ke_peaks,
         signed(m.peaks as i64 - p.ke_peaks as i64)
     );
-    match half_period_deviation(m) {
-        Some(d) => {
-            facts += &format!(
-                ", T/2 {} s against {} s ({}, tolerance ±{} %)",
-                sig4(m.half_period_thesis.unwrap_or(f64::NAN)),
-                printed(p).half_period_s,
-                percent(d),
-                100.0 * HALF_PERIOD_TOLERANCE
-            )
-        }
-        None => facts += ", no peak: no T/2",
-    }
+    let half_period = match half_period_deviation(m) {
+        Some(d) => format!(
+            "{} s against {} s ({}, ±{} %)",
+            sig4(m.half_period_thesis.unwrap_or(f64::NAN)),
+            printed(p).half_period_s,
+            percent(d),
+            100.0 * HALF_PERIOD_TOLERANCE
+        ),
+        None => "no peak: no T/2".into(),
+    };
+    // A run's length is its last peak's stamp, peaks × T/2, ours and the published one's.
+    let lengths = m
+        .half_period_thesis
+        .map(|t| (t * m.peaks as f64, p.half_period_s * p.ke_peaks as f64));
     let ours = if m.hit_time_limit {
         format!(
-            "our run reached the time limit ({} s) before a peak fell below {STOP_THRESHOLD_J} J",
+            "reached the time limit ({} s) before a peak fell below {STOP_THRESHOLD_J} J",
             sig4(m.end_time)
         )
     } else if let Some(e) = m
@@ -546,29 +549,46 @@ pub fn explain(m: &Measured, evidence: Option<&RowEvidence>) -> String {
         .filter(|&e| m.peaks == 1 && e < STOP_THRESHOLD_J)
     {
         format!(
-            "our first peak ({} J) is already below the {STOP_THRESHOLD_J} J threshold, so our run stops \
+            "its first peak ({} J) is already below the {STOP_THRESHOLD_J} J threshold, so it stops \
              after one peak",
             sig4(e)
         )
     } else if m.last_peak_energy.is_some_and(|e| e < NOISE_PEAK_J) {
         format!(
-            "our last peak (below {NOISE_PEAK_J:e} J) is round-off (forensic finding 1): after the real peaks \
+            "its last peak (below {NOISE_PEAK_J:e} J) is round-off (forensic finding 1): after the real peaks \
              the rope creeps to rest and a noise wiggle is detected as a peak, so T/2 is set by arithmetic \
              details"
         )
-    } else if m.peaks > p.ke_peaks {
-        "our run oscillates longer than the published one".to_string()
     } else {
-        "our run stops earlier than the published one".to_string()
+        let (more, fewer) = (
+            "more peaks than the published",
+            "fewer peaks than the published",
+        );
+        let count = if m.peaks > p.ke_peaks { more } else { fewer };
+        match lengths {
+            Some((ours, published)) => format!(
+                "{count}, {} ({} s against {} s to the last peak)",
+                if ours > published {
+                    "over a longer run"
+                } else if ours < published {
+                    "over a shorter run"
+                } else {
+                    "over as long a run"
+                },
+                sig(ours, 3),
+                sig(published, 3)
+            ),
+            None => count.to_string(),
+        }
     };
     let found = match (evidence, p.solver) {
         (Some(e), _) if e.evidence.reproduced() => format!(
-            "section 6 reproduces it as {}: {} (configuration `{}` in `data/reproduction.csv`)",
+            "reproduced as {}: {} (configuration `{}` in `data/reproduction.csv`)",
             e.evidence.id(),
             e.configuration.summary(),
             e.configuration.id()
         ),
-        (Some(e), _) => format!("section 6 classes it {}", e.evidence.id()),
+        (Some(e), _) => format!("classed {}", e.evidence.id()),
         (None, SolverId::Xpbd) => "not expected: an independent prototype and a third-party XPBD \
              kernel reproduce every published XPBD row"
             .into(),
@@ -577,7 +597,7 @@ pub fn explain(m: &Measured, evidence: Option<&RowEvidence>) -> String {
         }
         (None, _) => "the forensic chapter was not computed for this partial report".into(),
     };
-    format!("{facts}. {}; {found}.", capitalise(&ours))
+    [peaks, half_period, capitalise(&ours), found]
 }
 
 fn capitalise(s: &str) -> String {
@@ -588,27 +608,36 @@ fn capitalise(s: &str) -> String {
 }
 
 /// Every row of Tables 1-7 that is run and not reproduced, with its explanation, as a
-/// Markdown list.
+/// Markdown table (one row each: the row, its peaks and T/2 against the published ones, what
+/// our run did, what section 6 found).
 pub fn explanations(results: &ResultSet, forensics: Option<&Forensics>) -> String {
-    let mut out = String::new();
+    let mut t = MarkdownTable::new(&[
+        "row",
+        "peaks, ours against pub. (dev., tolerance)",
+        "T/2 ours against pub. (dev., tolerance)",
+        "our run",
+        "section 6",
+    ]);
     for table in 1..=7u8 {
         for row in published_table(table) {
             if let Some(m) = measured(results, row).filter(|m| !m.reproduces()) {
-                out += &format!(
-                    "- Table {table}, {} dt = {} s, {}, k = {}: {}\n",
+                let mut cells = vec![format!(
+                    "Table {table}, {} dt = {} s, {}, k = {}",
                     row.solver.display_name(),
                     full(row.dt_s),
                     counted(row.iterations, "iteration"),
                     stiffness_label(row.stiffness),
-                    explain(m, forensics.and_then(|f| f.evidence_of(row)))
-                );
+                )];
+                cells.extend(explain(m, forensics.and_then(|f| f.evidence_of(row))));
+                t.row(cells);
             }
         }
     }
-    if out.is_empty() {
-        out = "Every row that was run is reproduced.\n".into();
+    if t.is_empty() {
+        "Every row that was run is reproduced.\n".into()
+    } else {
+        t.render()
     }
-    out
 }
 
 /// The rounding of the report's numbers, stated once.

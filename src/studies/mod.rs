@@ -6,5 +6,6 @@ pub mod beyond;
 pub mod experiments;
 pub mod forensics;
 pub mod integrator_study;
+pub mod round_off;
 pub mod tutorial;
 pub mod work_precision;

@@ -6,11 +6,14 @@
 //! [`experiments::faithful_results`]: mass_spring_solvers::studies::experiments::faithful_results
 //! [`forensics::forensic_results`]: mass_spring_solvers::studies::forensics::forensic_results
 
+#[path = "../asserted/mod.rs"]
+mod asserted;
 mod benchmark;
 mod evidence;
 mod forensics;
 mod lock;
 mod reference;
 mod report;
+mod round_off;
 mod tables_liu_admm;
 mod tables_xpbd;

@@ -85,7 +85,7 @@ pub fn headline(f: &Forensics) -> String {
         "**Evidence for the {total} published rows**, one written rule: {}. Counted as \
          observations, with the {} twin pairs (rows whose published numbers and our runs coincide) taken \
          once, the {distinct} observations are {}. Each row takes the weakest class of the choices it rests \
-         on (section 6.1): a scene or convention identified on the rows it affects makes them interpretation, a value chosen with a row in view makes it fitted.",
+         on (section 6.1): a convention identified on the rows it affects makes them interpretation, a value chosen with a row in view (the scene on Table 1, calibration) makes it fitted.",
         class_list(rows),
         f.twins.pairs.len(),
         class_list(observations),

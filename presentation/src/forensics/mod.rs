@@ -8,15 +8,18 @@
 //! and the gravity-mismatch study of the rest-state error floors. Everything here only
 //! formats; every number in the prose comes from the runs.
 
-use crate::format::short;
+use crate::format::{short, sig, MarkdownTable};
 use crate::tables::{ERROR_CHECK_ABOVE, ERROR_RATIO_RANGE};
 use mass_spring_solvers::model::scene::THESIS_GRAVITY;
-use mass_spring_solvers::studies::experiments::{ResultSet, MARGINAL_HALF_PERIOD};
+use mass_spring_solvers::studies::experiments::{
+    same_experiment, Measured, ResultSet, MARGINAL_HALF_PERIOD,
+};
 use mass_spring_solvers::studies::forensics::configurations::{
     LiuHypothesis, LIU_DAMPING_GRID, VARIANT_MAX_ITERATIONS, VARIANT_TIME_FACTOR,
 };
 use mass_spring_solvers::studies::forensics::evidence::{
-    Choice, ADMM_CANDIDATES_TRIED, ADMM_PROTOTYPE_CANDIDATES,
+    identified_convention, Choice, ADMM_CANDIDATES_TRIED, ADMM_PROTOTYPE_CANDIDATES,
+    REST_ERROR_BAND, REST_ERROR_BANDS_BESIDE, SCENE_FIT_TABLE,
 };
 use mass_spring_solvers::studies::forensics::gravity::PROVENANCE;
 use mass_spring_solvers::studies::forensics::liu_fit::peaks_within_tolerance;
@@ -32,7 +35,7 @@ pub use readings::*;
 
 /// The forensic section of REPORT.md (without its heading), for the faithful result set
 /// `faithful` that `f` was computed from.
-pub fn section(f: &Forensics) -> String {
+pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
     let mut md = headline(f);
     md += "\n\n";
     md += &counts_table(f).render();
@@ -47,7 +50,8 @@ pub fn section(f: &Forensics) -> String {
            (a value chosen with neither this row nor its twin in view, at any time in this repository's history \
            or documents, reproduces it, and the history shows the test before the data); **selected** (a \
            departure chosen from several candidates tried on the same rows); **fitted** (a value chosen with \
-           this row or its twin in view, whatever a later split does). A row takes the weakest class any of its \
+           this row or its twin in view, whatever a later split does; Table 1's two rows, on which the scene was \
+           fitted, are fitted: calibration). A row takes the weakest class any of its \
            choices gives it. Before any of this, the noise test: a row whose match rests on a kinetic-energy peak \
            below 1e-15 J (forensic finding 1), or whose T/2 spans more than the 0.5 % tolerance across runs that \
            have its peak count and agree to round-off before their last peak, is **noise-limited**; a row none \
@@ -58,8 +62,9 @@ pub fn section(f: &Forensics) -> String {
            nothing of them. The machine-readable form is [`data/reproduction.csv`](data/reproduction.csv).\n\n";
     md += &format!(
         "The scene itself (anchors, taut start, gravity, the two time conventions) is the specification every \
-         configuration runs on, the faithful one included: a row on which a scene-level choice was identified, \
-         or which fails under its other reading, is interpretation; the other rows were not used to choose it. \
+         configuration runs on, the faithful one included: Table 1's rows, on which the scene was fitted, are \
+         fitted (calibration); a row on which a time convention was identified, or which fails under a \
+         scene-level choice's other reading, is interpretation; the other rows were not used to choose them. \
          The twin pairs: {}.\n\n",
         f.twins
             .pairs
@@ -68,6 +73,8 @@ pub fn section(f: &Forensics) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    md += &rest_error_evidence(f);
+    md += &tolerance_sweep(faithful);
     md += "### 6.1 The choices and the rows that rest on them\n\n";
     md += &choices_table(f).render();
     md += "\nThe evidence of every row, the time conventions' other readings, the Fast m-s hypothesis with its \
@@ -196,4 +203,123 @@ pub fn appendix(f: &Forensics, faithful: &ResultSet, parity_figure: &str) -> Str
     md += &gravity_table(f).render();
     md += "\n";
     md
+}
+
+/// `[0.1, 10]`.
+fn band_label(band: [f64; 2]) -> String {
+    format!("[{}, {}]", band[0], band[1])
+}
+
+/// The rest errors as evidence: the fitted band, the rows it contradicts, the counts at the
+/// bands beside it, and what the rows it contradicts were selected to instead.
+fn rest_error_evidence(f: &Forensics) -> String {
+    let contradicted = |band| f.contradicted_by_rest_error(band);
+    let listed = |rows: &[(&Measured, f64)]| {
+        rows.iter()
+            .map(|(m, ratio)| format!("{} ({}×)", row_label(&m.published), sig(*ratio, 3)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let used = contradicted(REST_ERROR_BAND);
+    let beside = REST_ERROR_BANDS_BESIDE
+        .iter()
+        .map(|&b| {
+            let rows = contradicted(b);
+            format!("{} at {} ({})", rows.len(), band_label(b), listed(&rows))
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let now: Vec<String> = used
+        .iter()
+        .map(|(m, _)| {
+            let e = f.evidence_of(&m.published).expect("every row has a class");
+            let ratio = f
+                .gravity
+                .rows
+                .iter()
+                .find(|g| same_experiment(&g.published, &m.published))
+                .map(|g| g.same_gravity.sum / m.published.error.expect("a published error"));
+            format!(
+                "{} is {} ({}{})",
+                row_label(&m.published),
+                e.evidence.id(),
+                e.configuration.id(),
+                ratio.map_or(String::new(), |r| format!(
+                    ", its rest error {}× the published",
+                    sig(r, 3)
+                ))
+            )
+        })
+        .collect();
+    format!(
+        "**Rest errors as evidence** (a fitted band). A run reproduces a row only if its rest error does not \
+         contradict the published one: ours/published outside {} against the reference at both 9.81 and 9.8 \
+         m/s², so that a floor the gravity mismatch explains (finding 5) never contradicts. The band was chosen \
+         with Tables 6 and 7 in view, so it is fitted; it overrides convention 7 of `docs/thesis-scene.md` \
+         (floors compared, not asserted) because where a run stops inside its residual oscillation moves a floor \
+         by a factor of about 3, not 10. It contradicts {} rows the printed method reproduces by the rule: {}; \
+         beside it, {beside}. The rows it contradicts go to the next configuration the rule tries: {}.\n\n",
+        band_label(REST_ERROR_BAND),
+        used.len(),
+        listed(&used),
+        now.join("; "),
+    )
+}
+
+/// The T/2 tolerances of the sweep: the rule's 0.5 % and one step of 0.1 % to either side.
+pub const TOLERANCE_SWEEP: [f64; 3] = [0.004, 0.005, 0.006];
+
+/// How the counts move with the T/2 tolerance, with and without the rows that fitted the scene
+/// or identified conventions 4 and 5.
+fn tolerance_sweep(faithful: &ResultSet) -> String {
+    let rows = &faithful.rows;
+    let tested = |m: &&Measured| m.published.table != SCENE_FIT_TABLE;
+    let unused = |m: &&Measured| tested(m) && identified_convention(&m.published).is_none();
+    let identifying = |c: Choice| {
+        rows.iter()
+            .filter(|m| identified_convention(&m.published) == Some(c))
+            .map(|m| row_label(&m.published))
+            .collect::<Vec<_>>()
+    };
+    let (stamp, clock) = (identifying(Choice::PeakStamp), identifying(Choice::Clock));
+    let mut t = MarkdownTable::new(&[
+        "T/2 tolerance",
+        &format!("all {} rows", rows.len()),
+        &format!(
+            "the {} not used to fit the scene",
+            rows.iter().filter(tested).count()
+        ),
+        &format!(
+            "the {} that neither fitted the scene nor identified a convention",
+            rows.iter().filter(unused).count()
+        ),
+    ]);
+    for tolerance in TOLERANCE_SWEEP {
+        let count = |keep: &dyn Fn(&&Measured) -> bool| {
+            rows.iter()
+                .filter(|m| keep(m) && m.reproduces_within(tolerance))
+                .count()
+                .to_string()
+        };
+        t.row(vec![
+            format!("{} %", short(100.0 * tolerance)),
+            count(&|_| true),
+            count(&tested),
+            count(&unused),
+        ]);
+    }
+    format!(
+        "**The tolerance, set with outcomes in view.** The 0.5 % T/2 tolerance dates from the first commit, \
+         which already had the prototype's counts; convention 5 was identified because an f64 clock reads \
+         long runs about 0.5 % short. The rows the printed method reproduces by the rule alone (before the \
+         rest-error band above) at 0.4, 0.5 and 0.6 %, over all \
+         rows, over those not used to fit the scene (Table 1's), and over those that also identified neither \
+         time convention: convention 4 (the peak stamp) was identified on the {} dt = 0.1 s rows ({}), \
+         convention 5 (the f32 clock) on {} long k = 1e3 N/m runs ({}).\n\n{}\n",
+        stamp.len(),
+        stamp.join(", "),
+        clock.len(),
+        clock.join(", "),
+        t.render()
+    )
 }

@@ -18,8 +18,8 @@ pub use published::{
     PUBLISHED_CSV,
 };
 pub use rule::{
-    better_time_convention, is_marginal, peak_tolerance, reproduces, TimeConvention,
-    HALF_PERIOD_TOLERANCE, MARGINAL_HALF_PERIOD,
+    better_time_convention, is_marginal, peak_tolerance, reproduces, reproduces_within,
+    TimeConvention, HALF_PERIOD_TOLERANCE, MARGINAL_HALF_PERIOD,
 };
 
 use crate::error::Result;
@@ -30,8 +30,8 @@ use crate::model::metrics::{
     rest_error_sum, StoppingRule,
 };
 use crate::model::scene::{RopeParams, THESIS_GRAVITY};
-use crate::model::system::MassSpringSystem;
 use crate::model::system::Vec3;
+use crate::model::system::{MassSpringSystem, State};
 use crate::solvers::fast_mass_spring::{FastMassSpring, FirstIterate};
 use crate::solvers::registry::SolverId;
 use crate::solvers::registry::SolverSpec;
@@ -131,7 +131,18 @@ impl Measured {
     /// Whether this row meets the reproduction rule. A run cut at its time limit never does:
     /// its peak count and T/2 are those of an unfinished run.
     pub fn reproduces(&self) -> bool {
-        !self.hit_time_limit && reproduces(&self.published, self.peaks, self.half_period_thesis)
+        self.reproduces_within(HALF_PERIOD_TOLERANCE)
+    }
+
+    /// [`Measured::reproduces`] with the T/2 tolerance `tolerance` ([`reproduces_within`]).
+    pub fn reproduces_within(&self, tolerance: f64) -> bool {
+        !self.hit_time_limit
+            && reproduces_within(
+                &self.published,
+                self.peaks,
+                self.half_period_thesis,
+                tolerance,
+            )
     }
 
     /// Whether this run meets the reproduction rule with `half_period` in place of its thesis
@@ -205,6 +216,16 @@ fn profile_label(row: &PublishedRow, configuration: &Configuration) -> String {
 
 /// Runs one published experiment from the thesis rope at rest.
 pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Result<Run> {
+    run_experiment_from(row, configuration, |rest| rest)
+}
+
+/// Runs one published experiment from `start` applied to the thesis rope at rest (the nudged
+/// starts of [`crate::studies::round_off`]).
+pub fn run_experiment_from(
+    row: &PublishedRow,
+    configuration: &Configuration,
+    start: impl FnOnce(State) -> State,
+) -> Result<Run> {
     let (system, options) = setup(row, configuration)?;
     let mut solver = configuration
         .solver
@@ -215,7 +236,7 @@ pub fn run_experiment(row: &PublishedRow, configuration: &Configuration) -> Resu
             run.as_ref()
                 .map_or(String::new(), |r| format!(", {} steps", r.steps))
         },
-        || simulate(solver.as_mut(), system.initial_state(), &options),
+        || simulate(solver.as_mut(), start(system.initial_state()), &options),
     )
 }
 

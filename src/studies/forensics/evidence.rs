@@ -11,16 +11,20 @@
 //!    rest on it;
 //! 2. **interpretation**: a point the text leaves open, resolved one way, and either the other
 //!    reading does not reproduce the row (its outcome is given) or the choice was identified on
-//!    this row (the scene, fitted on Table 1);
+//!    this row;
 //! 3. **predicted**: a value chosen with neither this row nor its twin in view, at any time in
 //!    this repository's history or documents, reproduces the row, and the history shows the
 //!    test before the data. No row qualifies today: every value of the Liu hypothesis was
 //!    fitted on the Liu rows (findings 3-4, in the first commit);
 //! 4. **selected**: a departure chosen from several candidates tried on the same rows (the ADMM
 //!    start, from [`ADMM_CANDIDATES_TRIED`]);
-//! 5. **fitted**: a value chosen with this row or its twin in view, whatever a later split does.
+//! 5. **fitted**: a value chosen with this row or its twin in view, whatever a later split does;
+//!    Table 1's two rows among them: the scene was fitted on them (calibration), so they cannot
+//!    test it.
 //!
-//! The row takes the weakest class any of its choices gives it. Before any of this, the
+//! A run reproduces a row when it meets the reproduction rule and its rest error does not
+//! contradict the published one ([`REST_ERROR_BAND`], a fitted band). The row takes the
+//! weakest class any of its choices gives it. Before any of this, the
 //! **noise test**: a row whose match rests on a kinetic-energy peak below [`NOISE_PEAK_J`]
 //! (forensic finding 1), or whose T/2 spans more than the rule's tolerance across runs that
 //! have its peak count and agree to round-off before their last peak, is **noise-limited**: its
@@ -31,6 +35,36 @@
 use super::configurations::{AdmmCandidate, ConfigurationId, ConfigurationRun, LiuHypothesis};
 use crate::solvers::registry::SolverId;
 use crate::studies::experiments::{Measured, PublishedRow, HALF_PERIOD_TOLERANCE};
+
+/// The table the scene was fitted on (`docs/thesis-scene.md`: the k = 1e6 reference half-period
+/// alone pins the anchor separation); Tables 2 and 3 were run to accept it.
+pub const SCENE_FIT_TABLE: u8 = 1;
+
+/// The band of our rest error over the published one outside which the rest error contradicts
+/// a row's match (issue 49). **Fitted**: chosen with Tables 6 and 7 in view (T7 0.001/1 at
+/// 99.6×, T6 0.01/1 at 8.9×), so the report shows the counts at [`REST_ERROR_BANDS_BESIDE`]
+/// too. It overrides convention 7 of `docs/thesis-scene.md` (floors compared, not asserted):
+/// where a run stops inside its residual oscillation moves a floor by a factor of about 3
+/// (2e-3 to 6e-3 m at k = 1e3), not 10, and each error is read against the reference at both
+/// gravities ([`rest_error_contradicts`]), so that a floor the gravity mismatch explains
+/// (finding 5) never contradicts.
+pub const REST_ERROR_BAND: [f64; 2] = [0.1, 10.0];
+
+/// The bands whose counts the report shows beside [`REST_ERROR_BAND`]'s.
+pub const REST_ERROR_BANDS_BESIDE: [[f64; 2]; 2] = [[0.2, 5.0], [0.05, 20.0]];
+
+/// Whether rest errors contradict the published one: ours/published lies outside `band`
+/// against every reference given (ours at 9.81 m/s² against the reference at 9.81 and at 9.8).
+/// A row without a published error, or one published as 0, is never contradicted.
+pub fn rest_error_contradicts(published: Option<f64>, errors: &[f64], band: [f64; 2]) -> bool {
+    published.is_some_and(|p| {
+        p > 0.0
+            && errors.iter().all(|e| {
+                let ratio = e / p;
+                ratio < band[0] || ratio > band[1]
+            })
+    })
+}
 
 /// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
 pub const NOISE_PEAK_J: f64 = 1e-15;
@@ -167,7 +201,7 @@ impl Choice {
     /// The other reading run beside it.
     pub fn other_reading(self) -> &'static str {
         match self {
-            Choice::SceneFit => "none run: the rows it was fitted on are interpretation",
+            Choice::SceneFit => "none run: the rows it was fitted on are fitted (calibration)",
             Choice::PeakStamp => "each peak stamped at its own sample",
             Choice::Clock => "time in f64",
             Choice::Gravity => "9.8 m/s² (the gravity-mismatch runs)",
@@ -202,6 +236,22 @@ impl Choice {
             }
             Choice::AdmmStart => "selected from the ADMM departures tried on the ADMM rows",
         }
+    }
+}
+
+/// The time convention a published row helped identify (`docs/thesis-scene.md`): convention 4
+/// (the peak stamp) on the dt = 0.1 s rows of Tables 2-7, whose T/2 are multiples of 0.1 s
+/// over the peak count; convention 5 (the f32 clock) on the long k = 1e3 runs that read about
+/// 0.5 % long, the reference of Table 1 and Table 2's dt = 0.001 s rows.
+pub fn identified_convention(row: &PublishedRow) -> Option<Choice> {
+    if row.dt_s == 0.1 && (2..=7).contains(&row.table) {
+        Some(Choice::PeakStamp)
+    } else if (row.table == SCENE_FIT_TABLE && row.stiffness == 1e3)
+        || (row.table == 2 && row.dt_s == 0.001)
+    {
+        Some(Choice::Clock)
+    } else {
+        None
     }
 }
 
@@ -266,6 +316,8 @@ pub struct Candidates<'a> {
     pub admm: Vec<(AdmmCandidate, &'a Measured)>,
     /// Every other run of the row (the Liu grid's points), for the noise test's spread.
     pub others: Vec<&'a Measured>,
+    /// A run's rest errors against the reference at each gravity (9.81, 9.8 m/s²), m.
+    pub rest_errors: &'a dyn Fn(&Measured) -> [f64; 2],
 }
 
 /// Whether a run's T/2 rests on a round-off peak: its last (stamping) peak is below
@@ -405,7 +457,29 @@ pub fn select(c: &Candidates) -> Selection {
             )
         })
     };
-    if let Some((configuration, m, effect)) = ordered.iter().find(|(_, m, _)| m.reproduces()) {
+    let contradicted = |m: &Measured| {
+        rest_error_contradicts(m.published.error, &(c.rest_errors)(m), REST_ERROR_BAND)
+    };
+    // The rest errors that contradict a run the rule passes, named in the row's note.
+    let contradictions: Vec<String> = ordered
+        .iter()
+        .filter(|(_, m, _)| m.reproduces() && contradicted(m))
+        .map(|(id, m, _)| {
+            let [at_981, _] = (c.rest_errors)(m);
+            format!(
+                "{}'s rest error contradicts the row ({:.3}× the published)",
+                id.id(),
+                at_981
+                    / m.published
+                        .error
+                        .expect("a contradicted row publishes an error")
+            )
+        })
+        .collect();
+    if let Some((configuration, m, effect)) = ordered
+        .iter()
+        .find(|(_, m, _)| m.reproduces() && !contradicted(m))
+    {
         let configuration = *configuration;
         if let Some(note) = noise_note(m) {
             return Selection {
@@ -422,7 +496,7 @@ pub fn select(c: &Candidates) -> Selection {
             measured: (*m).clone(),
             evidence: weakest(Evidence::Faithful, &effects),
             effects,
-            note: String::new(),
+            note: contradictions.join("; "),
         };
     }
     if let Some((configuration, m, _)) = ordered
@@ -447,6 +521,7 @@ pub fn select(c: &Candidates) -> Selection {
             tried.push(id);
         }
     }
+    tried.extend(contradictions);
     Selection {
         configuration: ConfigurationId::Faithful,
         measured: c.faithful.clone(),
@@ -481,11 +556,11 @@ pub fn classify(selection: Selection, scene: &SceneReadings) -> RowEvidence {
                 )
             })
         };
-        if m.published.table == 1 {
+        if m.published.table == SCENE_FIT_TABLE {
             effects.push(ChoiceEffect {
                 choice: Choice::SceneFit,
-                evidence: Evidence::Interpretation,
-                note: "the scene was fitted on this row".into(),
+                evidence: Evidence::Fitted,
+                note: "calibration: the scene was fitted on this row".into(),
             });
         }
         if !m.reproduces_with(m.half_period_sample_stamp) {
@@ -543,4 +618,62 @@ pub fn run_of<'a>(
     row: &PublishedRow,
 ) -> Option<&'a Measured> {
     runs.iter().find(|r| r.id == id).and_then(|r| r.row(row))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Constructed rows whose class the band flips. T7 0.001/1's numbers (ours 0.0329 m against
+    /// a published 3.30e-4 m, at either gravity) contradict at every band shown; T6 0.01/1's
+    /// (8.9×) only at the narrow [0.2, 5]; a converged run read against the reference at its
+    /// own gravity (1e-9 m) lies far below a published floor of 3.3e-4 m, but against the
+    /// reference at 9.8 m/s² reads the floor (2.9e-4 m), so it never contradicts (tried once
+    /// with the same-gravity reading alone: it contradicted, and this test failed).
+    /// The rows that identified the time conventions: 18 dt = 0.1 s rows of Tables 2-7 for
+    /// convention 4, the k = 1e3 reference and Table 2's three dt = 0.001 s rows for convention
+    /// 5. Negative cases: the k = 1e6 reference, Table 3's dt = 0.001 s rows (k = 1e6, short
+    /// runs) and the dt = 0.01 s rows identified neither.
+    #[test]
+    fn the_rows_that_identified_the_conventions_are_named() {
+        use crate::studies::experiments::published_rows;
+        let of = |c| {
+            published_rows()
+                .iter()
+                .filter(|r| identified_convention(r) == Some(c))
+                .count()
+        };
+        assert_eq!((of(Choice::PeakStamp), of(Choice::Clock)), (18, 4));
+        for r in published_rows() {
+            let none = (r.table == 1 && r.stiffness == 1e6)
+                || (r.table == 3 && r.dt_s == 0.001)
+                || r.dt_s == 0.01;
+            if none {
+                assert_eq!(identified_convention(r), None, "{r:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_band_decides_which_rest_errors_contradict() {
+        let t7 = [0.0329, 0.0331];
+        for band in [REST_ERROR_BAND, [0.2, 5.0], [0.05, 20.0]] {
+            assert!(rest_error_contradicts(Some(3.30e-4), &t7, band), "{band:?}");
+        }
+        let t6 = [0.0313, 0.0343];
+        assert!(!rest_error_contradicts(Some(3.51e-3), &t6, REST_ERROR_BAND));
+        assert!(rest_error_contradicts(Some(3.51e-3), &t6, [0.2, 5.0]));
+        let converged = [1e-9, 2.9e-4];
+        assert!(!rest_error_contradicts(
+            Some(3.3e-4),
+            &converged,
+            REST_ERROR_BAND
+        ));
+        assert!(rest_error_contradicts(
+            Some(3.3e-4),
+            &converged[..1],
+            REST_ERROR_BAND
+        ));
+        assert!(!rest_error_contradicts(None, &t7, REST_ERROR_BAND));
+    }
 }

@@ -31,6 +31,7 @@ pub use twins::Twins;
 
 use crate::error::Result;
 use crate::integrators::time_stepper::Run;
+use crate::model::metrics::rest_error_sum;
 use crate::model::system::Vec3;
 use crate::solvers::registry::SolverId;
 use crate::studies::experiments::batched::run_experiments;
@@ -59,6 +60,9 @@ pub struct Forensics {
     /// One class per row of the faithful result set, in its order.
     pub evidence: Vec<RowEvidence>,
     pub gravity: GravityStudy,
+    /// The printed method's rest errors of every row that publishes one, against the reference
+    /// at 9.81 and at 9.8 m/s², m: what [`evidence::REST_ERROR_BAND`] reads.
+    pub rest_errors: Vec<(Measured, [f64; 2])>,
 }
 
 /// The outcomes of (row, configuration) jobs, each job run once however often it is asked for:
@@ -364,6 +368,34 @@ impl Forensics {
             .iter()
             .find(|p| p.hypothesis == in_sample)
             .expect("the fit picks a point of the grid");
+        // The references at 9.8 m/s² (run beside the faithful runs, `early_gravity_jobs`): the
+        // rest errors' other gravity reading, so that a floor the mismatch explains never
+        // contradicts a row.
+        let reference_jobs: Vec<(PublishedRow, Configuration)> = rows
+            .iter()
+            .filter(|r| r.solver == SolverId::BackwardEuler)
+            .map(|r| {
+                let c = at_mismatched_gravity(r, ConfigurationId::Faithful.configuration(r));
+                ((*r).clone(), c)
+            })
+            .collect();
+        let references_9_8: Vec<(f64, Vec<Vec3>)> = reference_jobs
+            .iter()
+            .zip(memo.run(&reference_jobs, progress))
+            .map(|((r, _), run)| Ok((r.stiffness, run?.final_state.x)))
+            .collect::<Result<_>>()?;
+        let rest_errors = |m: &Measured| -> [f64; 2] {
+            let k = m.published.stiffness;
+            let at_9_8 = &references_9_8
+                .iter()
+                .find(|(s, _)| *s == k)
+                .expect("a reference at 9.8 per stiffness")
+                .1;
+            [
+                rest_error_sum(&m.final_positions, &faithful.reference(k).final_positions),
+                rest_error_sum(&m.final_positions, at_9_8),
+            ]
+        };
         let selections: Vec<Selection> = faithful
             .rows
             .iter()
@@ -385,6 +417,7 @@ impl Forensics {
                     } else {
                         Vec::new()
                     },
+                    rest_errors: &rest_errors,
                 })
             })
             .collect();
@@ -468,6 +501,12 @@ impl Forensics {
                 }
             })
             .collect();
+        let faithful_rest_errors = faithful
+            .rows
+            .iter()
+            .filter(|m| m.published.error.is_some())
+            .map(|m| (m.clone(), rest_errors(m)))
+            .collect();
         let references: Vec<(f64, &[Vec3])> = [1e3, 1e6]
             .into_iter()
             .map(|k| (k, faithful.reference(k).final_positions.as_slice()))
@@ -486,6 +525,7 @@ impl Forensics {
             twins,
             evidence,
             gravity,
+            rest_errors: faithful_rest_errors,
         })
     }
 
@@ -507,6 +547,34 @@ impl Forensics {
             self.twins
                 .observations(&self.evidence, |e| &e.measured.published),
         )
+    }
+
+    /// The rows not used to fit the scene (outside [`evidence::SCENE_FIT_TABLE`]), and how many
+    /// of them the printed equations reproduce (faithful or interpretation): the headline's
+    /// count, since the rows the scene was fitted on cannot test it.
+    pub fn rows_not_used_to_fit_the_scene(&self) -> (usize, usize) {
+        let tested = self
+            .evidence
+            .iter()
+            .filter(|e| e.measured.published.table != evidence::SCENE_FIT_TABLE);
+        let reproduced = tested
+            .clone()
+            .filter(|e| matches!(e.evidence, Evidence::Faithful | Evidence::Interpretation))
+            .count();
+        (tested.count(), reproduced)
+    }
+
+    /// The rows the printed method reproduces by the rule whose rest error contradicts the
+    /// published one at `band` ([`evidence::rest_error_contradicts`]), with ours/published
+    /// against the reference at 9.81 m/s².
+    pub fn contradicted_by_rest_error(&self, band: [f64; 2]) -> Vec<(&Measured, f64)> {
+        self.rest_errors
+            .iter()
+            .filter(|(m, errors)| {
+                m.reproduces() && evidence::rest_error_contradicts(m.published.error, errors, band)
+            })
+            .map(|(m, errors)| (m, errors[0] / m.published.error.expect("filtered")))
+            .collect()
     }
 
     /// How many rows of `table` (all tables for None) have each class, in [`Evidence::ALL`]
