@@ -59,7 +59,9 @@ impl Element {
         if !(measure > DEGENERATE_FRACTION * scale) {
             return Err(refused(index, measure, what));
         }
-        let dm_inverse = dm.try_inverse().ok_or_else(|| refused(index, measure, what))?;
+        let dm_inverse = dm
+            .try_inverse()
+            .ok_or_else(|| refused(index, measure, what))?;
         Ok(Self {
             nodes: nodes.to_vec(),
             rest_gradient: DMatrix::identity(d, d),
@@ -83,9 +85,13 @@ impl Element {
             return Err(refused(index, measure, "area"));
         }
         let b2 = across.normalize();
-        let frame = DMatrix::from_columns(&[b1, b2].map(|b| nalgebra::DVector::from_column_slice(b.as_slice())));
+        let frame = DMatrix::from_columns(
+            &[b1, b2].map(|b| nalgebra::DVector::from_column_slice(b.as_slice())),
+        );
         let dm = frame.transpose() * &edges;
-        let dm_inverse = dm.try_inverse().ok_or_else(|| refused(index, measure, "area"))?;
+        let dm_inverse = dm
+            .try_inverse()
+            .ok_or_else(|| refused(index, measure, "area"))?;
         Ok(Self {
             nodes: nodes.to_vec(),
             rest_gradient: frame,

@@ -99,8 +99,7 @@ pub trait Hyperelastic: Sync {
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64>;
 
     /// dP = (∂P/∂F) : dF, the differential of the stress along dF.
-    fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>)
-        -> DMatrix<f64>;
+    fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64>;
 
     /// ∂P/∂F over vec(F) (see the module doc), column by column: the differential along each
     /// unit dF.

@@ -20,4 +20,7 @@ pub mod element;
 pub mod energy;
 pub mod hyperelastic;
 pub mod lame;
+pub mod scenes;
+pub mod statics;
 pub mod svd;
+pub mod system;

@@ -1,7 +1,9 @@
 //! The Saint Venant-Kirchhoff energy: Hooke's law on the Green strain (Sifakis and Barbič 2012);
 //! XPBD's strain constraints and cloth; weak in compression.
 
-use crate::model::continuum::hyperelastic::{hooke, isotropic_quadratic, Deformation, Hyperelastic};
+use crate::model::continuum::hyperelastic::{
+    hooke, isotropic_quadratic, Deformation, Hyperelastic,
+};
 use crate::model::continuum::lame::Lame;
 use nalgebra::DMatrix;
 

@@ -1,0 +1,185 @@
+//! Static equilibrium of a continuum system by projected Newton: the ground truth of the
+//! continuum scenes, as the sheet's [`static_equilibrium`](crate::model::sheet_equilibrium)
+//! is the net's.
+//!
+//! Newton minimises the potential energy E(u) over the free nodes' displacements:
+//! H Δu = f(u) = −∇E, u ← u + α Δu.
+//!
+//! - Hessian: far from equilibrium the projected one, every element's ∂P/∂F clamped
+//!   ([`Hyperelastic::clamped_stress_derivative`]), positive semidefinite, so that Δu descends;
+//!   once the residual is below [`EXACT_HESSIAN_BELOW`] the exact one, for the quadratic
+//!   convergence of the last steps (the clamp changes the Hessian wherever an element is
+//!   compressed, and so slows Newton to a linear rate at the minimum). Where a factorisation
+//!   fails (the exact Hessian indefinite, or a projected one singular: a flat membrane has no
+//!   stiffness across its plane), the projected one is shifted by a multiple of its largest
+//!   diagonal entry, raised until it factors.
+//! - Line search: backtracking from α = 1, halving, until the energy decreases by the Armijo
+//!   fraction [`ARMIJO`] of the slope; once the energy's change is within its round-off, a
+//!   step that lowers the residual is accepted instead (near the minimum the energy cannot see
+//!   the steps that still shrink the forces).
+//! - Stop: the largest force component on a free node, relative to the largest load on a
+//!   free node (weight plus external force; in a scene without loads, the patch test, the
+//!   largest initial residual), at most the tolerance ([`DEFAULT_TOLERANCE`], 1e-10).
+//!
+//! Linear solves: faer's sparse Cholesky through [`Factorization`].
+//!
+//! [`Hyperelastic::clamped_stress_derivative`]: super::hyperelastic::Hyperelastic::clamped_stress_derivative
+
+use super::system::ContinuumSystem;
+use crate::error::{Error, Result};
+use crate::model::linear::{Factorization, SymmetricMatrix};
+
+/// The default tolerance on the residual relative to the largest nodal load.
+pub const DEFAULT_TOLERANCE: f64 = 1e-10;
+/// The relative residual below which Newton takes the exact Hessian.
+pub const EXACT_HESSIAN_BELOW: f64 = 1e-3;
+/// Iterations before giving up.
+pub const MAX_ITERATIONS: usize = 200;
+/// The Armijo fraction of the line search.
+pub const ARMIJO: f64 = 1e-4;
+/// Halvings of the step before the line search gives up.
+const MAX_HALVINGS: usize = 60;
+/// Energy changes below this fraction of the sum of its terms' magnitudes are round-off.
+const ENERGY_ROUND_OFF: f64 = 1e-12;
+
+/// A static equilibrium and how it was reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Equilibrium {
+    /// Every node's displacement from the rest shape (flat, d a node), m.
+    pub displacement: Vec<f64>,
+    /// The largest force component on a free node, relative to [`Self::scale`].
+    pub relative_residual: f64,
+    /// The force that scales the residual, N: the largest nodal load, or the largest
+    /// initial residual where there are no loads.
+    pub scale: f64,
+    /// Newton iterations taken, and of them with the projected Hessian.
+    pub iterations: usize,
+    pub projected_iterations: usize,
+}
+
+/// The static equilibrium of `system` from its start ([`ContinuumSystem::start`]), to a
+/// residual of `tolerance` relative to the largest nodal load; an error saying the residual
+/// reached if Newton stalls or runs out of iterations.
+pub fn static_equilibrium(system: &ContinuumSystem, tolerance: f64) -> Result<Equilibrium> {
+    let mut u = system.start().to_vec();
+    let mut residual = system.residual(&u);
+    let scale = match system.largest_load() {
+        load if load > 0.0 => load,
+        _ if residual > 0.0 => residual,
+        // No load and no initial force: the start is the equilibrium.
+        _ => 1.0,
+    };
+    let mut projected_iterations = 0;
+    let mut stop = format!("after {MAX_ITERATIONS} iterations");
+    for iteration in 0.. {
+        if residual <= tolerance * scale {
+            return Ok(Equilibrium {
+                displacement: u,
+                relative_residual: residual / scale,
+                scale,
+                iterations: iteration,
+                projected_iterations,
+            });
+        }
+        if iteration == MAX_ITERATIONS {
+            break;
+        }
+        let projected = residual > EXACT_HESSIAN_BELOW * scale;
+        let forces = system.free_part(&system.forces(&u));
+        let (step, was_projected) = newton_step(system, &u, &forces, projected)?;
+        projected_iterations += usize::from(was_projected);
+        let Some(next) = line_search(system, &u, &forces, &step, residual) else {
+            stop = format!("at iteration {iteration}, where the line search found no decrease");
+            break;
+        };
+        u = next;
+        residual = system.residual(&u);
+    }
+    Err(Error::NotConverged {
+        what: "continuum statics (projected Newton)".into(),
+        detail: format!(
+            "residual {:e} of the largest load {:e} N {stop} (tolerance {tolerance:e})",
+            residual / scale,
+            scale
+        ),
+    })
+}
+
+/// Δu = H⁻¹ f with the exact Hessian if `exact` and it factors, else the projected one,
+/// shifted until it factors; and whether it was the projected one.
+fn newton_step(
+    system: &ContinuumSystem,
+    u: &[f64],
+    forces: &[f64],
+    projected: bool,
+) -> Result<(Vec<f64>, bool)> {
+    let solve = |factor: &Factorization| {
+        let mut step = forces.to_vec();
+        factor.solve_in_place(&mut step, 1);
+        step
+    };
+    if !projected {
+        if let Ok(factor) = Factorization::new(&system.hessian(u, false)) {
+            return Ok((solve(&factor), false));
+        }
+    }
+    let factor = shifted_factor(system.hessian(u, true))?;
+    Ok((solve(&factor), true))
+}
+
+/// The factor of `h`, or of h + τ I with τ from 1e-12 of its largest diagonal entry up by
+/// factors of 100 until it factors.
+fn shifted_factor(mut h: SymmetricMatrix) -> Result<Factorization> {
+    if let Ok(factor) = Factorization::new(&h) {
+        return Ok(factor);
+    }
+    let n = h.dim();
+    let largest = (0..n)
+        .map(|i| h.get(i, i).abs())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut added = 0.0;
+    let mut shift = 1e-12 * largest;
+    while shift <= 1e6 * largest {
+        for i in 0..n {
+            h.add(i, i, shift - added);
+        }
+        added = shift;
+        if let Ok(factor) = Factorization::new(&h) {
+            return Ok(factor);
+        }
+        shift *= 100.0;
+    }
+    Err(Error::NotConverged {
+        what: "continuum statics (projected Newton)".into(),
+        detail: "no shift of the projected Hessian factors".into(),
+    })
+}
+
+/// u + α Δu for the first α = 1, 1/2, 1/4, ... that decreases the energy by the Armijo
+/// fraction of the slope, or, once the energy's change is round-off, lowers the residual
+/// below `residual`; None if none does.
+fn line_search(
+    system: &ContinuumSystem,
+    u: &[f64],
+    forces: &[f64],
+    step: &[f64],
+    residual: f64,
+) -> Option<Vec<f64>> {
+    let (energy, magnitude) = system.energy_and_magnitude(u);
+    // The directional derivative ∇E·Δu = −f·Δu, negative for a descent direction.
+    let slope: f64 = -forces.iter().zip(step).map(|(f, s)| f * s).sum::<f64>();
+    let round_off = ENERGY_ROUND_OFF * magnitude;
+    let mut alpha = 1.0;
+    for _ in 0..MAX_HALVINGS {
+        let next = system.moved(u, step, alpha);
+        let change = system.energy(&next) - energy;
+        if change <= ARMIJO * alpha * slope
+            || (change.abs() <= round_off && system.residual(&next) < residual)
+        {
+            return Some(next);
+        }
+        alpha *= 0.5;
+    }
+    None
+}
