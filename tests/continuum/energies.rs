@@ -283,8 +283,8 @@ fn the_clamp_is_the_positive_part() {
 ///   then P₁₁ = μ s + λ′ (s t² − α) t² = μ (s − t²/s).
 ///
 /// At s = 1.2 and 0.9. Wrong implementation it catches (tried): λ doubled in both Hooke's law
-/// and its energy (a consistent Ψ and P, so the finite differences pass, and the linear
-/// energy shares it, so the linearisation test passes too).
+/// and its energy, which the linear energy and StVK share (a consistent Ψ and P: the finite
+/// differences pass).
 #[test]
 fn uniaxial_stretch_matches_the_closed_forms() {
     let (mu, lambda) = (LAME.mu, LAME.lambda);

@@ -97,11 +97,11 @@ fn the_beam_mesh_is_conforming_symmetric_and_weighed() {
     }
 }
 
-/// Cook's mesh N = 4: 25 nodes, 32 positive triangles covering the trapezoid's area
-/// (48·(44 + 16)/2 = 1440... the quadrilateral's: 1/2·|d1 × d2| = 1/2·|(48, 60) × (48, 0)| =
-/// 1440); the loads vertical, summing to F = 1, equal at the inner nodes of the right edge
-/// and half at its ends; the edge s = 0 clamped. Wrong implementation it catches (tried):
-/// the whole segment's force given to each end (total 2F).
+/// Cook's mesh N = 4: 25 nodes, 32 positive triangles covering the quadrilateral's 1440
+/// (half the cross product of its diagonals, |(48, 60) × (−48, 0)|/2); the loads vertical,
+/// summing to F = 1, a quarter on each inner node of the right edge and an eighth on its ends;
+/// the edge s = 0 clamped; an odd N refused. Wrong implementation it catches (tried): the
+/// whole segment's force given to each end (total 2F).
 #[test]
 fn cooks_mesh_and_loads() {
     let n = 4;

@@ -48,18 +48,28 @@ impl Polar {
                 }
             }
         }
-        let u = polished(f, &u, &sigma, &v);
-        Self { u, sigma, v }
+        Self { u, sigma, v }.polished(f)
+    }
+
+    /// This SVD with U refined by one Newton step of the polar decomposition, so that
+    /// R = U Vᵀ makes RᵀF symmetric to round-off: nalgebra's singular vectors leave skew(RᵀF)
+    /// at up to 1e-10 of F when two singular values are close (measured at strains of 1e-3),
+    /// which put a floor of about 5e-10 of the largest nodal weight under the soft beam's
+    /// co-rotated equilibrium residual. The step is R₀ + dR along dF = F itself
+    /// ([`Self::rotation_differential`]: its skew solve maps out the skew part of R₀ᵀF, and
+    /// for a membrane its normal term brings R's columns into F's plane), then R(3I − RᵀR)/2
+    /// to restore orthonormal columns to second order, and U = R V.
+    fn polished(self, f: &DMatrix<f64>) -> Self {
+        let c = f.ncols();
+        let r = self.rotation() + self.rotation_differential(f);
+        let r = &r * (DMatrix::identity(c, c) * 3.0 - r.transpose() * &r) * 0.5;
+        let u = r * &self.v;
+        Self { u, ..self }
     }
 
     /// R = U Vᵀ.
     pub fn rotation(&self) -> DMatrix<f64> {
         &self.u * self.v.transpose()
-    }
-
-    /// S = V Σ Vᵀ = RᵀF.
-    pub fn stretch(&self) -> DMatrix<f64> {
-        &self.v * DMatrix::from_diagonal(&self.sigma) * self.v.transpose()
     }
 
     /// The differential dR of R = U Vᵀ along dF.
@@ -90,41 +100,6 @@ impl Polar {
         }
         dr
     }
-}
-
-/// U refined by one Newton step of the polar decomposition, so that R = U Vᵀ makes RᵀF
-/// symmetric to round-off: nalgebra's singular vectors leave skew(RᵀF) at up to 1e-10 of F
-/// when two singular values are close (measured at strains of 1e-3), which puts a floor of
-/// about 5e-10 of the largest nodal weight under the soft beam's co-rotated equilibrium
-/// residual. With R₀ = U Vᵀ and S₀ = R₀ᵀF, R = R₀(I + A) + (I − R₀R₀ᵀ) F S₀⁻¹ (the second
-/// term for a membrane only) with A skew solving A S + S A = S₀ − S₀ᵀ, which in V's basis is
-/// Ã_ij = W̃_ij / (σ_i + σ_j) like [`Polar::rotation_differential`]'s; then R(3I − RᵀR)/2
-/// restores orthonormal columns to second order, and U = R V.
-fn polished(
-    f: &DMatrix<f64>,
-    u: &DMatrix<f64>,
-    sigma: &DVector<f64>,
-    v: &DMatrix<f64>,
-) -> DMatrix<f64> {
-    let (d, c) = f.shape();
-    let r0 = u * v.transpose();
-    let s0 = r0.transpose() * f;
-    let w = v.transpose() * (&s0 - s0.transpose()) * v;
-    let skew = DMatrix::from_fn(c, c, |i, j| {
-        if i == j {
-            0.0
-        } else {
-            w[(i, j)] / floored(sigma[i] + sigma[j])
-        }
-    });
-    let mut r = &r0 + &r0 * (v * skew * v.transpose());
-    if d > c {
-        let inverse_sigma = sigma.map(|s| 1.0 / floored(s));
-        let s_inverse = v * DMatrix::from_diagonal(&inverse_sigma) * v.transpose();
-        r += (DMatrix::identity(d, d) - &r0 * r0.transpose()) * f * s_inverse;
-    }
-    let r = &r * (DMatrix::identity(c, c) * 3.0 - r.transpose() * &r) * 0.5;
-    r * v
 }
 
 /// `x`, or [`SINGULAR_FLOOR`] with its sign where it is smaller.
