@@ -56,7 +56,9 @@ impl Element {
         let measure = dm.determinant() / factorial;
         let what = if d == 3 { "volume" } else { "area" };
         let scale: f64 = dm.column_iter().map(|c| c.norm()).product();
-        if !(measure > DEGENERATE_FRACTION * scale) {
+        // Written so that a NaN measure is refused too.
+        let positive = measure > DEGENERATE_FRACTION * scale;
+        if !positive {
             return Err(refused(index, measure, what));
         }
         let dm_inverse = dm
@@ -81,7 +83,8 @@ impl Element {
         let b1 = e1.normalize();
         let across = e2 - b1 * e2.dot(&b1);
         let measure = 0.5 * e1.norm() * across.norm();
-        if !(measure > DEGENERATE_FRACTION * e1.norm() * e2.norm()) {
+        let positive = measure > DEGENERATE_FRACTION * e1.norm() * e2.norm();
+        if !positive {
             return Err(refused(index, measure, "area"));
         }
         let b2 = across.normalize();
