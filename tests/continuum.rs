@@ -1,11 +1,18 @@
 //! The continuum (`src/model/continuum/`, `docs/fem-scenes.md`): the energies against finite
 //! differences and closed forms, the Lamé conversion, the element kernels, the scenes' meshes,
-//! and Newton's statics against the patch test, Cook's membrane and beam theory.
+//! and Newton's statics against the patch test, Cook's membrane and beam theory. One file a
+//! concern in `tests/continuum/` (a folder without `main.rs`, so that `make test`'s wildcard
+//! `tests/*.rs` runs this target).
 
+#[path = "continuum/energies.rs"]
 mod energies;
+#[path = "continuum/kernels.rs"]
 mod kernels;
+#[path = "continuum/polar.rs"]
 mod polar;
+#[path = "continuum/scenes.rs"]
 mod scenes;
+#[path = "continuum/statics.rs"]
 mod statics;
 
 /// A small deterministic generator (xorshift64*): the tests' random F, the same every run.
