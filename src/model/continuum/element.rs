@@ -45,7 +45,7 @@ fn refused(index: usize, measure: f64, what: &str) -> Error {
 }
 
 impl Element {
-    /// [Sifakis 2012, element kernel, unverified; checked against GenPD constraint_tet.cpp] A tetrahedron
+    /// [Sifakis 2012, element kernel] (unverified; checked against GenPD constraint_tet.cpp) A tetrahedron
     /// (4 nodes, d = 3) or a triangle in the plane (3 nodes, d = 2): D_m the rest edge matrix,
     /// V = det D_m / c!. Refuses (naming `elements[index]`) an inverted (det D_m < 0) or
     /// degenerate one.
@@ -72,7 +72,7 @@ impl Element {
         })
     }
 
-    /// [Sifakis 2012, membrane kernel, unverified; no reference code checked] A membrane
+    /// [Sifakis 2012, membrane kernel] (unverified; no reference code checked) A membrane
     /// triangle in 3D (3 nodes, d = 3): its rest frame B = (b₁, b₂) with b₁ along the first
     /// edge and b₂ the second edge's part orthogonal to it, D_m = Bᵀ[x₁ − x₀, x₂ − x₀] (upper
     /// triangular, positive determinant), F₀ = B, V the rest area. Refuses a degenerate one.
@@ -123,7 +123,7 @@ impl Element {
         self.rest_gradient.nrows()
     }
 
-    /// [Sifakis 2012, element kernel, unverified; checked against GenPD constraint_tet.cpp] F = F₀ + G with
+    /// [Sifakis 2012, element kernel] (unverified; checked against GenPD constraint_tet.cpp) F = F₀ + G with
     /// G = D_u D_m⁻¹, D_u the edge matrix of the displacements `u` (flat, d a node): formed from
     /// the displacements, not from D_s = D_m + D_u, so that G keeps its digits when it is small.
     pub fn deformation(&self, u: &[f64]) -> Deformation {
@@ -131,7 +131,7 @@ impl Element {
         Deformation::from_displacement_gradient(&self.rest_gradient, g)
     }
 
-    /// [Sifakis 2012, element kernel, unverified; checked against GenPD constraint_tet.cpp] Adds the element's
+    /// [Sifakis 2012, element kernel] (unverified; checked against GenPD constraint_tet.cpp) Adds the element's
     /// elastic forces to `forces` (flat, d a node): H = −V P D_m⁻ᵀ gives nodes 1..c their
     /// columns, and node 0 minus their sum.
     pub fn add_forces(&self, stress: &DMatrix<f64>, forces: &mut [f64]) {
@@ -163,7 +163,7 @@ impl Element {
         map
     }
 
-    /// [Sifakis 2012, element kernel, unverified; checked against GenPD constraint_tet.cpp] The element
+    /// [Sifakis 2012, element kernel] (unverified; checked against GenPD constraint_tet.cpp) The element
     /// Hessian V (∂F/∂x)ᵀ C (∂F/∂x), d(c+1) square, from C = ∂P/∂F (exact or clamped) over
     /// vec(F); positive semidefinite when C is.
     pub fn hessian(&self, stress_derivative: &DMatrix<f64>) -> DMatrix<f64> {

@@ -134,7 +134,7 @@ pub fn clamp_eigenvalues(m: &DMatrix<f64>) -> DMatrix<f64> {
     &eigen.eigenvectors * DMatrix::from_diagonal(&clamped) * eigen.eigenvectors.transpose()
 }
 
-/// [Sifakis 2012, linear elasticity, unverified; checked against HOBAKv1 LINEAR.cpp and STVK.cpp] The
+/// [Sifakis 2012, linear elasticity] (unverified; checked against HOBAKv1 LINEAR.cpp and STVK.cpp) The
 /// isotropic quadratic μ‖X‖² + λ/2 (tr X)² of a symmetric strain X (the linear energy's ε,
 /// StVK's E).
 pub fn isotropic_quadratic(strain: &DMatrix<f64>, lame: &Lame) -> f64 {
@@ -142,7 +142,7 @@ pub fn isotropic_quadratic(strain: &DMatrix<f64>, lame: &Lame) -> f64 {
     lame.mu * strain.norm_squared() + 0.5 * lame.lambda * trace * trace
 }
 
-/// [Sifakis 2012, linear elasticity, unverified; checked against HOBAKv1 LINEAR.cpp and STVK.cpp] Hooke's
+/// [Sifakis 2012, linear elasticity] (unverified; checked against HOBAKv1 LINEAR.cpp and STVK.cpp) Hooke's
 /// law 2μX + λ (tr X) I, the derivative of [`isotropic_quadratic`] with respect to X.
 pub fn hooke(strain: &DMatrix<f64>, lame: &Lame) -> DMatrix<f64> {
     let n = strain.nrows();

@@ -20,7 +20,7 @@ pub struct Lame {
 }
 
 impl Lame {
-    /// [Sifakis 2012, Lamé parameters, unverified; no reference code checked: the standard relations as docs/fem-scenes.md states them]
+    /// [Sifakis 2012, Lamé parameters] (unverified; no reference code checked: the standard relations as docs/fem-scenes.md states them)
     /// μ = E / (2(1 + ν)), λ = Eν / ((1 + ν)(1 − 2ν)) for a solid; in plane stress
     /// λ* = 2λμ / (λ + 2μ) = Eν / (1 − ν²), written in that closed form so that it stays finite
     /// as ν → 0.5 (where the solid's λ does not).

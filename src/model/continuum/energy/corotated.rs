@@ -21,18 +21,18 @@ impl Hyperelastic for Corotated {
         "corotated"
     }
 
-    /// [Liu 2017, co-rotated energy, unverified; checked against GenPD constraint_tet.cpp] Ψ = μ‖F − R‖² + λ/2 (tr(RᵀF) − c)².
+    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp) Ψ = μ‖F − R‖² + λ/2 (tr(RᵀF) − c)².
     fn density(&self, d: &Deformation, lame: &Lame) -> f64 {
         let s = volume_strain(d);
         Arap.density(d, lame) + 0.5 * lame.lambda * s * s
     }
 
-    /// [Liu 2017, co-rotated energy, unverified; checked against GenPD constraint_tet.cpp] P = 2μ(F − R) + λ (tr(RᵀF) − c) R.
+    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp) P = 2μ(F − R) + λ (tr(RᵀF) − c) R.
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64> {
         Arap.stress(d, lame) + d.polar().rotation() * (lame.lambda * volume_strain(d))
     }
 
-    /// [Liu 2017, co-rotated energy, unverified; checked against GenPD constraint_tet.cpp] dP = 2μ(dF − dR) + λ (R : dF) R + λ (tr(RᵀF) − c) dR,
+    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp) dP = 2μ(dF − dR) + λ (R : dF) R + λ (tr(RᵀF) − c) dR,
     /// since d tr(RᵀF) = R : dF (dRᵀF contributes a skew matrix times the symmetric RᵀF, and
     /// for a membrane a normal part that F has none of).
     fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64> {

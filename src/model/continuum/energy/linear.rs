@@ -21,18 +21,18 @@ impl Hyperelastic for Linear {
         false
     }
 
-    /// [Sifakis 2012, linear elasticity, unverified; checked against HOBAKv1 LINEAR.cpp] Ψ = μ‖ε‖² + λ/2 (tr ε)²,
+    /// [Sifakis 2012, linear elasticity] (unverified; checked against HOBAKv1 LINEAR.cpp) Ψ = μ‖ε‖² + λ/2 (tr ε)²,
     /// with ε = (G + Gᵀ)/2 formed from G = F − I.
     fn density(&self, d: &Deformation, lame: &Lame) -> f64 {
         isotropic_quadratic(&symmetric_part(d.g()), lame)
     }
 
-    /// [Sifakis 2012, linear elasticity, unverified; checked against HOBAKv1 LINEAR.cpp] P = 2με + λ (tr ε) I.
+    /// [Sifakis 2012, linear elasticity] (unverified; checked against HOBAKv1 LINEAR.cpp) P = 2με + λ (tr ε) I.
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64> {
         hooke(&symmetric_part(d.g()), lame)
     }
 
-    /// [Sifakis 2012, linear elasticity, unverified; checked against HOBAKv1 LINEAR.cpp] dP = 2μ sym(dF) + λ tr(dF) I,
+    /// [Sifakis 2012, linear elasticity] (unverified; checked against HOBAKv1 LINEAR.cpp) dP = 2μ sym(dF) + λ tr(dF) I,
     /// the same at every F.
     fn stress_differential(&self, _: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64> {
         hooke(&symmetric_part(df), lame)

@@ -101,7 +101,7 @@ impl Hyperelastic for StableNeoHookean {
         "stable-neo-hookean"
     }
 
-    /// [Smith 2018, §3.4, unverified; checked against HOBAKv1 SNH.cpp] Ψ = μ/2 (tr(FᵀF) − c) + λ′/2 (J − α)²,
+    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp) Ψ = μ/2 (tr(FᵀF) − c) + λ′/2 (J − α)²,
     /// with tr(FᵀF) − c = 2 tr E and J − α = (J − 1) − μ/λ′ from G.
     fn density(&self, d: &Deformation, lame: &Lame) -> f64 {
         let (lambda, alpha) = reparameterised(lame);
@@ -109,14 +109,14 @@ impl Hyperelastic for StableNeoHookean {
         lame.mu * d.green_strain().trace() + 0.5 * lambda * j_minus_alpha * j_minus_alpha
     }
 
-    /// [Smith 2018, §3.4, unverified; checked against HOBAKv1 SNH.cpp] P = μF + λ′ (J − α) ∂J/∂F.
+    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp) P = μF + λ′ (J − α) ∂J/∂F.
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64> {
         let (lambda, alpha) = reparameterised(lame);
         let j_minus_alpha = volume_change(d) - (alpha - 1.0);
         d.f() * lame.mu + volume_gradient(d) * (lambda * j_minus_alpha)
     }
 
-    /// [Smith 2018, §3.4, unverified; checked against HOBAKv1 SNH.cpp] dP = μ dF + λ′ (∂J/∂F : dF) ∂J/∂F + λ′ (J − α) d(∂J/∂F).
+    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp) dP = μ dF + λ′ (∂J/∂F : dF) ∂J/∂F + λ′ (J − α) d(∂J/∂F).
     fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64> {
         let (lambda, alpha) = reparameterised(lame);
         let j_minus_alpha = volume_change(d) - (alpha - 1.0);
