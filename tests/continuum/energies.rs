@@ -35,7 +35,7 @@ fn random_gradients(shape: (usize, usize), count: usize) -> Vec<DMatrix<f64>> {
     (0..count)
         .map(|k| {
             let mut f =
-                rest(shape) + DMatrix::from_fn(shape.0, shape.1, |_, _| 0.4 * random.next());
+                rest(shape) + DMatrix::from_fn(shape.0, shape.1, |_, _| 0.4 * random.uniform());
             if shape.0 == shape.1 && k % 2 == 1 {
                 f.column_mut(0).neg_mut();
             }
@@ -46,7 +46,7 @@ fn random_gradients(shape: (usize, usize), count: usize) -> Vec<DMatrix<f64>> {
 
 /// A random rotation (3D, or 2D), from the QR factor of a random matrix with det fixed to +1.
 fn random_rotation(d: usize, random: &mut Random) -> DMatrix<f64> {
-    let mut q = DMatrix::from_fn(d, d, |_, _| random.next()).qr().q();
+    let mut q = DMatrix::from_fn(d, d, |_, _| random.uniform()).qr().q();
     if q.determinant() < 0.0 {
         q.column_mut(0).neg_mut();
     }

@@ -56,7 +56,7 @@ fn forces_and_hessians_are_derivatives_of_the_element_energy() {
                 continue;
             }
             let energy = kind.model();
-            let u: Vec<f64> = rest.iter().map(|_| 0.3 * random.next()).collect();
+            let u: Vec<f64> = rest.iter().map(|_| 0.3 * random.uniform()).collect();
             let h = 1e-6;
             let forces = element_forces(&element, energy, &u);
             let hessian_map =

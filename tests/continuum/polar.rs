@@ -15,12 +15,12 @@ fn the_polar_rotation_is_accurate_to_round_off() {
     let mut random = Random::new(5);
     for scale in [1e-1, 1e-3, 1e-5, 1e-8] {
         for k in 0..200 {
-            let mut q = DMatrix::from_fn(3, 3, |_, _| random.next()).qr().q();
+            let mut q = DMatrix::from_fn(3, 3, |_, _| random.uniform()).qr().q();
             if q.determinant() < 0.0 {
                 q.column_mut(0).neg_mut();
             }
             let mut stretch =
-                DMatrix::identity(3, 3) + DMatrix::from_fn(3, 3, |_, _| scale * random.next());
+                DMatrix::identity(3, 3) + DMatrix::from_fn(3, 3, |_, _| scale * random.uniform());
             let inverted = k % 2 == 1;
             if inverted {
                 stretch.column_mut(2).neg_mut();
