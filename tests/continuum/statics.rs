@@ -3,10 +3,13 @@
 
 use mass_spring_solvers::model::continuum::energy::EnergyKind;
 use mass_spring_solvers::model::continuum::scenes::{
-    beam, beam_tip_deflection, cook, cook_node, patch, BEAM_DENSITY, BEAM_LENGTH, BEAM_POISSON,
-    BEAM_SIDE, PATCH_MAP, PATCH_SHIFT,
+    beam, beam_tip_deflection, cook, cook_node, membrane, patch, BEAM_DENSITY, BEAM_LENGTH,
+    BEAM_POISSON, BEAM_SIDE, PATCH_MAP, PATCH_SHIFT,
 };
-use mass_spring_solvers::model::continuum::statics::{static_equilibrium, DEFAULT_TOLERANCE};
+use mass_spring_solvers::model::continuum::statics::static_equilibrium;
+
+/// The residual, relative to the largest nodal load, the tests ask Newton for.
+const TOLERANCE: f64 = 1e-10;
 use mass_spring_solvers::model::scene::THESIS_GRAVITY;
 
 /// The affine patch test, for every energy: Newton from the interior nodes at rest puts them
@@ -51,7 +54,7 @@ fn cooks_membrane_rises_towards_the_literature_value() {
     let mut previous: Option<(f64, f64)> = None;
     for n in [2, 4, 8, 16, 32] {
         let system = cook(n, EnergyKind::Linear, 1.0).unwrap();
-        let eq = static_equilibrium(&system, DEFAULT_TOLERANCE).unwrap();
+        let eq = static_equilibrium(&system, TOLERANCE).unwrap();
         let mid = eq.displacement[2 * cook_node(n, n, n / 2) + 1];
         let corner = eq.displacement[2 * cook_node(n, n, n) + 1];
         let order = previous.map_or(f64::NAN, |(m, _)| {
@@ -90,7 +93,7 @@ fn the_stiff_beam_locks_less_as_it_is_refined() {
     let mut previous = 0.0;
     for r in [2, 4] {
         let system = beam(r, EnergyKind::Linear, 1e9).unwrap();
-        let eq = static_equilibrium(&system, DEFAULT_TOLERANCE).unwrap();
+        let eq = static_equilibrium(&system, TOLERANCE).unwrap();
         let ratio = -beam_tip_deflection(r, &eq.displacement) / theory;
         eprintln!(
             "beam r = {r}: tip {:.4e} m, theory {theory:.4e} m, ratio {ratio:.4}, residual {:.1e} of {:.3e} N in {} iterations",
@@ -114,7 +117,7 @@ fn the_stiff_beam_locks_less_as_it_is_refined() {
 fn newton_converges_on_the_soft_beam() {
     for kind in [EnergyKind::Corotated, EnergyKind::StableNeoHookean] {
         let system = beam(2, kind, 1e6).unwrap();
-        let eq = static_equilibrium(&system, DEFAULT_TOLERANCE).unwrap();
+        let eq = static_equilibrium(&system, TOLERANCE).unwrap();
         let tip = beam_tip_deflection(2, &eq.displacement);
         eprintln!(
             "soft beam {}: tip {tip:.4} m, {} iterations ({} projected), residual {:.1e}",
@@ -125,5 +128,38 @@ fn newton_converges_on_the_soft_beam() {
         );
         assert!(eq.relative_residual <= 1e-10);
         assert!(tip < -0.1, "{tip}");
+    }
+}
+
+/// The membrane (n = 10, k = 1e3 N/m, stable neo-Hookean and StVK) from its flat start, where
+/// the projected Hessian has no stiffness across the plane: Newton reaches 1e-10 of the largest
+/// weight, and the equilibrium has the mesh's symmetry (x, z) ↦ (9 − x, 9 − z) to 1e-9 m.
+/// Wrong implementation it catches (tried): no shift after a failed line search (the flat
+/// start's nearly singular factor steps too far, and the solve fails at iteration 0).
+#[test]
+fn the_membrane_sags_from_its_flat_start() {
+    for kind in [EnergyKind::StableNeoHookean, EnergyKind::StVenantKirchhoff] {
+        let system = membrane(10, kind, 1e3).unwrap();
+        let eq = static_equilibrium(&system, TOLERANCE).unwrap();
+        let u = &eq.displacement;
+        let image = |n: usize| 99 - n;
+        let asymmetry = (0..100)
+            .flat_map(|n| {
+                let m = image(n);
+                [
+                    (u[3 * n] + u[3 * m]).abs(),
+                    (u[3 * n + 1] - u[3 * m + 1]).abs(),
+                    (u[3 * n + 2] + u[3 * m + 2]).abs(),
+                ]
+            })
+            .fold(0.0, f64::max);
+        let lowest = u.iter().skip(1).step_by(3).fold(0.0_f64, |a, &b| a.min(b));
+        eprintln!(
+            "membrane {}: lowest {lowest:.4} m, {} iterations, residual {:.1e}, asymmetry {asymmetry:.1e} m",
+            kind.name(),
+            eq.iterations,
+            eq.relative_residual
+        );
+        assert!(lowest < -1.0 && asymmetry < 1e-9, "{lowest} {asymmetry}");
     }
 }
