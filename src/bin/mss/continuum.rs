@@ -100,8 +100,12 @@ pub(crate) fn run(cli: &Cli) -> Result<(), Failure> {
     let fixed = (0..system.node_count())
         .filter(|&i| system.is_fixed(i))
         .count();
+    let size = match cli.scene {
+        SceneArg::Patch => String::new(),
+        _ => format!(" (n = {n})"),
+    };
     println!(
-        "scene: {} (n = {n}), energy: {}, Young's modulus {}",
+        "scene: {}{size}, energy: {}, Young's modulus {}",
         cli.scene.id(),
         energy.name(),
         shown(youngs)

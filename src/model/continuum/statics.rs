@@ -28,7 +28,7 @@
 //! [`Hyperelastic::clamped_stress_derivative`]: super::hyperelastic::Hyperelastic::clamped_stress_derivative
 
 use super::system::ContinuumSystem;
-use crate::error::{Error, Result};
+use crate::error::{require_positive, Error, Result};
 use crate::model::linear::{Factorization, SymmetricMatrix};
 
 /// The default tolerance on the residual relative to the largest nodal load: 1e-9, since the
@@ -67,9 +67,10 @@ pub struct Equilibrium {
 }
 
 /// The static equilibrium of `system` from its start ([`ContinuumSystem::start`]), to a
-/// residual of `tolerance` relative to the largest nodal load; an error saying the residual
-/// reached if Newton stalls or runs out of iterations.
+/// residual of `tolerance` (> 0) relative to the largest nodal load; an error saying the
+/// residual reached if Newton stalls or runs out of iterations.
 pub fn static_equilibrium(system: &ContinuumSystem, tolerance: f64) -> Result<Equilibrium> {
+    require_positive("tolerance", tolerance)?;
     let mut u = system.start().to_vec();
     let mut residual = system.residual(&u);
     let scale = match system.largest_load() {
