@@ -156,7 +156,8 @@ fn newton_step(
     Ok((solve(&factor), true))
 }
 
-/// The factor of h + τ I with τ = `shift` times h's largest diagonal entry, or, where that
+/// [Nocedal 2006, Alg. 3.3] (unverified: a textbook, no reference code; the 2nd edition's numbering from memory) Cholesky with added multiple of the identity:
+/// the factor of h + τ I with τ = `shift` times h's largest diagonal entry, or, where that
 /// does not factor, with τ raised from [`FIRST_SHIFT`] of it by factors of 100 up to
 /// [`LARGEST_SHIFT`].
 fn shifted_factor(mut h: SymmetricMatrix, shift: f64) -> Result<Factorization> {
@@ -189,6 +190,7 @@ fn shifted_factor(mut h: SymmetricMatrix, shift: f64) -> Result<Factorization> {
     })
 }
 
+/// [Nocedal 2006, Alg. 3.1] (unverified: a textbook, no reference code; the 2nd edition's numbering from memory) Backtracking:
 /// u + α Δu for the first α = 1, 1/2, 1/4, ... that decreases the energy by the Armijo
 /// fraction of the slope, or, once the energy's change is round-off, lowers the residual
 /// below `residual`; None if none does.
