@@ -4,6 +4,7 @@
 
 pub mod boundary;
 pub mod catenary;
+pub mod continuum;
 pub mod lanes;
 pub mod linear;
 pub mod metrics;

@@ -86,6 +86,25 @@ pub(crate) struct Cli {
     #[arg(long, help_heading = "Solver")]
     pub(crate) list_solvers: bool,
 
+    /// Print every continuum energy (--energy), one line each, and exit
+    #[arg(long, help_heading = "Continuum")]
+    pub(crate) list_energies: bool,
+
+    /// The continuum scenes' energy: linear, arap, corotated, stvk or stable-neo-hookean
+    /// (--list-energies) [default: linear for cook, stable-neo-hookean for the others]
+    #[arg(long, value_name = "NAME", help_heading = "Continuum")]
+    pub(crate) energy: Option<String>,
+
+    /// The continuum scenes' Young's modulus E, in Pa (the membrane's Y = E·t, in N/m)
+    /// [default: 1e9 for beam, 1 for cook and patch, 8e6/3 for membrane]
+    #[arg(
+        long,
+        value_name = "PA",
+        allow_hyphen_values = true,
+        help_heading = "Continuum"
+    )]
+    pub(crate) youngs: Option<f64>,
+
     /// Time step dt, in s, from 1e-9 to 1e9 and at most --max-time
     #[arg(
         long,
@@ -317,7 +336,8 @@ pub(crate) struct Cli {
     pub(crate) nodes: Option<i64>,
 
     /// sheet: nodes per side n, an integer from 3 to 2000 (n² nodes; the four corners are fixed;
-    /// the memory estimate may allow fewer) [default: 10]
+    /// the memory estimate may allow fewer) [default: 10]; beam: r, 1 to 64 [default: 2];
+    /// membrane: n, 3 to 200 [default: 10]; cook: N, even, 2 to 1024 [default: 16]
     #[arg(
         long,
         value_name = "N",
@@ -454,6 +474,25 @@ pub(crate) enum SceneArg {
     /// The tutorial's pendulum: a chain of damped springs released horizontal from a pivot,
     /// bouncing on the floor (tutorial integrators only)
     Pendulum,
+    /// docs/fem-scenes.md's tet cantilever 1 m × 0.1 m × 0.1 m (--n: r, default 2), clamped at
+    /// x = 0, under its weight: its static equilibrium by Newton (statics only)
+    Beam,
+    /// docs/fem-scenes.md's sheet as membrane triangles (--n: n, default 10), four corners
+    /// held, under its weight: its static equilibrium by Newton (statics only)
+    Membrane,
+    /// Cook's membrane in plane stress (--n: N, even, default 16), a unit vertical force on its
+    /// right edge: its static equilibrium by Newton (statics only)
+    Cook,
+    /// The affine patch test on the unit cube (3 × 3 × 3 cubes of 6 tets): its static
+    /// equilibrium by Newton (statics only)
+    Patch,
+}
+
+impl SceneArg {
+    /// True for the continuum scenes of docs/fem-scenes.md (statics only).
+    pub(crate) fn is_continuum(self) -> bool {
+        matches!(self, Self::Beam | Self::Membrane | Self::Cook | Self::Patch)
+    }
 }
 
 impl SceneArg {

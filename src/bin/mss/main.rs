@@ -8,6 +8,7 @@
 //! that cannot be written), 1 for a run that failed (diverged, or a step that failed).
 
 mod cli;
+mod continuum;
 mod failure;
 mod output;
 mod scene;
@@ -38,6 +39,21 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 fn run(cli: &Cli) -> Result<(), Failure> {
+    if cli.scene.is_continuum() && cli.scene_file.is_none() {
+        return continuum::run(cli);
+    }
+    if let Some(option) = [
+        ("--energy", cli.energy.is_some()),
+        ("--youngs", cli.youngs.is_some()),
+    ]
+    .iter()
+    .find_map(|(option, given)| given.then_some(option))
+    {
+        return Err(Failure::input(format!(
+            "{option} applies to the continuum scenes only (beam, membrane, cook, patch; the scene is {})",
+            scene_name(cli)
+        )));
+    }
     let mut settings = settings(cli)?;
     let scene = scene_name(cli);
     let model = build_scene(cli, &settings)?;
@@ -184,6 +200,10 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     if cli.list_solvers {
         print!("{}", list_solvers());
+        return ExitCode::SUCCESS;
+    }
+    if cli.list_energies {
+        print!("{}", continuum::list_energies());
         return ExitCode::SUCCESS;
     }
     match run(&cli) {

@@ -188,6 +188,13 @@ fn build_model(cli: &Cli, settings: &Settings) -> Result<Model, Failure> {
             pendulum.gravity = g.unwrap_or(pendulum.gravity);
             Model::Particles(pendulum.build()?)
         }
+        // `run` solves these before any model is built (src/bin/mss/continuum.rs).
+        SceneArg::Beam | SceneArg::Membrane | SceneArg::Cook | SceneArg::Patch => {
+            return Err(Failure::input(format!(
+                "--scene {} is a continuum scene: statics only, no time stepping",
+                cli.scene.id()
+            )))
+        }
     })
 }
 
