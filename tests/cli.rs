@@ -656,7 +656,11 @@ fn the_continuum_scenes_run_statics_and_refuse_bad_fields() {
         &["--scene", "beam", "--energy", "rubber"],
         &["--energy", "stable-neo-hookean"],
     );
-    assert_bad_input(&["--scene", "beam", "--youngs", "-1"], &["youngs_modulus"]);
+    assert_bad_input(
+        &["--scene", "beam", "--youngs", "-1"],
+        &["--youngs", "from 1e-6 to"],
+    );
+    assert_bad_input(&["--scene", "beam", "--youngs", "1e-300"], &["--youngs"]);
     assert_bad_input(&["--scene", "beam", "--n", "0"], &["--n"]);
     assert_bad_input(
         &["--scene", "cook", "--n", "3"],

@@ -95,8 +95,8 @@ pub(crate) struct Cli {
     #[arg(long, value_name = "NAME", help_heading = "Continuum")]
     pub(crate) energy: Option<String>,
 
-    /// The continuum scenes' Young's modulus E, in Pa (the membrane's Y = E·t, in N/m)
-    /// [default: 1e9 for beam, 1 for cook and patch, 8e6/3 for membrane]
+    /// The continuum scenes' Young's modulus E, in Pa (the membrane's Y = E·t, in N/m), from
+    /// 1e-6 to 1e15 [default: 1e9 for beam, 1 for cook and patch, 8e6/3 for membrane]
     #[arg(
         long,
         value_name = "PA",

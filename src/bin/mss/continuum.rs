@@ -14,6 +14,9 @@ use mass_spring_solvers::model::continuum::scenes::{
 use mass_spring_solvers::model::continuum::statics::{static_equilibrium, DEFAULT_TOLERANCE};
 use mass_spring_solvers::model::continuum::system::ContinuumSystem;
 
+/// The range of `--youngs`, Pa (N/m for the membrane's Y).
+const YOUNGS_RANGE: (f64, f64) = (1e-6, 1e15);
+
 /// The membrane's Y = E·t when `--youngs` is not given, N/m: 8k/3 at the sheet's k = 1e6 N/m.
 const DEFAULT_MEMBRANE_YOUNGS: f64 = 8e6 / 3.0;
 
@@ -65,6 +68,9 @@ fn system(cli: &Cli) -> Result<(ContinuumSystem, EnergyKind, f64, usize), Failur
         SceneArg::Membrane => DEFAULT_MEMBRANE_YOUNGS,
         _ => BEAM_YOUNGS[1],
     });
+    // Bounded before any work, so that an energy's stresses and their Newton steps stay
+    // finite: the scenes' moduli run from 1 (Cook) to 1e9 Pa.
+    let youngs = require_within("--youngs", youngs, YOUNGS_RANGE.0, YOUNGS_RANGE.1, "Pa")?;
     let (default_n, min_n, max_n) = match scene {
         SceneArg::Beam => (2, 1, 64),
         SceneArg::Membrane => (10, 3, 200),
