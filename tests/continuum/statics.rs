@@ -178,3 +178,18 @@ fn the_membrane_sags_from_its_flat_start() {
         assert!(lowest < -1.0 && asymmetry < 1e-9, "{lowest} {asymmetry}");
     }
 }
+
+/// A non-finite state never reads as converged: the residual of a displacement with a NaN
+/// coordinate at a free node is NaN, where a finite state's is finite. Wrong implementation it
+/// catches (tried): the largest force by `fold(0.0, f64::max)`, which skips the NaN and reads
+/// the other nodes' forces.
+#[test]
+fn a_non_finite_state_has_a_non_finite_residual() {
+    let system = cook(2, EnergyKind::Linear, 1.0).unwrap();
+    let d = system.dimension();
+    let mut u = vec![0.0; d * system.node_count()];
+    assert!(system.residual(&u).is_finite());
+    // Node (N, N/2) of Cook's mesh is free (only the edge s = 0 is clamped).
+    u[d * cook_node(2, 2, 1)] = f64::NAN;
+    assert!(system.residual(&u).is_nan());
+}

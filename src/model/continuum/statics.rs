@@ -209,6 +209,11 @@ fn line_search(
     for _ in 0..MAX_HALVINGS {
         let next = system.moved(u, step, alpha);
         let change = system.energy(&next) - energy;
+        // A non-finite energy (or round-off scale) is never progress.
+        if !change.is_finite() || !round_off.is_finite() {
+            alpha *= 0.5;
+            continue;
+        }
         if change <= ARMIJO * alpha * slope
             || (change.abs() <= round_off && system.residual(&next) < residual)
         {

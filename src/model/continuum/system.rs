@@ -317,7 +317,9 @@ impl ContinuumSystem {
             .enumerate()
             .filter(|(k, _)| !self.fixed[k / d])
             .map(|(_, f)| f.abs())
-            .fold(0.0, f64::max)
+            // NaN wins, so that a non-finite state never reads as converged (f64::max would
+            // skip it).
+            .fold(0.0, |m, f| if f.is_nan() || f > m { f } else { m })
     }
 
     /// The free nodes' coordinates of a flat vector, in free-node order.
