@@ -1178,6 +1178,12 @@ fn committed_rows() -> Vec<Row> {
     reader.deserialize().map(|r| r.unwrap()).collect()
 }
 
+/// The committed long runs, `report/long/benchmark_long.csv`.
+fn committed_long() -> Vec<Row> {
+    mass_spring_report::benchmark::long::load(&mass_spring_report::crate_root().join("report/long"))
+        .unwrap()
+}
+
 /// Section 11.3's ‡ recomputed from the committed rows with this test's own rule: a ranked
 /// solver's row is before the asymptotic regime when its relative error is at least 0.5 or
 /// its error falls to the next smaller step of the same configuration and window (the long
@@ -1188,10 +1194,7 @@ fn committed_rows() -> Vec<Row> {
 #[test]
 fn the_ranking_cells_before_the_asymptotic_regime_are_the_rules() {
     let committed = committed_rows();
-    let long = mass_spring_report::benchmark::long::load(
-        &mass_spring_report::crate_root().join("report/long"),
-    )
-    .unwrap();
+    let long = committed_long();
     let mut chapter = chapter().clone();
     chapter.rows = committed.clone();
     chapter.long = long.clone();
@@ -1306,10 +1309,7 @@ fn the_statics_cut_count_is_the_rows() {
 #[test]
 fn the_second_window_slopes_are_the_long_runs() {
     use mass_spring_report::format::sig;
-    let long = mass_spring_report::benchmark::long::load(
-        &mass_spring_report::crate_root().join("report/long"),
-    )
-    .unwrap();
+    let long = committed_long();
     let mut chapter = chapter().clone();
     chapter.long = long.clone();
     let section = chapter.section(12, &[]);

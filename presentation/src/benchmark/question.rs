@@ -750,23 +750,12 @@ impl BenchmarkChapter {
             full(100.0 * TIE),
             wall = self.wall_provenance()
         );
-        let mut t = MarkdownTable::new(&["cell", "XPBD", "Fast m-s", "ADMM", "winners"]);
-        for regime in [Regime::Statics, Regime::Dynamics] {
-            let all_four = self.thesis_cells(regime, Schemes::AllFour);
-            for (cell, best) in self
-                .thesis_cells(regime, Schemes::BackwardEuler)
-                .into_iter()
-                .zip(all_four)
-            {
-                let mut cells = vec![cell_label(&cell)];
-                for (be, any) in cell.cheapest.iter().zip(&best.cheapest) {
-                    cells.push(scheme_costs(*be, *any, &flops));
-                }
-                cells.push(winners(&cell.cell));
-                t.row(cells);
-            }
-        }
-        md += &t.render();
+        md += &self.cells_table(
+            ["cell", "XPBD", "Fast m-s", "ADMM", "winners"],
+            &|_, r| flops(r),
+            1.0,
+            &|be, _| winners(be),
+        );
         md += &self.wall_cells_table();
         md += &format!(
             "\nEach conclusion is decided under {} settings: the ties of 10, 25 and 50 % \
@@ -835,34 +824,51 @@ impl BenchmarkChapter {
             return String::new();
         };
         let index = WallIndex::new(&timing.rows);
-        let wall = |_: Case, r: &Row| self.wall_cost(&index, r, false);
-        let mut t = MarkdownTable::new(&[
-            "cell",
-            "XPBD (ms)",
-            "Fast m-s (ms)",
-            "ADMM (ms)",
-            "winners by wall time (BE; any)",
-        ]);
+        format!(
+            "\nThe same cells in wall time (a statics cost estimated, see above):\n\n{}",
+            self.cells_table(
+                [
+                    "cell",
+                    "XPBD (ms)",
+                    "Fast m-s (ms)",
+                    "ADMM (ms)",
+                    "winners by wall time (BE; any)",
+                ],
+                &|_, r| self.wall_cost(&index, r, false),
+                1e3,
+                &|be, any| format!("{}; {}", winners(be), winners(any)),
+            )
+        )
+    }
+
+    /// Reading (b)'s rope cells as a table, each cost by `cost` (shown times `scale`) under
+    /// Backward Euler and, where cheaper, the best of the four integrators, and the winners
+    /// column `winners` gives from the two cells.
+    fn cells_table(
+        &self,
+        headers: [&str; 5],
+        cost: &dyn Fn(Case, &Row) -> Option<f64>,
+        scale: f64,
+        winners: &dyn Fn(&Cell, &Cell) -> String,
+    ) -> String {
+        let mut t = MarkdownTable::new(&headers);
         for regime in [Regime::Statics, Regime::Dynamics] {
-            let all_four = self.thesis_cells_by(regime, Schemes::AllFour, &wall);
+            let all_four = self.thesis_cells_by(regime, Schemes::AllFour, cost);
             for (cell, best) in self
-                .thesis_cells_by(regime, Schemes::BackwardEuler, &wall)
+                .thesis_cells_by(regime, Schemes::BackwardEuler, cost)
                 .into_iter()
                 .zip(all_four)
             {
-                let ms = |r: &Row| wall(cell.case, r).map(|w| 1e3 * w);
+                let shown = |r: &Row| cost(cell.case, r).map(|c| scale * c);
                 let mut cells = vec![cell_label(&cell)];
                 for (be, any) in cell.cheapest.iter().zip(&best.cheapest) {
-                    cells.push(scheme_costs(*be, *any, &ms));
+                    cells.push(scheme_costs(*be, *any, &shown));
                 }
-                cells.push(format!("{}; {}", winners(&cell.cell), winners(&best.cell)));
+                cells.push(winners(&cell.cell, &best.cell));
                 t.row(cells);
             }
         }
-        format!(
-            "\nThe same cells in wall time (a statics cost estimated, see above):\n\n{}",
-            t.render()
-        )
+        t.render()
     }
 
     /// The solver-error references: which converged, and the XPBD references' residuals; a

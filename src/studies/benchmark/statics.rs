@@ -39,7 +39,7 @@ pub fn long_statics_configurations() -> Vec<Configuration> {
 }
 
 /// Whether a statics run is one of `make report-long`'s.
-pub fn is_long_statics(c: &Configuration) -> bool {
+fn is_long_statics(c: &Configuration) -> bool {
     c.spec.id == crate::solvers::registry::SolverId::XpbdSubsteps
 }
 
