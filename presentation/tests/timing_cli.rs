@@ -8,6 +8,7 @@ use mass_spring_report::benchmark::rows_csv;
 use mass_spring_report::benchmark::wall::*;
 use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use mass_spring_solvers::studies::benchmark::sweep::{configurations, Configuration};
+use mass_spring_solvers::studies::benchmark::truth::CaseTruth;
 use mass_spring_solvers::studies::benchmark::Case;
 use std::process::Command;
 
@@ -322,7 +323,15 @@ fn a_quick_run_writes_the_wall_time_files() {
         !lines.last().unwrap().starts_with('#'),
         "an empty last section"
     );
-    let f = figure(&timing.rows, Case::ALL[0]).unwrap();
+    // The figure is cut at the exact motion's floor, which the binary computed from the case's
+    // truth, as here.
+    let truth = CaseTruth::compute(Case::ALL[0]).unwrap();
+    let f = figure(
+        &timing.rows,
+        Case::ALL[0],
+        Some(truth.halving_gap / truth.amplitude),
+    )
+    .unwrap();
     assert_eq!(
         std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap(),
         f.svg

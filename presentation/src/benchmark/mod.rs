@@ -24,7 +24,7 @@ pub mod tolerance;
 mod views;
 pub mod wall;
 
-pub use figures::{epsilon_front, stem, FRONT_EPSILON};
+pub use figures::{epsilon_front, stem, work_figure, work_figure_caption, FrontRow, FRONT_EPSILON};
 pub use question::{ThesisCell, ASYMPTOTIC_ERROR, ASYMPTOTIC_SLOPE, THESIS_QUOTES};
 pub use views::{
     mean_with_interval, RankingCell, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD, VIEW_DETAIL_DT,

@@ -600,25 +600,11 @@ impl BenchmarkChapter {
         );
         for (n, (case, f)) in self.cases().into_iter().zip(figures).enumerate() {
             md += &format!(
-                "![Figure W{0}](figures/{stem}.svg)\n\n*Figure W{0}. Work and precision, {label}, Backward Euler only (the \
-                 minimizing solvers under it; XPBD, PBD and the explicit baselines under their own schemes; \
-                 the other integrators' costs are in section 12.4): each solver's ε-front \
-                 (ε = {eps}: a configuration is left out when another of its own costs at most {grow} times \
-                 as much with at most {grow} times its error) of the relative physical error against the \
-                 counted flops over the window (relative error: the RMS physical error per free node over the \
-                 exact motion's RMS amplitude), by family; the numbers beside a front are the time step Δt (s) \
-                 of its points at 0.1, 0.01, 0.001 and 0.0001 s, in its colour, where there is room; grey: the explicit baselines (RK4 dashed, \
-                 symplectic Euler dotted), doing nothing (the equilibrium held still, error 1) and, dashed, the \
-                 exact motion's floor (its halving gap over its amplitude, about 15 times its own \
-                 error): a point below it measures the truth, not the run, and is drawn on it. A \
-                 front marked ≈ has another's errors step for step: the same computation at another \
-                 cost.* Data: \
+                "![Figure W{0}](figures/{stem}.svg)\n\n*Figure W{0}. {caption}* Data: \
                  [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 n + 1,
                 stem = f.stem,
-                label = case.label(),
-                eps = full(FRONT_EPSILON),
-                grow = full(1.0 + FRONT_EPSILON)
+                caption = work_figure_caption(&case.label(), "the counted flops over the window"),
             );
         }
 

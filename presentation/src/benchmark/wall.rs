@@ -10,13 +10,14 @@
 //! by each cost, the solvers ranked by both, Kendall's τ between the two rankings, and the
 //! pairs the two costs order differently by more than a tie ([`TIE`]) in both.
 
-use crate::benchmark::families::{doing_nothing, front_series, of_case, FAMILIES};
+use crate::benchmark::families::of_case;
+use crate::benchmark::{epsilon_front, work_figure, FrontRow, FRONT_EPSILON};
 use crate::chapter_figure::ChapterFigure;
 use crate::format::{short, sig, MarkdownTable};
-use crate::plot::{Axis, Chart, Panel, FULL_WIDTH_MM};
 use mass_spring_solvers::error::{Error, Result};
+use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration, BASELINES};
+use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration};
 use mass_spring_solvers::studies::benchmark::verdicts::{DYNAMICS_LEVELS, TIE};
 use mass_spring_solvers::studies::benchmark::Case;
 use mass_spring_solvers::studies::beyond::kendall_tau;
@@ -320,19 +321,27 @@ impl Cost {
     }
 }
 
+/// A solver's cheapest configuration by `cost` on `case` that reaches a relative physical
+/// error of `level`, under any integrator.
+pub fn cheapest(
+    rows: &[WallRow],
+    case: Case,
+    id: SolverId,
+    cost: Cost,
+    level: f64,
+) -> Option<&WallRow> {
+    rows_of(rows, case, id)
+        .filter(|r| r.physical_rel <= level)
+        .min_by(|a, b| cost.of(a).total_cmp(&cost.of(b)))
+}
+
 /// The solvers that reach a relative physical error of `level` on `case`, each by its cheapest
-/// configuration by `cost` that reaches it, cheapest first (equal costs in the benchmark's
-/// order of solvers).
+/// configuration by `cost` that reaches it ([`cheapest`]), cheapest first (equal costs in the
+/// benchmark's order of solvers).
 pub fn ranking(rows: &[WallRow], case: Case, cost: Cost, level: f64) -> Vec<(SolverId, f64)> {
     let mut ranked: Vec<(SolverId, f64)> = solvers()
         .into_iter()
-        .filter_map(|id| {
-            rows_of(rows, case, id)
-                .filter(|r| r.physical_rel <= level)
-                .map(|r| cost.of(r))
-                .min_by(f64::total_cmp)
-                .map(|c| (id, c))
-        })
+        .filter_map(|id| cheapest(rows, case, id, cost, level).map(|r| (id, cost.of(r))))
         .collect();
     ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
     ranked
@@ -393,6 +402,18 @@ fn name(id: SolverId) -> &'static str {
     id.info().display_name
 }
 
+/// A timed configuration's solver, with its integrator where it has one ("ADMM under BDF2").
+fn configured_name(row: &WallRow) -> String {
+    let solver = match SolverId::from_id(&row.solver) {
+        Ok(id) => name(id).to_string(),
+        Err(_) => row.solver.clone(),
+    };
+    match row.integrator.parse::<OptimizationIntegrator>() {
+        Ok(integrator) => format!("{solver} under {}", integrator.label()),
+        Err(_) => solver,
+    }
+}
+
 /// The wall time per flop of every solver on every case, with each case's largest over least.
 pub fn ns_per_flop_table(timing: &WallTiming) -> MarkdownTable {
     let cases = timing.cases();
@@ -433,7 +454,13 @@ pub fn rankings_table(timing: &WallTiming) -> MarkdownTable {
         "ordered the other way by wall time, beyond ties",
     ]);
     for c in comparisons(timing) {
-        let first = |r: &[(SolverId, f64)]| r.first().map_or("–", |x| name(x.0));
+        // The cheapest configuration named with its integrator: the ranking takes the best of
+        // the four.
+        let first = |r: &[(SolverId, f64)], cost: Cost| {
+            r.first()
+                .and_then(|x| cheapest(&timing.rows, c.case, x.0, cost, c.level))
+                .map_or("–".to_string(), configured_name)
+        };
         let reversed: Vec<String> = c
             .reversed
             .iter()
@@ -444,8 +471,8 @@ pub fn rankings_table(timing: &WallTiming) -> MarkdownTable {
             format!("{} %", short(100.0 * c.level)),
             c.by_flops.len().to_string(),
             c.tau.map_or("–".into(), |t| format!("{t:.2}")),
-            first(&c.by_flops).into(),
-            first(&c.by_wall).into(),
+            first(&c.by_flops, Cost::Flops),
+            first(&c.by_wall, Cost::Wall),
             if reversed.is_empty() {
                 "none".into()
             } else {
@@ -477,15 +504,16 @@ pub fn costs_compared(timing: &WallTiming) -> String {
         .collect();
     let mut md = format!(
         "**A flop is not a flop.** Each solver's wall time per counted flop on a case (its wall \
-         time over its flops, each summed over its configurations there) spreads across the \
+         time over its flops, each summed over its configurations there, under every integrator) spreads across the \
          solvers: {}.\n\n",
         ranges.join("; ")
     );
     md += &ns_per_flop_table(timing).render();
     md += &format!(
         "\n**Where the two costs rank the solvers differently.** At each relative physical error, \
-         each solver's cheapest configuration that reaches it by each cost (the two may be \
-         different configurations), the solvers ranked by both; a pair is ordered the other way \
+         each solver's cheapest configuration that reaches it by each cost, under any of the four \
+         integrators (the two may be different configurations; the cheapest named with its \
+         integrator), the solvers ranked by both; a pair is ordered the other way \
          when it is, in both costs, by more than a tie ({} %; `a < b`: `a` is cheaper in flops, \
          `b` in wall time).\n\n",
         short(100.0 * TIE)
@@ -578,28 +606,6 @@ pub fn summary(timing: &WallTiming) -> String {
     )
 }
 
-/// The rows that no cheaper row beats in `error`, cheapest first by `cost` (a work-precision
-/// front).
-pub fn pareto_front_by<'a, T>(
-    rows: impl IntoIterator<Item = &'a T>,
-    cost: impl Fn(&T) -> f64,
-    error: impl Fn(&T) -> f64,
-) -> Vec<&'a T> {
-    let mut sorted: Vec<&T> = rows.into_iter().collect();
-    sorted.sort_by(|a, b| {
-        cost(a)
-            .total_cmp(&cost(b))
-            .then(error(a).total_cmp(&error(b)))
-    });
-    let mut front: Vec<&T> = Vec::new();
-    for r in sorted {
-        if front.last().is_none_or(|best| error(r) < error(best)) {
-            front.push(r);
-        }
-    }
-    front
-}
-
 /// The file stems of the wall-time figures, in [`Case::ALL`]'s order.
 const STEMS: [&str; 4] = [
     "benchmark_wall_rope_k1e3",
@@ -616,38 +622,45 @@ pub fn stem(case: Case) -> &'static str {
         .expect("a case of the benchmark")]
 }
 
-/// The work-precision figure of a case in wall time: the report's figure of section 12 with the
-/// wall time of a run for its flops (three panels by family, the baselines and doing nothing on
-/// each, every solver's front in wall time).
-pub fn figure(rows: &[WallRow], case: Case) -> Result<ChapterFigure> {
-    let panels: Vec<Panel> = FAMILIES
-        .iter()
-        .map(|(family, ids)| {
-            let mut panel = Panel::new(
-                Axis::log("wall time of a run (s)"),
-                Axis::log("physical error / exact amplitude"),
-            );
-            panel.heading = (*family).into();
-            let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
-            for &id in ids.iter().chain(BASELINES.iter()) {
-                let front =
-                    pareto_front_by(rows_of(rows, case, id), |r| r.wall_s, |r| r.physical_rel);
-                if front.is_empty() {
-                    continue;
-                }
-                lo = lo.min(front[0].wall_s);
-                hi = hi.max(front[front.len() - 1].wall_s);
-                let points = front.iter().map(|r| (r.wall_s, r.physical_rel)).collect();
-                panel.series.push(front_series(id, points));
-            }
-            if lo.is_finite() {
-                panel.series.push(doing_nothing(lo, hi));
-            }
-            panel
-        })
-        .collect();
-    // Two columns: the families' names do not fit three abreast.
-    let mut chart = Chart::new(FULL_WIDTH_MM, 170.0, panels);
-    chart.columns = 2;
-    ChapterFigure::new(stem(case), &chart, String::new())
+/// The work-precision figure of a case in wall time: the report's figure of section 12
+/// ([`work_figure`]) with the wall time of a run for its flops, each front an ε-front in wall
+/// time under its integrator, cut at the exact motion's `floor`.
+pub fn figure(rows: &[WallRow], case: Case, floor: Option<f64>) -> Result<ChapterFigure> {
+    work_figure(
+        stem(case),
+        ("wall time of a run (s)", "wall_s"),
+        floor,
+        |id, integrator| {
+            let rows: Vec<&WallRow> = rows_of(rows, case, id)
+                .filter(|r| r.integrator == integrator)
+                .collect();
+            let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.wall_s, r.physical_rel)).collect();
+            epsilon_front(&points, FRONT_EPSILON)
+                .into_iter()
+                .map(|i| rows[i])
+                .collect()
+        },
+    )
+}
+
+/// The wall-time rows on a front: their cost is the wall time of a run.
+impl FrontRow for WallRow {
+    fn solver(&self) -> &str {
+        &self.solver
+    }
+    fn integrator(&self) -> &str {
+        &self.integrator
+    }
+    fn iterations(&self) -> usize {
+        self.iterations
+    }
+    fn dt_s(&self) -> f64 {
+        self.dt_s
+    }
+    fn cost(&self) -> f64 {
+        self.wall_s
+    }
+    fn error(&self) -> f64 {
+        self.physical_rel
+    }
 }

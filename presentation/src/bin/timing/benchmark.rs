@@ -11,6 +11,7 @@ use crate::measure::{time_batches, REPEATS};
 use mass_spring_report::benchmark::wall::{
     costs_compared, figure, stem, RunTime, WallRow, WallTiming, WALL_CSV, WALL_SPREAD_FLAG,
 };
+use mass_spring_report::benchmark::work_figure_caption;
 use mass_spring_report::format::short;
 use mass_spring_report::ChapterFigure;
 use mass_spring_solvers::error::{Error, Result};
@@ -37,6 +38,9 @@ pub struct Timed {
     /// Those that needed more than one run per batch.
     pub batched: usize,
     pub batch_seconds: f64,
+    /// Each case's exact motion's floor: its halving gap over its amplitude (as the report's
+    /// figures cut at it).
+    pub floors: Vec<(Case, f64)>,
 }
 
 /// The cases of a run: every case, or with `quick` the soft rope.
@@ -96,6 +100,10 @@ pub fn time_benchmark(cases: &[Case], quick: bool, batch_seconds: f64) -> Result
         cpu_flagged: 0,
         batched: 0,
         batch_seconds,
+        floors: truths
+            .iter()
+            .map(|t| (t.case, t.halving_gap / t.amplitude))
+            .collect(),
     };
     for (i, o) in outcomes.iter().enumerate() {
         let c = &o.configuration;
@@ -151,7 +159,13 @@ pub fn time_benchmark(cases: &[Case], quick: bool, batch_seconds: f64) -> Result
 impl Timed {
     /// The work-precision figures in wall time, one per case.
     pub fn figures(&self, cases: &[Case]) -> Result<Vec<ChapterFigure>> {
-        cases.iter().map(|&c| figure(&self.rows, c)).collect()
+        cases
+            .iter()
+            .map(|&c| {
+                let floor = self.floors.iter().find(|f| f.0 == c).map(|f| f.1);
+                figure(&self.rows, c, floor)
+            })
+            .collect()
     }
 
     /// TIMING.md's section on the benchmark: how it was timed, the costs compared, the figures
@@ -199,12 +213,11 @@ impl Timed {
             let s = stem(case);
             let _ = writeln!(
                 md,
-                "![Figure {n}]({s}.svg)\n\n*Figure {n}. {}: the relative physical error against the wall time of a \
-                 run over the window on one core, each solver's front (its configurations no \
-                 faster one of its own beats), by family as in the report's section 12; grey: \
-                 the explicit baselines (RK4 dashed, symplectic Euler dotted) and doing nothing \
-                 (error 1).* Data: [`{WALL_CSV}`]({WALL_CSV}).\n",
-                case.label()
+                "![Figure {n}]({s}.svg)\n\n*Figure {n}. {}* Data: [`{WALL_CSV}`]({WALL_CSV}).\n",
+                work_figure_caption(
+                    &case.label(),
+                    "the wall time of a run over the window on one core"
+                )
             );
         }
         let counts: Vec<String> = cases

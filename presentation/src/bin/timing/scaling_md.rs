@@ -6,9 +6,10 @@ use crate::scaling::{
     solvers, Point, Scaling, BYTES_PER_FACTOR_ENTRY, DT, ITERATIONS, NEWTON_ITERATIONS, SIDES,
     STIFFNESS,
 };
+use mass_spring_report::benchmark::families::FAMILIES;
 use mass_spring_report::benchmark::rows_csv;
-use mass_spring_report::plot::{self, Axis, Chart, Entry, Line, Panel, Rgb, Series};
-use mass_spring_report::style::{colour, solver_line, solver_marker};
+use mass_spring_report::plot::{self, Axis, Chart, Panel, Series};
+use mass_spring_report::style::{colour, family_marker, solver_line};
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::solvers::registry::SolverId;
 use std::fmt::Write as _;
@@ -31,71 +32,86 @@ fn slope(points: &[(f64, f64)]) -> Option<f64> {
 
 /// Points from n = 40 up fit the slopes: the smallest sheets are dominated by fixed costs.
 const FIT_FROM_SIDE: usize = 40;
-/// `scaling.svg`: CPU time per iteration and of the set-up against the nodes, log-log, one
-/// legend for both panels and a reference line of slope 1 (time in proportion to the nodes) in
-/// each.
+/// `scaling.svg`: CPU time per node of an iteration (top row) and of the set-up (bottom row)
+/// against the nodes, log-log, one small panel per family of solvers as in the report's
+/// work-precision figures ([`FAMILIES`]), each solver in its colour, line and marker there. A
+/// flat series is time in proportion to the nodes; a rising one, faster than the nodes.
 pub fn figure(study: &Scaling) -> Result<String> {
-    let mut iteration = Panel::new(Axis::log("nodes"), Axis::log("CPU time per iteration (s)"));
-    let mut setup = Panel::new(Axis::log("nodes"), Axis::log("set-up CPU time (s)"));
-    iteration.heading = "per iteration".into();
-    setup.heading = "set-up".into();
-    let mut legend = Vec::new();
-    for solver in solvers() {
-        let id = solver.id;
-        let mine: Vec<&Point> = study
-            .points
-            .iter()
-            .filter(|p| p.solver == id.id())
-            .collect();
-        if mine.is_empty() {
-            continue;
-        }
-        let styled = |points| {
-            Series::line("", points, colour(id, 0))
-                .with_line(solver_line(id))
-                .with_marker(solver_marker(id), true)
-        };
-        let xy = |f: fn(&Point) -> f64| mine.iter().map(|p| (p.nodes as f64, f(p))).collect();
-        iteration.series.push(styled(xy(|p| p.iteration_cpu_s)));
-        setup.series.push(styled(xy(|p| p.setup_cpu_s)));
-        legend.push(Entry {
-            label: id.display_name().into(),
-            style: styled(Vec::new()).style,
-        });
-    }
-    let reference = |panel: &mut Panel| {
-        let points: Vec<(f64, f64)> = panel.series.iter().flat_map(|s| s.points.clone()).collect();
-        let x0 = points.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
-        let x1 = points.iter().map(|p| p.0).fold(0.0, f64::max);
-        // Through the least time at the smallest sheet, a decade below it.
-        let y0 = points
-            .iter()
-            .filter(|p| p.0 == x0)
-            .map(|p| p.1)
-            .fold(f64::INFINITY, f64::min)
-            / 10.0;
-        if y0.is_finite() {
-            panel
+    let measured = solvers();
+    let mut rows: [Vec<Panel>; 2] = [Vec::new(), Vec::new()];
+    for (family, ids) in FAMILIES {
+        let mut iteration = Panel::new(
+            Axis::log("nodes"),
+            Axis::log("CPU time per iteration per node (s)"),
+        );
+        let mut setup = Panel::new(
+            Axis::log("nodes"),
+            Axis::log("set-up CPU time per node (s)"),
+        );
+        iteration.heading = short_family(family).into();
+        setup.heading = short_family(family).into();
+        for &id in ids {
+            if !measured.iter().any(|s| s.id == id) {
+                continue;
+            }
+            let mine: Vec<&Point> = study
+                .points
+                .iter()
+                .filter(|p| p.solver == id.id())
+                .collect();
+            if mine.is_empty() {
+                continue;
+            }
+            let styled = |label: &str, per_node: fn(&Point) -> f64| {
+                let points = mine
+                    .iter()
+                    .map(|p| (p.nodes as f64, per_node(p) / p.nodes as f64))
+                    .collect();
+                Series::line(label, points, colour(id, 0))
+                    .with_line(solver_line(id))
+                    .with_marker(family_marker(id), true)
+            };
+            // One legend per family, under the set-up panels.
+            iteration.series.push(styled("", |p| p.iteration_cpu_s));
+            setup
                 .series
-                .push(reference_line(vec![(x0, y0), (x1, y0 * x1 / x0)]));
+                .push(styled(id.display_name(), |p| p.setup_cpu_s));
         }
-    };
-    reference(&mut iteration);
-    reference(&mut setup);
-    legend.push(Entry {
-        label: "slope 1 (time ∝ nodes)".into(),
-        style: reference_line(Vec::new()).style,
-    });
-    let mut chart = Chart::new(plot::FULL_WIDTH_MM, 110.0, vec![iteration, setup]);
-    chart.legend = legend;
+        rows[0].push(iteration);
+        rows[1].push(setup);
+    }
+    // Each row on one range of whole decades, so that the families compare across a row.
+    for row in &mut rows {
+        let values = row
+            .iter()
+            .flat_map(|p| p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)));
+        let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), y| {
+            (lo.min(y), hi.max(y))
+        });
+        if lo.is_finite() && lo > 0.0 {
+            let decades = (
+                10f64.powf(lo.log10().floor()),
+                10f64.powf(hi.log10().ceil()),
+            );
+            for panel in row.iter_mut() {
+                panel.y.range = Some(decades);
+            }
+        }
+    }
+    let [iteration, setup] = rows;
+    let panels: Vec<Panel> = iteration.into_iter().chain(setup).collect();
+    let mut chart = Chart::new(plot::FULL_WIDTH_MM, 190.0, panels);
+    chart.columns = FAMILIES.len();
     Ok(plot::layout(&chart)?.svg())
 }
 
-/// The grey dashed reference of slope 1.
-fn reference_line(points: Vec<(f64, f64)>) -> Series {
-    Series::line("", points, Rgb(120, 120, 120))
-        .with_line(Line::Dashed)
-        .with_weight(0.7)
+/// A family's name short enough for a third of the page.
+fn short_family(family: &str) -> &str {
+    match family {
+        "accelerated Projective Dynamics" => "accelerated PD",
+        "substeps and vertex descent" => "substeps and VBD",
+        other => other,
+    }
 }
 
 /// TIMING.md's sections of the scaling study: the points, the slopes, the figure, the bound of
@@ -157,9 +173,11 @@ pub fn scaling_md(study: &Scaling, figure: usize) -> String {
     let _ = writeln!(w, "### Slopes\n");
     let _ = writeln!(
         w,
-        "![Figure {figure}](scaling.svg)\n\n*Figure {figure}. CPU time per iteration and of the \
-         set-up against the nodes of the sheet, every solver; dashed grey: slope 1, time in \
-         proportion to the nodes.* Least-squares slopes of log CPU time against log nodes, n ≥ {FIT_FROM_SIDE}:\n"
+        "![Figure {figure}](scaling.svg)\n\n*Figure {figure}. CPU time per node of an iteration \
+         (top) and of the set-up (bottom) against the nodes of the sheet, one panel per family \
+         of solvers as in the report's work-precision figures: a flat series is time in \
+         proportion to the nodes, a rising one grows faster (its slope is the table's less \
+         1).* Least-squares slopes of log CPU time against log nodes, n ≥ {FIT_FROM_SIDE}:\n"
     );
     let _ = writeln!(w, "| solver | per iteration | set-up | step |");
     let _ = writeln!(w, "|---|---:|---:|---:|");
