@@ -129,19 +129,35 @@ fn the_two_rankings_are_compared_at_matched_accuracy() {
         row(admm, 0.01, 8e-3, 900.0, 0.005),
     ];
     let case = Case::ALL[0];
-    let c = compare(&rows, case, 0.1);
-    let ids = |r: &[(SolverId, f64)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
+    // No explicit baseline here: RK4's limit does not matter.
+    let limit = 1.0;
+    let c = compare(&rows, case, 0.1, limit);
+    let ids = |r: &[(SolverId, &WallRow)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
     assert_eq!(ids(&c.by_flops), [xpbd, liu, admm]);
     assert_eq!(ids(&c.by_wall), [admm, liu, xpbd]);
     let expected = tau(&ids(&c.by_flops), &ids(&c.by_wall));
     assert_eq!(c.tau, Some(expected));
     assert_eq!(expected, -1.0);
     assert_eq!(c.reversed, [(xpbd, admm), (liu, admm)]);
+    // ADMM's batch means spread to twice its least: its slowest (2e-3 s) no longer beats
+    // XPBD's or Liu's least by a tie, so neither pair is reversed (a rule reading the least
+    // batch mean alone keeps both, as above).
+    let mut spread = rows.clone();
+    spread[2].wall_spread = 1.0;
+    assert_eq!(compare(&spread, case, 0.1, limit).reversed, []);
+    // An explicit baseline counts only within its margin: symplectic Euler at dt = 1e-3 s
+    // is cheapest in both costs when its limit (RK4's over √2) is 1.2e-3 s (83 %), and left
+    // out when it is 1.05e-3 s (95 %).
+    let mut explicit = rows.clone();
+    explicit.push(row(SolverId::SymplecticEuler, 1e-3, 1e-7, 10.0, 0.05));
+    let first = |rk4: f64| compare(&explicit, case, 0.1, rk4).by_flops[0].0;
+    assert_eq!(
+        first(1.2e-3 * std::f64::consts::SQRT_2),
+        SolverId::SymplecticEuler
+    );
+    assert_eq!(first(1.05e-3 * std::f64::consts::SQRT_2), xpbd);
     // The summary reads the rankings it recomputes: τ = −1 with three solvers, two pairs.
-    let timing = WallTiming {
-        rows: rows.clone(),
-        machine: machine(),
-    };
+    let timing = WallTiming::new(rows.clone(), machine()).unwrap();
     let text = summary(&timing);
     assert!(text.contains("is -1.00 to -1.00, and 2 pairs"), "{text}");
     assert!(text.contains("the wall time reorders"), "{text}");
@@ -151,9 +167,15 @@ fn the_two_rankings_are_compared_at_matched_accuracy() {
     let text = summary(&agreeing);
     assert!(text.contains("is 1.00 to 1.00, and 0 pairs"), "{text}");
     assert!(text.contains("nearly as the wall time does"), "{text}");
-    let at_one_percent = compare(&rows, case, 0.01);
-    assert_eq!(at_one_percent.by_flops, [(admm, 500.0)]);
-    assert_eq!(at_one_percent.by_wall, [(admm, 8e-3)]);
+    let at_one_percent = compare(&rows, case, 0.01, limit);
+    let costs = |r: &[(SolverId, &WallRow)], cost: Cost| {
+        r.iter().map(|x| (x.0, cost.of(x.1))).collect::<Vec<_>>()
+    };
+    assert_eq!(
+        costs(&at_one_percent.by_flops, Cost::Flops),
+        [(admm, 500.0)]
+    );
+    assert_eq!(costs(&at_one_percent.by_wall, Cost::Wall), [(admm, 8e-3)]);
     assert_eq!(at_one_percent.tau, None);
     // Wall time per flop: the sums' ratio, ns.
     let admm_ns = (1.0e-3 + 1e-6 + 9e-3 + 8e-3) / (400.0 + 1.0 + 500.0 + 900.0) * 1e9;

@@ -572,6 +572,14 @@ fn the_verdicts_follow_their_sentences_on_constructed_tables() {
     assert_eq!(decide(DynamicsXpbd, &admm_first, 0.1), "fails");
     assert_eq!(decide(DynamicsNoneStandsOut, &admm_first, 0.1), "fails");
     assert_eq!(decide(AdmmForBoth, &admm_first, 0.1), "holds");
+    // "For both": ADMM first in every dynamics cell but beaten in one statics cell fails (a
+    // rule reading the dynamics cells alone would hold); first in the statics cell too holds.
+    let mut statics_lost = admm_first.to_vec();
+    statics_lost.push(cell(S, [Some(1.0), Some(4.0), Some(2.0)]));
+    assert_eq!(decide(AdmmForBoth, &statics_lost, 0.1), "fails");
+    let mut statics_won = admm_first.to_vec();
+    statics_won.push(cell(S, [Some(2.0), Some(4.0), Some(1.0)]));
+    assert_eq!(decide(AdmmForBoth, &statics_won, 0.1), "holds");
     // XPBD and ADMM tied, Fast m-s dear: no one stands out.
     let tied = [
         cell(D, [Some(1.0), Some(3.0), Some(1.05)]),
@@ -1355,4 +1363,97 @@ fn the_second_window_slopes_are_the_long_runs() {
             .collect();
         assert_ne!(sig(slope(&first), 3), sig(second, 3));
     }
+}
+
+/// Reading (b)'s sentence on the decided dynamics cells under Backward Euler, recomputed: in
+/// each, the three solvers' cheapest rows (by flops, fixed counts, reaching the level) are
+/// found here from the rows, and the sentence says "in each of the N" exactly when all run one
+/// iteration at one step. Negative case: one cheapest row made two iterations, and the
+/// sentence counts one cell fewer.
+#[test]
+fn the_same_step_sentence_counts_the_cells_it_names() {
+    let chapter = chapter();
+    let be = |r: &Row| r.integrator.is_empty() || r.integrator == "backward-euler";
+    let three = [SolverId::Xpbd, SolverId::FastMassSpring, SolverId::AdmmPd];
+    let mut alike = 0;
+    let mut decided = 0;
+    let mut first_alike: Option<(String, usize, f64)> = None;
+    for case in Case::ALL.into_iter().filter(|c| c.scene == GridScene::Rope) {
+        for level in [0.1, 0.01, 0.001] {
+            let cheapest: Vec<Option<&Row>> = three
+                .iter()
+                .map(|s| {
+                    chapter
+                        .dynamics(case)
+                        .into_iter()
+                        .filter(|r| r.solver == s.id() && be(r))
+                        .filter(|r| r.physical_rel.is_some_and(|e| e <= level))
+                        .min_by(|a, b| a.flops.unwrap().total_cmp(&b.flops.unwrap()))
+                })
+                .collect();
+            if cheapest.iter().all(Option::is_none) {
+                continue;
+            }
+            decided += 1;
+            let rows: Vec<&Row> = cheapest.into_iter().flatten().collect();
+            if rows.len() == 3
+                && rows
+                    .iter()
+                    .all(|r| r.iterations == 1 && r.dt_s == rows[0].dt_s)
+            {
+                alike += 1;
+                first_alike.get_or_insert((rows[0].solver.clone(), 1, rows[0].dt_s));
+            }
+        }
+    }
+    let sentence = chapter.same_step_sentence();
+    let expected = if alike == decided {
+        format!("in each of the {decided} decided dynamics cells")
+    } else {
+        format!("in {alike} of the {decided} decided dynamics cells")
+    };
+    assert!(sentence.contains(&expected), "{expected}: {sentence}");
+    let (solver, _, dt) = first_alike.expect("a cell where the three run one iteration");
+    let mut changed = chapter.clone();
+    for r in changed
+        .rows
+        .iter_mut()
+        .filter(|r| r.solver == solver && r.dt_s == dt && r.iterations == 1 && r.kind == "dynamics")
+    {
+        r.iterations = 2;
+    }
+    let fewer = changed.same_step_sentence();
+    assert!(!fewer.contains(&expected), "{fewer}");
+}
+
+/// "No method stands out" under the forms of its rule, on constructed cells (expectations
+/// from the sentence, not from the code): XPBD and ADMM alike in one of three cells and
+/// different in rest error alone in the other two, no solver better than both everywhere. The
+/// first form (no majority) holds, the rule's half fails, a quarter holds; with the rest error
+/// left out the two are alike in all three. Negative case: a rule that ignored the rest error
+/// would hold at every majority.
+#[test]
+fn none_stands_out_moves_with_the_majority_it_asks() {
+    use SolverId::{AdmmPd as Admm, FastMassSpring as Liu, Xpbd};
+    let run = |s, error| protocol_run(s, true, error, 100, 1.0);
+    let alike = protocol_cell([run(Xpbd, 0.01), run(Liu, 0.01), run(Admm, 0.01)]);
+    let apart = protocol_cell([run(Xpbd, 0.01), run(Liu, 0.01), run(Admm, 0.001)]);
+    let cells = [alike, apart.clone(), apart];
+    let n = thesis_protocol::NoneStandsOut::of(&cells, 0.1);
+    assert_eq!(
+        (n.decided, n.alike, n.alike_without_rest_error, n.stands_out),
+        (3, 1, 3, false)
+    );
+    let ids = [None, Some(0.25), Some(0.5), Some(0.75)].map(|m| n.verdict(m).id());
+    assert_eq!(ids, ["holds", "holds", "fails", "fails"]);
+    let ignoring = thesis_protocol::NoneStandsOut {
+        alike: n.alike_without_rest_error,
+        ..n
+    };
+    assert_eq!(ignoring.verdict(Some(0.75)).id(), "holds");
+    // The rule's own verdict is the majority form's.
+    assert_eq!(
+        thesis_protocol::decide(Conclusion::DynamicsNoneStandsOut, &cells, 0.1).id(),
+        n.verdict(Some(thesis_protocol::SIMILAR_MAJORITY)).id()
+    );
 }

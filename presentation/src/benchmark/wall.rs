@@ -17,10 +17,13 @@ use crate::format::{short, sig, MarkdownTable};
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::integrators::optimization_integrator::OptimizationIntegrator;
 use mass_spring_solvers::solvers::registry::SolverId;
-use mass_spring_solvers::studies::benchmark::sweep::{solvers, Configuration};
+use mass_spring_solvers::studies::benchmark::sweep::{
+    solvers, stability_limit_from_rk4, Configuration, STABILITY_MARGIN,
+};
 use mass_spring_solvers::studies::benchmark::verdicts::{DYNAMICS_LEVELS, TIE};
 use mass_spring_solvers::studies::benchmark::Case;
 use mass_spring_solvers::studies::beyond::kendall_tau;
+use mass_spring_solvers::studies::work_precision::rk4_stability_limit;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -191,6 +194,8 @@ pub struct Machine {
 pub struct WallTiming {
     pub rows: Vec<WallRow>,
     pub machine: Machine,
+    /// RK4's stability limit on each case the rows time, s ([`WallTiming::new`]).
+    pub rk4_limits: Vec<(Case, f64)>,
 }
 
 /// Reads every record of a CSV strictly (a header, no ragged rows), naming the file on error.
@@ -238,10 +243,22 @@ impl WallTiming {
                 machines.len()
             )));
         }
-        Ok(Some(Self {
+        Self::new(rows, machines.remove(0)).map(Some)
+    }
+
+    /// A measurement of `rows` on `machine`, with RK4's stability limit on each of its cases
+    /// (the explicit baselines' margin, [`cheapest`]).
+    pub fn new(rows: Vec<WallRow>, machine: Machine) -> Result<Self> {
+        let mut timing = Self {
             rows,
-            machine: machines.remove(0),
-        }))
+            machine,
+            rk4_limits: Vec::new(),
+        };
+        for case in timing.cases() {
+            let limit = rk4_stability_limit(&case.scene.system(case.stiffness)?);
+            timing.rk4_limits.push((case, limit));
+        }
+        Ok(timing)
     }
 
     /// The cases it holds, in [`Case::ALL`]'s order.
@@ -322,59 +339,75 @@ impl Cost {
 }
 
 /// A solver's cheapest configuration by `cost` on `case` that reaches a relative physical
-/// error of `level`, under any integrator.
+/// error of `level`, under any integrator; an explicit baseline's only within
+/// [`STABILITY_MARGIN`] of its stability limit (from RK4's on the case, `rk4_limit_s`), as
+/// the report's headline and section 12.4 recommend them.
 pub fn cheapest(
     rows: &[WallRow],
     case: Case,
     id: SolverId,
     cost: Cost,
-    level: f64,
+    (level, rk4_limit_s): (f64, f64),
 ) -> Option<&WallRow> {
+    let limit = stability_limit_from_rk4(id, rk4_limit_s);
     rows_of(rows, case, id)
         .filter(|r| r.physical_rel <= level)
+        .filter(|r| limit.is_none_or(|l| r.dt_s <= STABILITY_MARGIN * l))
         .min_by(|a, b| cost.of(a).total_cmp(&cost.of(b)))
 }
 
 /// The solvers that reach a relative physical error of `level` on `case`, each by its cheapest
 /// configuration by `cost` that reaches it ([`cheapest`]), cheapest first (equal costs in the
 /// benchmark's order of solvers).
-pub fn ranking(rows: &[WallRow], case: Case, cost: Cost, level: f64) -> Vec<(SolverId, f64)> {
-    let mut ranked: Vec<(SolverId, f64)> = solvers()
+pub fn ranking(
+    rows: &[WallRow],
+    case: Case,
+    cost: Cost,
+    at: (f64, f64),
+) -> Vec<(SolverId, &WallRow)> {
+    let mut ranked: Vec<(SolverId, &WallRow)> = solvers()
         .into_iter()
-        .filter_map(|id| cheapest(rows, case, id, cost, level).map(|r| (id, cost.of(r))))
+        .filter_map(|id| cheapest(rows, case, id, cost, at).map(|r| (id, r)))
         .collect();
-    ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
+    ranked.sort_by(|a, b| cost.of(a.1).total_cmp(&cost.of(b.1)));
     ranked
 }
 
 /// The two rankings of a case at one level, and where they differ.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Comparison {
+pub struct Comparison<'a> {
     pub case: Case,
     pub level: f64,
-    pub by_flops: Vec<(SolverId, f64)>,
-    pub by_wall: Vec<(SolverId, f64)>,
+    /// Each solver's cheapest configuration in flops, cheapest first.
+    pub by_flops: Vec<(SolverId, &'a WallRow)>,
+    /// The same in wall time (at the least batch mean).
+    pub by_wall: Vec<(SolverId, &'a WallRow)>,
     /// Kendall's τ between the two rankings; None for fewer than two solvers.
     pub tau: Option<f64>,
     /// The pairs (a, b) that flops rank a before b and wall time b before a, each cost by
-    /// more than a tie: a's flops under b's by more than [`TIE`], b's wall time under a's by
-    /// more than [`TIE`].
+    /// more than a tie and the wall time beyond the timing's spread: a's flops under b's by
+    /// more than [`TIE`], b's wall time at its largest batch mean under a's at its least by
+    /// more than [`TIE`] (a machine's load moves a configuration within its spread).
     pub reversed: Vec<(SolverId, SolverId)>,
 }
 
-/// The comparison of the two costs on `case` at `level`.
-pub fn compare(rows: &[WallRow], case: Case, level: f64) -> Comparison {
-    let by_flops = ranking(rows, case, Cost::Flops, level);
-    let by_wall = ranking(rows, case, Cost::Wall, level);
-    let ids = |r: &[(SolverId, f64)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
-    let cost = |r: &[(SolverId, f64)], id: SolverId| r.iter().find(|x| x.0 == id).map(|x| x.1);
+/// The comparison of the two costs on `case` at `level`, the explicit baselines within their
+/// margin of RK4's stability limit `rk4_limit_s` ([`cheapest`]).
+pub fn compare(rows: &[WallRow], case: Case, level: f64, rk4_limit_s: f64) -> Comparison<'_> {
+    let by_flops = ranking(rows, case, Cost::Flops, (level, rk4_limit_s));
+    let by_wall = ranking(rows, case, Cost::Wall, (level, rk4_limit_s));
+    let ids = |r: &[(SolverId, &WallRow)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
+    fn of<'r>(r: &[(SolverId, &'r WallRow)], id: SolverId) -> Option<&'r WallRow> {
+        r.iter().find(|x| x.0 == id).map(|x| x.1)
+    }
     let mut reversed = Vec::new();
     for &(a, fa) in &by_flops {
         for &(b, fb) in &by_flops {
-            let (Some(wa), Some(wb)) = (cost(&by_wall, a), cost(&by_wall, b)) else {
+            let (Some(wa), Some(wb)) = (of(&by_wall, a), of(&by_wall, b)) else {
                 continue;
             };
-            if fa * (1.0 + TIE) < fb && wb * (1.0 + TIE) < wa {
+            let slowest_b = wb.wall_s * (1.0 + wb.wall_spread);
+            if fa.flops * (1.0 + TIE) < fb.flops && slowest_b * (1.0 + TIE) < wa.wall_s {
                 reversed.push((a, b));
             }
         }
@@ -390,11 +423,13 @@ pub fn compare(rows: &[WallRow], case: Case, level: f64) -> Comparison {
 }
 
 /// Every comparison: the cases in order, each at every level of [`DYNAMICS_LEVELS`].
-pub fn comparisons(timing: &WallTiming) -> Vec<Comparison> {
+pub fn comparisons(timing: &WallTiming) -> Vec<Comparison<'_>> {
     timing
-        .cases()
-        .into_iter()
-        .flat_map(|case| DYNAMICS_LEVELS.map(|level| compare(&timing.rows, case, level)))
+        .rk4_limits
+        .iter()
+        .flat_map(|&(case, limit)| {
+            DYNAMICS_LEVELS.map(|level| compare(&timing.rows, case, level, limit))
+        })
         .collect()
 }
 
@@ -454,12 +489,12 @@ pub fn rankings_table(timing: &WallTiming) -> MarkdownTable {
         "ordered the other way by wall time, beyond ties",
     ]);
     for c in comparisons(timing) {
-        // The cheapest configuration named with its integrator: the ranking takes the best of
-        // the four.
-        let first = |r: &[(SolverId, f64)], cost: Cost| {
-            r.first()
-                .and_then(|x| cheapest(&timing.rows, c.case, x.0, cost, c.level))
-                .map_or("–".to_string(), configured_name)
+        // The cheapest configuration named with its integrator (the ranking takes the best of
+        // the four) and its step.
+        let first = |r: &[(SolverId, &WallRow)]| {
+            r.first().map_or("–".to_string(), |x| {
+                format!("{}, dt {} s", configured_name(x.1), short(x.1.dt_s))
+            })
         };
         let reversed: Vec<String> = c
             .reversed
@@ -471,8 +506,8 @@ pub fn rankings_table(timing: &WallTiming) -> MarkdownTable {
             format!("{} %", short(100.0 * c.level)),
             c.by_flops.len().to_string(),
             c.tau.map_or("–".into(), |t| format!("{t:.2}")),
-            first(&c.by_flops, Cost::Flops),
-            first(&c.by_wall, Cost::Wall),
+            first(&c.by_flops),
+            first(&c.by_wall),
             if reversed.is_empty() {
                 "none".into()
             } else {
@@ -513,9 +548,12 @@ pub fn costs_compared(timing: &WallTiming) -> String {
         "\n**Where the two costs rank the solvers differently.** At each relative physical error, \
          each solver's cheapest configuration that reaches it by each cost, under any of the four \
          integrators (the two may be different configurations; the cheapest named with its \
-         integrator), the solvers ranked by both; a pair is ordered the other way \
-         when it is, in both costs, by more than a tie ({} %; `a < b`: `a` is cheaper in flops, \
-         `b` in wall time).\n\n",
+         integrator and step), an explicit baseline only up to {} % of its stability limit, \
+         the solvers ranked by both; a pair is ordered the other way when it is, in both costs, \
+         by more than a tie ({} %), the wall time beyond the timing's spread (`a < b`: `a` is \
+         cheaper in flops by more than the tie, `b`'s largest batch mean under `a`'s least by \
+         more than the tie).\n\n",
+        short(100.0 * STABILITY_MARGIN),
         short(100.0 * TIE)
     );
     md += &rankings_table(timing).render();
@@ -597,10 +635,18 @@ pub fn summary(timing: &WallTiming) -> String {
     } else {
         "the wall time reorders the solvers the flops rank".to_string()
     };
+    let flagged = timing.rows.iter().filter(|r| r.flagged).count();
     format!(
-        "Where at least three solvers reach a level ({} of the {} cells of case and level), \
-         Kendall's τ between the flop ranking and the wall-time ranking is {lo:.2} to {hi:.2}, \
-         and {reversed} pairs of solvers in all are ordered the other way beyond ties; {reading}.\n\n",
+        "The machine's load averages (1, 5 and 15 minutes) were {} before the run, and {flagged} \
+         of the {} timed configurations' batch means spread by more than {} % (flagged): a \
+         wall time here is one run's, within its spread, not a property of the solver. Where \
+         at least three solvers reach a level ({} of the {} cells of case and level), Kendall's \
+         τ between the flop ranking and the wall-time ranking is {lo:.2} to {hi:.2}, and \
+         {reversed} pairs of solvers in all are ordered the other way beyond ties and the \
+         spread; {reading}.\n\n",
+        timing.machine.load_before,
+        timing.rows.len(),
+        short(WALL_SPREAD_FLAG * 100.0),
         taus.len(),
         all.len()
     )

@@ -97,9 +97,14 @@ pub fn solvers() -> Vec<SolverId> {
 /// frequency of the scene linearised at its start ([`super::truth::CaseTruth::stability_limit`]
 /// is RK4's); None for the solvers without one.
 pub fn stability_limit(id: SolverId, truth: &super::truth::CaseTruth) -> Option<f64> {
+    stability_limit_from_rk4(id, truth.stability_limit)
+}
+
+/// [`stability_limit`] from RK4's, `rk4_limit_s` (s).
+pub fn stability_limit_from_rk4(id: SolverId, rk4_limit_s: f64) -> Option<f64> {
     match id {
-        SolverId::Rk4 => Some(truth.stability_limit),
-        SolverId::SymplecticEuler => Some(truth.stability_limit / std::f64::consts::SQRT_2),
+        SolverId::Rk4 => Some(rk4_limit_s),
+        SolverId::SymplecticEuler => Some(rk4_limit_s / std::f64::consts::SQRT_2),
         _ => None,
     }
 }

@@ -178,10 +178,10 @@ fn run(args: Args) -> std::result::Result<String, Failure> {
     } else {
         Some(scaling_study(&sides)?)
     };
-    let timing = WallTiming {
-        rows: timed.rows.clone(),
-        machine: machine(checkout, load_before, started.elapsed().as_secs_f64()),
-    };
+    let timing = WallTiming::new(
+        timed.rows.clone(),
+        machine(checkout, load_before, started.elapsed().as_secs_f64()),
+    )?;
 
     let mut md = if args.quick {
         "# A quick look (`timing --quick`): the soft rope at its two largest time steps, no \
