@@ -4,6 +4,8 @@
 //! concern in `tests/continuum/` (a folder without `main.rs`, so that `make test`'s wildcard
 //! `tests/*.rs` runs this target).
 
+#[path = "continuum/accuracy.rs"]
+mod accuracy;
 #[path = "continuum/energies.rs"]
 mod energies;
 #[path = "continuum/kernels.rs"]
