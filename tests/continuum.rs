@@ -12,6 +12,8 @@ mod energies;
 mod kernels;
 #[path = "continuum/polar.rs"]
 mod polar;
+#[path = "continuum/scene_file.rs"]
+mod scene_file;
 #[path = "continuum/scenes.rs"]
 mod scenes;
 #[path = "continuum/statics.rs"]

@@ -215,6 +215,14 @@ impl SceneFile {
 
 /// Reads and validates a scene file; every error starts with the file's path.
 pub fn load(path: &Path) -> Result<SceneFile> {
+    let text = read_text(path)?;
+    parse(&text).map_err(|e| Error::Input(format!("scene file {}: {e}", path.display())))
+}
+
+/// The text of a scene file (this one's, or the continuum's), at most [`MAX_FILE_BYTES`],
+/// UTF-8; a named pipe nobody writes to is refused after a short wait. Every error starts with
+/// the file's path.
+pub fn read_text(path: &Path) -> Result<String> {
     let fail = |e: String| Error::Input(format!("scene file {}: {e}", path.display()));
     let mut bytes = Vec::new();
     if is_named_pipe(path) {
@@ -238,8 +246,7 @@ pub fn load(path: &Path) -> Result<SceneFile> {
             MAX_FILE_BYTES >> 20
         )));
     }
-    let text = String::from_utf8(bytes).map_err(|e| fail(format!("not UTF-8 text: {e}")))?;
-    parse(&text).map_err(|e| Error::Input(format!("scene file {}: {e}", path.display())))
+    String::from_utf8(bytes).map_err(|e| fail(format!("not UTF-8 text: {e}")))
 }
 
 /// Parses and validates the text of a scene file.
