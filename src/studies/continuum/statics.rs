@@ -332,9 +332,12 @@ pub fn patch_distance(energy: EnergyKind) -> Result<f64> {
     let mut largest = 0.0_f64;
     for n in (0..system.node_count()).filter(|&n| !system.is_fixed(n)) {
         for (r, row) in PATCH_MAP.iter().enumerate() {
-            let mapped: f64 =
-                row.iter().zip(&x[3 * n..3 * n + 3]).map(|(a, x)| a * x).sum::<f64>()
-                    + PATCH_SHIFT[r];
+            let mapped: f64 = row
+                .iter()
+                .zip(&x[3 * n..3 * n + 3])
+                .map(|(a, x)| a * x)
+                .sum::<f64>()
+                + PATCH_SHIFT[r];
             largest = largest.max((x[3 * n + r] + eq.displacement[3 * n + r] - mapped).abs());
         }
     }
