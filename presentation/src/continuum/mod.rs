@@ -14,7 +14,9 @@ use crate::tables::stiffness_label;
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::model::continuum::energy::EnergyKind;
 use mass_spring_solvers::model::continuum::scenes::{
-    beam, cook, membrane, patch, BEAM_YOUNGS, COOK_MAX_ELEMENTS_PER_SIDE, MAX_REFINEMENT,
+    beam, cook, membrane, patch, BEAM_DENSITY, BEAM_LENGTH, BEAM_POISSON, BEAM_SIDE, BEAM_YOUNGS,
+    COOK_MAX_ELEMENTS_PER_SIDE, COOK_POISSON, COOK_YOUNGS, MAX_REFINEMENT, MEMBRANE_POISSON,
+    PATCH_CELLS,
 };
 use mass_spring_solvers::model::scene::SHEET_NODES_PER_SIDE;
 use mass_spring_solvers::studies::continuum::statics::{
@@ -206,7 +208,7 @@ impl ContinuumChapter {
              about {COOK_LITERATURE}, and reaches {} at N = {} ({} below it); its observed \
              order from the last three meshes is {:.2} (linear triangles converge slowly here, \
              as they lock in bending). u_y at the corner P2 = (48, 60) rises too, and passes \
-             {COOK_LITERATURE}: the corner's limit is not the mid-point's.\n\n",
+             {COOK_LITERATURE}: the corner's limit is not the mid-point's (Figure C2).\n\n",
             sig4(last.mid),
             last.n,
             share(1.0 - last.mid / COOK_LITERATURE),
@@ -293,8 +295,8 @@ impl ContinuumChapter {
         let mut md = format!("### {number}.6 The membrane beside the spring sheet\n\n");
         md += "The membrane's Y = 8k/3 and ν = 1/3 match the spring net's C₁₁₂₂ and C₁₂₁₂; \
                the net's C₁₁₁₁ is 2k where the isotropic membrane's is 3k (a square spring net \
-               is not isotropic), so the two sheets' shapes are compared side by side, not as \
-               an error of one against the other.\n\n";
+               is not isotropic), so the two sheets' shapes are compared side by side (Figure C3), \
+               not as an error of one against the other.\n\n";
         let mut t = MarkdownTable::new(&[
             "k (N/m)",
             "spring sheet: lowest y (m)",
@@ -342,9 +344,12 @@ fn scenes_table(s: &ContinuumStatics) -> Result<MarkdownTable> {
         format!("r = {ENERGY_REFINEMENT} (up to {MAX_REFINEMENT})"),
         beam_r.node_count().to_string(),
         format!("{} tets", beam_r.elements().len()),
-        "a 1 m × 0.1 m × 0.1 m cantilever clamped at x = 0 under its weight; ρ = 1000 kg/m³, \
-             ν = 0.3, E = 1e6 Pa (soft) and 1e9 Pa (stiff)"
-            .into(),
+        format!(
+            "a {BEAM_LENGTH} m × {BEAM_SIDE} m × {BEAM_SIDE} m cantilever clamped at x = 0 under \
+             its weight; ρ = {BEAM_DENSITY} kg/m³, ν = {BEAM_POISSON}, E = {:e} Pa (soft) and \
+             {:e} Pa (stiff)",
+            BEAM_YOUNGS[0], BEAM_YOUNGS[1]
+        ),
     ]);
     let m = membrane(SHEET_NODES_PER_SIDE, EnergyKind::StableNeoHookean, 1e3)?;
     t.row(vec![
@@ -352,12 +357,14 @@ fn scenes_table(s: &ContinuumStatics) -> Result<MarkdownTable> {
         format!("n = {SHEET_NODES_PER_SIDE}"),
         m.node_count().to_string(),
         format!("{} triangles", m.elements().len()),
-        "the sheet of section 11 with its springs replaced by plane-stress triangles, \
-             Y = 8k/3, ν = 1/3"
-            .into(),
+        format!(
+            "the sheet of section 11 with its springs replaced by plane-stress triangles, \
+             Y = 8k/3, ν = {}",
+            sig4(MEMBRANE_POISSON)
+        ),
     ]);
     let finest = s.cook.last().map_or(2, |c| c.n);
-    let c = cook(finest, EnergyKind::Linear, 1.0)?;
+    let c = cook(finest, EnergyKind::Linear, COOK_YOUNGS)?;
     t.row(vec![
         "cook".into(),
         format!(
@@ -366,12 +373,16 @@ fn scenes_table(s: &ContinuumStatics) -> Result<MarkdownTable> {
         ),
         c.node_count().to_string(),
         format!("{} triangles", c.elements().len()),
-        "Cook's membrane, plane stress, E = 1, ν = 1/3, a unit shear load on its right edge".into(),
+        format!(
+            "Cook's membrane, plane stress, E = {COOK_YOUNGS}, ν = {}, a unit shear load on its \
+             right edge",
+            sig4(COOK_POISSON)
+        ),
     ]);
     let p = patch(EnergyKind::Linear)?;
     t.row(vec![
         "patch".into(),
-        "3 × 3 × 3 cubes".into(),
+        format!("{PATCH_CELLS} × {PATCH_CELLS} × {PATCH_CELLS} cubes"),
         p.node_count().to_string(),
         format!("{} tets", p.elements().len()),
         "the affine patch test: the boundary moved by x = AX + b, the interior free".into(),
