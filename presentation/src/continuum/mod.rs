@@ -20,7 +20,7 @@ use mass_spring_solvers::model::continuum::scenes::{
 };
 use mass_spring_solvers::model::scene::SHEET_NODES_PER_SIDE;
 use mass_spring_solvers::studies::continuum::statics::{
-    COOK_LITERATURE, ENERGY_REFINEMENT, STIFF_BEAM_TOLERANCE, TOLERANCE,
+    COOK_LITERATURE, STIFF_BEAM_TOLERANCE, TOLERANCE,
 };
 use mass_spring_solvers::studies::continuum::{ChapterSize, ContinuumStatics};
 
@@ -101,13 +101,14 @@ impl ContinuumChapter {
             .find(|b| b.energy == EnergyKind::Linear)
             .expect("every energy runs on the beam");
         md += &format!(
-            "The soft beam (E = 1e6 Pa, r = {ENERGY_REFINEMENT}) sags by a large fraction of its \
+            "The soft beam (E = 1e6 Pa, r = {}) sags by a large fraction of its \
              length, where the energies part ways. Each equilibrium is Newton's to a residual of \
              {TOLERANCE:e} of the largest nodal weight or better (the column). The four \
              rotation-invariant energies' tips sag between {} and {} m; the linear energy, not \
              rotation-invariant, swells the beam by {} of its volume as it bends (a rotation \
              reads to it as a stretch; Figure C1) — the negative control of the table, and the reason \
              the linear energy stays in the small-strain regime below.\n\n",
+            s.energy_refinement,
             sig4(lo),
             sig4(hi),
             share(linear.volume_change),
@@ -135,9 +136,10 @@ impl ContinuumChapter {
             ENERGIES_FIGURE,
             "C1",
             &format!(
-                "The soft beam's axis (the nodes at y = z = 0 in the rest shape) at each \
-                 energy's equilibrium, to scale (the same metre on both axes), r = \
-                 {ENERGY_REFINEMENT}, E = 1e6 Pa; the rest axis is y = 0."
+                "The soft beam's axis (the mean position of each cross-section's nodes) at \
+                 each energy's equilibrium, to scale (the same metre on both axes), r = {}, \
+                 E = 1e6 Pa; the rest axis is y = 0.",
+                s.energy_refinement
             ),
         );
         md += "The membrane (the sheet's twin, section 11) under the four energies defined on \
@@ -338,10 +340,11 @@ impl ContinuumChapter {
 /// The scenes' table, their sizes counted from the builders.
 fn scenes_table(s: &ContinuumStatics) -> Result<MarkdownTable> {
     let mut t = MarkdownTable::new(&["scene", "mesh", "nodes", "elements", "what it tests"]);
-    let beam_r = beam(ENERGY_REFINEMENT, EnergyKind::Linear, BEAM_YOUNGS[1])?;
+    let r = s.energy_refinement;
+    let beam_r = beam(r, EnergyKind::Linear, BEAM_YOUNGS[1])?;
     t.row(vec![
         "beam".into(),
-        format!("r = {ENERGY_REFINEMENT} (up to {MAX_REFINEMENT})"),
+        format!("r = {r} (up to {MAX_REFINEMENT})"),
         beam_r.node_count().to_string(),
         format!("{} tets", beam_r.elements().len()),
         format!(

@@ -36,9 +36,6 @@ pub const PATCH_DISTANCE: f64 = 1e-14;
 pub const MEMBRANE_SYMMETRY: f64 = 1e-9;
 /// The literature's converged u_y at (48, 52) of Cook's membrane (fem-scenes.md: "about 23.96").
 pub const COOK_LITERATURE: f64 = 23.96;
-/// The refinement of the soft beam on which the energies are compared (fem-scenes.md: the
-/// nonlinear energies up to r = 4; r = 2 is the default mesh).
-pub const ENERGY_REFINEMENT: usize = 2;
 /// Timoshenko's shear coefficient of a square section.
 pub const SHEAR_COEFFICIENT: f64 = 5.0 / 6.0;
 
@@ -46,9 +43,9 @@ pub const SHEAR_COEFFICIENT: f64 = 5.0 / 6.0;
 /// functions (so that `make test` does not compute the report's larger cases twice).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ChapterSize {
-    /// Beam r = 2, 4, 8; Cook N = 2 … 64.
+    /// Beam r = 2, 4, 8 (the energies at r = 2); Cook N = 2 … 64.
     Report,
-    /// Beam r = 1, 2; Cook N = 2 … 32.
+    /// Beam r = 1, 2 (the energies at r = 1); Cook N = 2 … 32.
     Test,
 }
 
@@ -58,6 +55,15 @@ impl ChapterSize {
         match self {
             ChapterSize::Report => vec![2, 4, 8],
             ChapterSize::Test => vec![1, 2],
+        }
+    }
+
+    /// The refinement of the beam on which the energies are compared, soft and stiff
+    /// (fem-scenes.md: the nonlinear energies up to r = 4; r = 2 is the default mesh).
+    pub fn energy_refinement(self) -> usize {
+        match self {
+            ChapterSize::Report => 2,
+            ChapterSize::Test => 1,
         }
     }
 
@@ -79,7 +85,8 @@ pub struct BeamSag {
     /// Σ V det F / Σ V − 1.
     pub volume_change: f64,
     pub equilibrium: Equilibrium,
-    /// The deformed positions (x, y) of the nodes on the beam's axis (j = k = r/2), m.
+    /// The mean deformed position (x, y) of each cross-section's nodes, from the clamp to the
+    /// tip, m.
     pub axis: Vec<[f64; 2]>,
 }
 
@@ -140,6 +147,8 @@ impl Check {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContinuumStatics {
     pub size: ChapterSize,
+    /// The beam's refinement r of the energies' comparison ([`ChapterSize::energy_refinement`]).
+    pub energy_refinement: usize,
     /// The soft beam under each energy, in [`EnergyKind::ALL`]'s order.
     pub soft_beam: Vec<BeamSag>,
     /// The membrane under each energy defined on membranes, at each of the thesis's
@@ -157,9 +166,10 @@ pub struct ContinuumStatics {
 impl ContinuumStatics {
     /// Solves every equilibrium of the chapter at `size`.
     pub fn compute(size: ChapterSize) -> Result<Self> {
+        let r = size.energy_refinement();
         let soft_beam = EnergyKind::ALL
             .into_iter()
-            .map(|energy| soft_beam(energy, ENERGY_REFINEMENT))
+            .map(|energy| soft_beam(energy, r))
             .collect::<Result<Vec<_>>>()?;
         let mut membranes = Vec::new();
         for stiffness in THESIS_STIFFNESSES {
@@ -181,9 +191,10 @@ impl ContinuumStatics {
             .into_iter()
             .map(|r| stiff_beam_point(r, theory))
             .collect::<Result<Vec<_>>>()?;
-        let checks = checks(&soft_beam, &membranes, &cook)?;
+        let checks = checks(r, &soft_beam, &membranes, &cook)?;
         Ok(Self {
             size,
+            energy_refinement: r,
             cook_order: observed_order(&cook.iter().map(|c| c.mid).collect::<Vec<_>>()),
             soft_beam,
             membranes,
@@ -222,10 +233,18 @@ pub fn soft_beam(energy: EnergyKind, r: usize) -> Result<BeamSag> {
     let equilibrium = solve(&system)?;
     let u = &equilibrium.displacement;
     let x = system.rest_positions();
+    let section = ((r + 1) * (r + 1)) as f64;
     let axis = (0..=10 * r)
         .map(|i| {
-            let n = beam_node(r, [i, r / 2, r / 2]);
-            [x[3 * n] + u[3 * n], x[3 * n + 1] + u[3 * n + 1]]
+            let mut mean = [0.0; 2];
+            for j in 0..=r {
+                for k in 0..=r {
+                    let n = beam_node(r, [i, j, k]);
+                    mean[0] += (x[3 * n] + u[3 * n]) / section;
+                    mean[1] += (x[3 * n + 1] + u[3 * n + 1]) / section;
+                }
+            }
+            mean
         })
         .collect();
     Ok(BeamSag {
@@ -345,9 +364,10 @@ pub fn patch_distance(energy: EnergyKind) -> Result<f64> {
 }
 
 /// The verification checks: the patch test for every energy; the residual Newton reached on
-/// the stiff beam (E = 1e9 Pa, r = 2) with every nonlinear energy, on the soft beam and on the
+/// the stiff beam (E = 1e9 Pa, the energies' r) with every nonlinear energy, on the soft beam and on the
 /// membranes; the membranes' symmetry; Cook's u_y(48, 52) rising from below 23.96.
 fn checks(
+    r: usize,
     soft_beam: &[BeamSag],
     membranes: &[MembraneSag],
     cook: &[CookPoint],
@@ -367,10 +387,10 @@ fn checks(
         .into_iter()
         .filter(|&e| e != EnergyKind::Linear)
     {
-        let system = beam(ENERGY_REFINEMENT, energy, BEAM_YOUNGS[1])?;
+        let system = beam(r, energy, BEAM_YOUNGS[1])?;
         checks.push(Check {
             check: format!(
-                "stiff beam (E = 1e9 Pa, r = {ENERGY_REFINEMENT}), {}: Newton's residual",
+                "stiff beam (E = 1e9 Pa, r = {r}), {}: Newton's residual",
                 energy.name()
             ),
             tolerance: TOLERANCE,
@@ -380,7 +400,7 @@ fn checks(
     for b in soft_beam {
         checks.push(Check {
             check: format!(
-                "soft beam (E = 1e6 Pa, r = {ENERGY_REFINEMENT}), {}: Newton's residual",
+                "soft beam (E = 1e6 Pa, r = {r}), {}: Newton's residual",
                 b.energy.name()
             ),
             tolerance: TOLERANCE,
