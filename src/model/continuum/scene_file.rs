@@ -31,7 +31,7 @@ use super::energy::EnergyKind;
 use super::lame::{Lame, Loading};
 use super::system::{ContinuumSystem, ElementKind, Masses, Material, Mesh};
 use crate::error::{require_finite, require_non_negative, require_positive, Error, Result};
-use crate::particles::scene_file::read_text;
+use crate::platform::paths::read_scene_text;
 use serde::Deserialize;
 use std::path::Path;
 
@@ -61,7 +61,7 @@ struct RawNode {
 
 /// Reads and builds a continuum scene file; every error starts with the file's path.
 pub fn load(path: &Path) -> Result<ContinuumSystem> {
-    let text = read_text(path)?;
+    let text = read_scene_text(path)?;
     parse(&text).map_err(|e| Error::Input(format!("scene file {}: {e}", path.display())))
 }
 
