@@ -4,12 +4,16 @@
 //! concern in `tests/continuum/` (a folder without `main.rs`, so that `make test`'s wildcard
 //! `tests/*.rs` runs this target).
 
+#[path = "continuum/accuracy.rs"]
+mod accuracy;
 #[path = "continuum/energies.rs"]
 mod energies;
 #[path = "continuum/kernels.rs"]
 mod kernels;
 #[path = "continuum/polar.rs"]
 mod polar;
+#[path = "continuum/scene_file.rs"]
+mod scene_file;
 #[path = "continuum/scenes.rs"]
 mod scenes;
 #[path = "continuum/statics.rs"]

@@ -43,6 +43,7 @@ pub struct ChapterFigures<'a> {
     pub sheet: &'a [ChapterFigure],
     pub work_precision: &'a [ChapterFigure],
     pub integrators: &'a [ChapterFigure],
+    pub continuum: &'a [ChapterFigure],
 }
 
 /// A figure's two files: `figures/<stem>.svg` and the points it draws, `data/<stem>.csv`.

@@ -4,6 +4,7 @@
 
 use crate::benchmark::BenchmarkChapter;
 use crate::beyond::BeyondChapter;
+use crate::continuum::ContinuumChapter;
 use crate::integrators::IntegratorsChapter;
 use crate::rest_state::Catenary;
 use crate::runs::FigureRuns;
@@ -99,5 +100,7 @@ pub struct ReportData {
     pub benchmark: BenchmarkChapter,
     /// The optimization integrators.
     pub integrators: IntegratorsChapter,
+    /// The continuum (its statics).
+    pub continuum: ContinuumChapter,
     pub sources: Sources,
 }

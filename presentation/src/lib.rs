@@ -13,6 +13,7 @@
 pub mod benchmark;
 pub mod beyond;
 pub mod chapter_figure;
+pub mod continuum;
 pub mod data;
 pub mod errata;
 pub mod figures;
@@ -60,12 +61,14 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     let sheet_figures = data.sheet.figures()?;
     let work_precision_figures = data.benchmark.figures()?;
     let integrators_figures = data.integrators.figures()?;
+    let continuum_figures = data.continuum.figures(&data.sheet)?;
     let chapters = ChapterFigures {
         tutorial: &tutorial_figures,
         beyond: &beyond_figures,
         sheet: &sheet_figures,
         work_precision: &work_precision_figures,
         integrators: &integrators_figures,
+        continuum: &continuum_figures,
     };
     let mut files = vec![OutputFile::text(
         "REPORT.md",
@@ -76,6 +79,7 @@ pub fn render(data: &ReportData) -> Result<Vec<OutputFile>> {
     files.extend(data.tutorial.files(&tutorial_figures));
     files.extend(data.beyond.files(&beyond_figures));
     files.extend(data.integrators.files(&integrators_figures));
+    files.extend(data.continuum.files(&continuum_figures));
     for f in &figures {
         files.extend(figure_files(&f.stem, &f.svg, &f.csv));
     }
@@ -613,14 +617,15 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &data.sheet.section(11, chapters.sheet, &data.benchmark);
     md += &data.benchmark.section(12, chapters.work_precision);
     md += &data.integrators.section(13, chapters.integrators);
+    md += &data.continuum.section(14, chapters.continuum, &data.sheet);
 
-    md += "## 14. Errata\n\n";
+    md += "## 15. Errata\n\n";
     md += "Places where the thesis as printed is inconsistent; the code implements the consistent form and its \
            documentation says so.\n\n";
     md += &errata::table().render();
     md += "\n";
 
-    md += "## 15. Equation traceability\n\n";
+    md += "## 16. Equation traceability\n\n";
     md += "Built at report time from the `Eq. (N)` tags that start the documentation of the functions \
            implementing each equation. Equations 1-4, 6-10, 12-14, 18-20, 24-29 and 40-56 must have code; the \
            others may be a definition or a derivation, with the reason given.\n\n";
@@ -633,7 +638,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         );
     }
     md += &traceability::table(&data.sources.tags).render();
-    md += "\n### 15.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
+    md += "\n### 16.1 The solvers' step functions\n\nQuoted from `src/` at report time (the region between \
            `// region: step` and `// endregion: step`), so that the text cannot drift from the code.\n\n";
     for (solver, quote) in &data.sources.quotes {
         md += &format!(
@@ -646,7 +651,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
         );
     }
 
-    md += "### 15.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
+    md += "### 16.2 Papers after the thesis\n\nThe solvers of section 10 cite their own papers: a function that \
            implements one starts its documentation with `[Author Year, what]`, which the thesis's table above \
            cannot mistake for a thesis equation. Built at report time from those tags. The column \
            \"verified against\" says how each tag was checked (`docs/papers.md`): against the paper's text \
@@ -656,7 +661,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &traceability::paper_table(&data.sources.paper_tags).render();
     md += "\n";
 
-    md += "## 16. Data files\n\n";
+    md += "## 17. Data files\n\n";
     md += "Every data file is a CSV written with `csv::Writer` and read back by a strict reader in \
            `presentation/tests/csv_schema.rs` against the schema below (`mass_spring_report::schema`): column names are \
            `name_unit` (`dt_s`, `x_m`, `stiffness_n_per_m`; no unit for a count, an identifier or a \
@@ -665,7 +670,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &schema::section_list();
     md += "\n";
 
-    md += "## 17. Crate and dependency versions\n\n";
+    md += "## 18. Crate and dependency versions\n\n";
     let v = &data.sources.versions;
     md += &format!(
         "`{}` {} (rust-version {}); direct dependencies as resolved in `Cargo.lock`:\n\n",

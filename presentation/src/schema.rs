@@ -344,6 +344,30 @@ pub const FILES: &[FileSchema] = &[
         published_names: false,
     },
     FileSchema {
+        pattern: "continuum_energies.csv",
+        about: "the points of the continuum's energies figure: the soft beam's axis at each energy's equilibrium",
+        columns: &[("energy", ""), ("node", ""), ("x_m", "m"), ("y_m", "m")],
+        published_names: false,
+    },
+    FileSchema {
+        pattern: "continuum_cook.csv",
+        about: "the points of the continuum's Cook figure: u_y at (48, 52) and at (48, 60) for each mesh N (Cook's units: E = 1, unit load)",
+        columns: &[("n", ""), ("u_y_48_52", ""), ("u_y_48_60", "")],
+        published_names: false,
+    },
+    FileSchema {
+        pattern: "continuum_membrane_sheet.csv",
+        about: "the points of the continuum's membrane figure: the centre lines of the spring sheet and of the stable neo-Hookean membrane at rest",
+        columns: &[
+            ("series", ""),
+            ("stiffness_n_per_m", "N/m"),
+            ("node", ""),
+            ("x_m", "m"),
+            ("y_m", "m"),
+        ],
+        published_names: false,
+    },
+    FileSchema {
         pattern: "benchmark.csv",
         about: "every run of the benchmark (section 12 and the views of sections 10-11), one row each with every metric; `kind` is dynamics or statics",
         columns: BENCHMARK_COLUMNS,

@@ -48,17 +48,13 @@ use crate::error::{require_non_negative, require_within, Error, Result};
 use crate::model::scene::check_geometry;
 use crate::model::system::{MassSpringSystem, Node, Spring, Vec3};
 use crate::particles::{Drag, Ground, ParticleSystem, Particles};
-use crate::platform::paths::{is_named_pipe, read_named_pipe, FIFO_PATIENCE};
+use crate::platform::paths::read_scene_text;
 use serde::Deserialize;
-use std::io::Read;
 use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
-/// The largest scene file read (16 MiB, some 140 000 nodes): a larger one, or an endless one
-/// (`/dev/zero`), is refused before it is parsed. Parsing takes about 45 bytes of memory a
-/// byte of file (1.0 GB for a 22 MB file of 200 000 nodes), so this bounds it near 750 MB.
-pub const MAX_FILE_BYTES: u64 = 16 << 20;
+pub use crate::platform::paths::MAX_SCENE_FILE_BYTES as MAX_FILE_BYTES;
 
 /// A plausible range: the least and greatest value, and the unit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -215,30 +211,7 @@ impl SceneFile {
 
 /// Reads and validates a scene file; every error starts with the file's path.
 pub fn load(path: &Path) -> Result<SceneFile> {
-    let fail = |e: String| Error::Input(format!("scene file {}: {e}", path.display()));
-    let mut bytes = Vec::new();
-    if is_named_pipe(path) {
-        // A pipe nobody writes to is refused after a short wait instead of blocking silently.
-        bytes = read_named_pipe(path, FIFO_PATIENCE, MAX_FILE_BYTES)
-            .map_err(|e| fail(e.to_string()))?
-            .ok_or_else(|| {
-                fail(format!(
-                    "a named pipe with a writer: none opened it within {} s",
-                    FIFO_PATIENCE.as_secs_f64()
-                ))
-            })?;
-    } else {
-        std::fs::File::open(path)
-            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-            .map_err(|e| fail(e.to_string()))?;
-    }
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(fail(format!(
-            "longer than {} MiB, the limit of a scene file",
-            MAX_FILE_BYTES >> 20
-        )));
-    }
-    let text = String::from_utf8(bytes).map_err(|e| fail(format!("not UTF-8 text: {e}")))?;
+    let text = read_scene_text(path)?;
     parse(&text).map_err(|e| Error::Input(format!("scene file {}: {e}", path.display())))
 }
 

@@ -267,6 +267,45 @@ pub fn describe_file_type(kind: &fs::FileType) -> &'static str {
     }
 }
 
+/// The largest scene file read (16 MiB, some 140 000 nodes of a spring scene): a larger one,
+/// or an endless one (`/dev/zero`), is refused before it is parsed. Parsing takes about 45 bytes of memory a
+/// byte of file (1.0 GB for a 22 MB file of 200 000 nodes), so this bounds it near 750 MB.
+pub const MAX_SCENE_FILE_BYTES: u64 = 16 << 20;
+
+/// The text of a scene file (the spring scenes' or the continuum's), at most
+/// [`MAX_SCENE_FILE_BYTES`] (a larger or endless one, `/dev/zero`, is refused before it is
+/// parsed), UTF-8; a named pipe
+/// nobody writes to is refused after [`FIFO_PATIENCE`]. Every error starts with the file's
+/// path.
+pub fn read_scene_text(path: &Path) -> crate::error::Result<String> {
+    use crate::error::Error;
+    let limit = MAX_SCENE_FILE_BYTES;
+    let fail = |e: String| Error::Input(format!("scene file {}: {e}", path.display()));
+    let mut bytes = Vec::new();
+    if is_named_pipe(path) {
+        // A pipe nobody writes to is refused after a short wait instead of blocking silently.
+        bytes = read_named_pipe(path, FIFO_PATIENCE, limit)
+            .map_err(|e| fail(e.to_string()))?
+            .ok_or_else(|| {
+                fail(format!(
+                    "a named pipe with a writer: none opened it within {} s",
+                    FIFO_PATIENCE.as_secs_f64()
+                ))
+            })?;
+    } else {
+        File::open(path)
+            .and_then(|f| f.take(limit + 1).read_to_end(&mut bytes))
+            .map_err(|e| fail(e.to_string()))?;
+    }
+    if bytes.len() as u64 > limit {
+        return Err(fail(format!(
+            "longer than {} MiB, the limit of a scene file",
+            limit >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| fail(format!("not UTF-8 text: {e}")))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

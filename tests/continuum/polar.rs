@@ -27,7 +27,7 @@ fn the_polar_rotation_is_accurate_to_round_off() {
             }
             let columns = if k % 3 == 0 { 2 } else { 3 };
             let f = (&q * stretch).columns(0, columns).into_owned();
-            let polar = Polar::new(&f);
+            let polar = Polar::new(&f).unwrap();
             let r = polar.rotation();
             let orthonormal = (r.transpose() * &r - DMatrix::identity(columns, columns)).norm();
             let s = r.transpose() * &f;

@@ -9,6 +9,7 @@
 #[path = "../asserted/mod.rs"]
 mod asserted;
 mod benchmark;
+mod continuum;
 mod evidence;
 mod forensics;
 mod lock;

@@ -10,6 +10,7 @@
 
 use mass_spring_report::benchmark::BenchmarkChapter;
 use mass_spring_report::beyond::BeyondChapter;
+use mass_spring_report::continuum::ContinuumChapter;
 use mass_spring_report::integrators::IntegratorsChapter;
 use mass_spring_report::output::OutputFile;
 use mass_spring_report::plot::Layout;
@@ -20,6 +21,7 @@ use mass_spring_report::sheet::SheetChapter;
 use mass_spring_report::tutorial::TutorialChapter;
 use mass_spring_report::{crate_root, figures, render, solvers_in, tables, ReportData, Sources};
 use mass_spring_solvers::studies::benchmark::Case;
+use mass_spring_solvers::studies::continuum::ChapterSize;
 use mass_spring_solvers::studies::experiments::published_rows;
 use mass_spring_solvers::studies::forensics::{faithful_results, forensic_results};
 use std::path::{Path, PathBuf};
@@ -47,11 +49,12 @@ struct BeyondThesis {
     sheet: SheetChapter,
     tutorial: TutorialChapter,
     integrators: IntegratorsChapter,
+    continuum: ContinuumChapter,
 }
 
 /// The report's data, computed once per test process; the chapters beyond the thesis on a
 /// thread beside the thesis's experiments and forensics, as `make report` does.
-fn data() -> &'static ReportData {
+pub(super) fn data() -> &'static ReportData {
     static DATA: OnceLock<ReportData> = OnceLock::new();
     DATA.get_or_init(|| {
         let (results, beyond_thesis) = std::thread::scope(|scope| {
@@ -64,6 +67,10 @@ fn data() -> &'static ReportData {
                     tutorial: TutorialChapter::compute().expect("the tutorial's studies run"),
                     integrators: IntegratorsChapter::compute(&|_, _| {})
                         .expect("the optimization-integrators chapter runs"),
+                    // The tests' size: the report's larger meshes are computed by `make report`
+                    // only; the same functions, recomputed in tests/continuum/chapter.rs.
+                    continuum: ContinuumChapter::compute(ChapterSize::Test)
+                        .expect("the continuum's statics solve"),
                 }
             });
             forensic_results();
@@ -96,6 +103,7 @@ fn data() -> &'static ReportData {
             sheet: beyond_thesis.sheet,
             benchmark,
             integrators: beyond_thesis.integrators,
+            continuum: beyond_thesis.continuum,
             sources,
         }
     })

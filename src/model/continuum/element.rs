@@ -72,7 +72,7 @@ impl Element {
         })
     }
 
-    /// [Sifakis 2012, membrane kernel] (unverified; no reference code checked) A membrane
+    /// Ours (an interpretation: the element kernel of Sifakis and Barbič 2012 on a surface; no reference code checked) A membrane
     /// triangle in 3D (3 nodes, d = 3): its rest frame B = (b₁, b₂) with b₁ along the first
     /// edge and b₂ the second edge's part orthogonal to it, D_m = Bᵀ[x₁ − x₀, x₂ − x₀] (upper
     /// triangular, positive determinant), F₀ = B, V the rest area. Refuses a degenerate one.

@@ -74,10 +74,65 @@ impl Deformation {
         (&ft_g + ft_g.transpose() - self.g.transpose() * &self.g) * 0.5
     }
 
-    /// F's rotation-variant SVD.
+    /// F's rotation-variant SVD; for an F with a non-finite entry, [`Polar::undefined`] (NaN
+    /// throughout), so that Ψ, P and the forces are NaN rather than a panic.
     pub fn polar(&self) -> &Polar {
-        self.polar.get_or_init(|| Polar::new(&self.f))
+        self.polar.get_or_init(|| {
+            let (d, c) = self.f.shape();
+            Polar::new(&self.f).unwrap_or_else(|_| Polar::undefined(d, c))
+        })
     }
+
+    /// F − R and tr(RᵀF) − c = tr(S − I), R and S = RᵀF F's polar factors, formed from G so
+    /// that they keep their digits at small strain: at E = 1e9 the strains are about 1e-5, and
+    /// F − R formed from F and nalgebra's R carries an error of about 1e-16 absolute, 1e-11 of
+    /// F − R itself, which is more than a tight equilibrium residual allows (fem-scenes.md).
+    ///
+    /// Where S is positive definite (every singular value of F above [`STRETCH_FLOOR`]; for
+    /// square F, det F > 0, else the rotation-variant S has a negative eigenvalue), S is the
+    /// square root of FᵀF = I + 2E with the Green strain E formed from G: on E's
+    /// eigenvectors, S − I has the eigenvalues 2e/(√(1 + 2e) + 1), each as accurate as E, and
+    /// F − R = R (S − I) with R = F S⁻¹. Elsewhere (an inverted or nearly collapsed element,
+    /// whose strain is large) they are formed from the SVD, [`Self::polar`].
+    pub fn rotation_excess(&self) -> RotationExcess {
+        let square = self.is_square();
+        if self.f.iter().all(|x| x.is_finite()) && (!square || self.f.determinant() > 0.0) {
+            let eigen = nalgebra::SymmetricEigen::new(self.green_strain());
+            let stretch = eigen.eigenvalues.map(|e| (1.0 + 2.0 * e).sqrt());
+            if stretch.min() > STRETCH_FLOOR {
+                let excess = eigen
+                    .eigenvalues
+                    .zip_map(&stretch, |e, s| 2.0 * e / (s + 1.0));
+                let q = &eigen.eigenvectors;
+                let s_minus_i = q * DMatrix::from_diagonal(&excess) * q.transpose();
+                let s_inverse =
+                    q * DMatrix::from_diagonal(&stretch.map(|s| 1.0 / s)) * q.transpose();
+                let r = &self.f * s_inverse;
+                return RotationExcess {
+                    difference: r * s_minus_i,
+                    trace: excess.sum(),
+                };
+            }
+        }
+        let polar = self.polar();
+        RotationExcess {
+            difference: &self.f - polar.rotation(),
+            trace: polar.sigma.sum() - self.material_dimension() as f64,
+        }
+    }
+}
+
+/// The smallest singular value of F for which [`Deformation::rotation_excess`] forms S from
+/// FᵀF (below it S⁻¹ amplifies the rounding of F).
+pub const STRETCH_FLOOR: f64 = 1e-3;
+
+/// How far F is from its polar rotation R (see [`Deformation::rotation_excess`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RotationExcess {
+    /// F − R = R (S − I).
+    pub difference: DMatrix<f64>,
+    /// tr(RᵀF) − c = tr(S − I) = Σσ − c.
+    pub trace: f64,
 }
 
 /// An isotropic hyperelastic energy density, per unit rest volume (per unit rest area for
@@ -127,7 +182,11 @@ pub trait Hyperelastic: Sync {
 /// the negative eigenvalues set to zero. A numeric symmetric eigen-decomposition (nalgebra's),
 /// not the closed-form eigensystems of Smith 2018 §4.6: one mechanism for every energy and
 /// shape, at 9×9 at most; `m` is symmetrised first, its rounding asymmetry discarded.
+/// A non-finite `m` gives NaN throughout (nalgebra's eigen-decomposition would not end).
 pub fn clamp_eigenvalues(m: &DMatrix<f64>) -> DMatrix<f64> {
+    if m.iter().any(|x| !x.is_finite()) {
+        return DMatrix::from_element(m.nrows(), m.ncols(), f64::NAN);
+    }
     let symmetric = (m + m.transpose()) * 0.5;
     let eigen = nalgebra::SymmetricEigen::new(symmetric);
     let clamped = eigen.eigenvalues.map(|e| e.max(0.0));

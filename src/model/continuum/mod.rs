@@ -14,12 +14,14 @@
 //! - [`system`]: a continuum system (nodes, elements with their materials, loads), its energy,
 //!   forces and sparse Hessian;
 //! - [`statics`]: the projected Newton solver of static equilibrium;
-//! - [`scenes`]: the meshes of fem-scenes.md.
+//! - [`scenes`]: the meshes of fem-scenes.md;
+//! - [`scene_file`]: a continuum scene as a TOML file, every field checked.
 
 pub mod element;
 pub mod energy;
 pub mod hyperelastic;
 pub mod lame;
+pub mod scene_file;
 pub mod scenes;
 pub mod statics;
 pub mod svd;

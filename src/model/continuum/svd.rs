@@ -12,6 +12,7 @@
 //!
 //! The rotation R = U Vᵀ and the stretch S = V Σ Vᵀ = RᵀF (symmetric) are F's polar factors.
 
+use crate::error::{Error, Result};
 use nalgebra::{DMatrix, DVector};
 
 /// A singular-value sum (or, for a membrane, a singular value) below this is taken as this,
@@ -31,8 +32,17 @@ pub struct Polar {
 }
 
 impl Polar {
-    /// The rotation-variant SVD of a d×c F (d ≥ c).
-    pub fn new(f: &DMatrix<f64>) -> Self {
+    /// The rotation-variant SVD of a d×c F (d ≥ c); refuses an F with a non-finite entry,
+    /// naming it (nalgebra's SVD panics or iterates without end on one).
+    pub fn new(f: &DMatrix<f64>) -> Result<Self> {
+        if let Some(k) = f.iter().position(|x| !x.is_finite()) {
+            let (i, j) = (k % f.nrows(), k / f.nrows());
+            return Err(Error::invalid(
+                format!("deformation gradient F[{i}][{j}]"),
+                f[(i, j)],
+                "a finite number (a non-finite displacement reached the element)",
+            ));
+        }
         let (d, c) = f.shape();
         let svd = nalgebra::SVD::new(f.clone(), true, true);
         let (Some(mut u), Some(v_t)) = (svd.u, svd.v_t) else {
@@ -48,7 +58,18 @@ impl Polar {
                 }
             }
         }
-        Self { u, sigma, v }.polished(f)
+        Ok(Self { u, sigma, v }.polished(f))
+    }
+
+    /// The decomposition of a d×c F that has a non-finite entry: every factor NaN, so that
+    /// what is computed from it (Ψ, P, the forces, the residual) is NaN and reads as no
+    /// progress, never as converged.
+    pub fn undefined(d: usize, c: usize) -> Self {
+        Self {
+            u: DMatrix::from_element(d, c, f64::NAN),
+            sigma: DVector::from_element(c, f64::NAN),
+            v: DMatrix::from_element(c, c, f64::NAN),
+        }
     }
 
     /// This SVD with U refined by one Newton step of the polar decomposition, so that

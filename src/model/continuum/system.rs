@@ -80,7 +80,7 @@ pub struct Mesh {
 }
 
 /// A validated continuum system.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ContinuumSystem {
     dimension: usize,
     positions: Vec<f64>,

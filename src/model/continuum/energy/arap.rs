@@ -14,18 +14,20 @@ impl Hyperelastic for Arap {
         "arap"
     }
 
-    /// [Bouaziz 2014, strain energy] (unverified; checked against HOBAKv1 ARAP.cpp) Ψ = μ‖F − R‖².
+    /// [Bouaziz 2014, strain energy] (unverified; checked against HOBAKv1 ARAP.cpp for tets; HOBAK has no membranes: the membrane's thin-SVD R is ours, an interpretation) Ψ = μ‖F − R‖²,
+    /// F − R formed from G ([`Deformation::rotation_excess`]).
     fn density(&self, d: &Deformation, lame: &Lame) -> f64 {
-        lame.mu * (d.f() - d.polar().rotation()).norm_squared()
+        lame.mu * d.rotation_excess().difference.norm_squared()
     }
 
-    /// [Bouaziz 2014, strain energy] (unverified; checked against HOBAKv1 ARAP.cpp) P = 2μ(F − R)
-    /// (R is stationary: ∂‖F − R‖²/∂R vanishes along the rotations, as RᵀF is symmetric).
+    /// [Bouaziz 2014, strain energy] (unverified; checked against HOBAKv1 ARAP.cpp for tets; HOBAK has no membranes: the membrane's thin-SVD R is ours, an interpretation) P = 2μ(F − R)
+    /// (R is stationary: ∂‖F − R‖²/∂R vanishes along the rotations, as RᵀF is symmetric), F − R
+    /// formed from G ([`Deformation::rotation_excess`]).
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64> {
-        (d.f() - d.polar().rotation()) * (2.0 * lame.mu)
+        d.rotation_excess().difference * (2.0 * lame.mu)
     }
 
-    /// [Bouaziz 2014, strain energy] (unverified; checked against HOBAKv1 ARAP.cpp) dP = 2μ(dF − dR),
+    /// [Bouaziz 2014, strain energy] (unverified; checked against HOBAKv1 ARAP.cpp for tets; HOBAK has no membranes: the membrane's thin-SVD R is ours, an interpretation) dP = 2μ(dF − dR),
     /// dR from [`Polar::rotation_differential`](crate::model::continuum::svd::Polar::rotation_differential).
     fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64> {
         (df - d.polar().rotation_differential(df)) * (2.0 * lame.mu)

@@ -1,13 +1,12 @@
 //! The co-rotated energy: ARAP plus a volume term (Sifakis and Barbič 2012; Liu et al. 2017,
 //! whose reference code GenPD evaluates it).
 
-use super::arap::Arap;
 use crate::model::continuum::hyperelastic::{Deformation, Hyperelastic};
 use crate::model::continuum::lame::Lame;
 use nalgebra::DMatrix;
 
 /// Ψ = μ‖F − R‖² + λ/2 (tr(RᵀF) − c)², c = 3 for a tet and 2 for a triangle; the first term is
-/// [`Arap`]'s.
+/// [`Arap`](super::Arap)'s.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Corotated;
 
@@ -21,18 +20,23 @@ impl Hyperelastic for Corotated {
         "corotated"
     }
 
-    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp) Ψ = μ‖F − R‖² + λ/2 (tr(RᵀF) − c)².
+    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp for tets; the membrane's, with the thin-SVD R, is ours, an interpretation) Ψ = μ‖F − R‖² + λ/2 (tr(RᵀF) − c)²,
+    /// both terms formed from G ([`Deformation::rotation_excess`]).
     fn density(&self, d: &Deformation, lame: &Lame) -> f64 {
-        let s = volume_strain(d);
-        Arap.density(d, lame) + 0.5 * lame.lambda * s * s
+        let excess = d.rotation_excess();
+        lame.mu * excess.difference.norm_squared() + 0.5 * lame.lambda * excess.trace * excess.trace
     }
 
-    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp) P = 2μ(F − R) + λ (tr(RᵀF) − c) R.
+    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp for tets; the membrane's, with the thin-SVD R, is ours, an interpretation) P = 2μ(F − R) + λ (tr(RᵀF) − c) R,
+    /// with F − R and tr(RᵀF) − c formed from G ([`Deformation::rotation_excess`]) and
+    /// R = F − (F − R).
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64> {
-        Arap.stress(d, lame) + d.polar().rotation() * (lame.lambda * volume_strain(d))
+        let excess = d.rotation_excess();
+        let r = d.f() - &excess.difference;
+        &excess.difference * (2.0 * lame.mu) + r * (lame.lambda * excess.trace)
     }
 
-    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp) dP = 2μ(dF − dR) + λ (R : dF) R + λ (tr(RᵀF) − c) dR,
+    /// [Liu 2017, co-rotated energy] (unverified; checked against GenPD constraint_tet.cpp for tets; the membrane's, with the thin-SVD R, is ours, an interpretation) dP = 2μ(dF − dR) + λ (R : dF) R + λ (tr(RᵀF) − c) dR,
     /// since d tr(RᵀF) = R : dF (dRᵀF contributes a skew matrix times the symmetric RᵀF, and
     /// for a membrane a normal part that F has none of).
     fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64> {

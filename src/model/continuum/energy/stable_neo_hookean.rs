@@ -54,6 +54,25 @@ fn volume_gradient(d: &Deformation) -> DMatrix<f64> {
     }
 }
 
+/// F − ∂J/∂F formed from G, which at rest cancels to zero: for 3×3 F, cof(I + G) =
+/// I + (tr G) I − Gᵀ + cof G, so F − cof F = G + Gᵀ − (tr G) I − cof G; for 2×2,
+/// cof(I + G) = I + cof G (cof linear there), so F − cof F = G − cof G; for a membrane,
+/// ∂J/∂F = J F C⁻¹ with J C⁻¹ = adj(C)/J and adj(I + 2E) = I + 2((tr E) I − E), so
+/// F − ∂J/∂F = F ((J − 1) I − 2((tr E) I − E)) / J.
+fn gradient_less_volume_gradient(d: &Deformation) -> DMatrix<f64> {
+    let g = d.g();
+    match g.shape() {
+        (3, 3) => g + g.transpose() - DMatrix::identity(3, 3) * g.trace() - cofactor_3d(g, g),
+        (2, 2) => g - cofactor_2d(g),
+        _ => {
+            let e = d.green_strain();
+            let j_minus_one = volume_change(d);
+            let inner = DMatrix::identity(2, 2) * (j_minus_one - 2.0 * e.trace()) + e * 2.0;
+            d.f() * inner / (1.0 + j_minus_one)
+        }
+    }
+}
+
 /// The differential of ∂J/∂F along dF: in 3D the cofactor is bilinear in F's columns
 /// (columns df₂×f₃ + f₂×df₃, ...); in 2D it is linear in F; for a membrane, of J F C⁻¹ with
 /// C = FᵀF: dJ F C⁻¹ + J dF C⁻¹ − J F C⁻¹ dC C⁻¹, dJ = ∂J/∂F : dF, dC = dFᵀF + FᵀdF.
@@ -101,7 +120,7 @@ impl Hyperelastic for StableNeoHookean {
         "stable-neo-hookean"
     }
 
-    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp) Ψ = μ/2 (tr(FᵀF) − c) + λ′/2 (J − α)²,
+    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp for tets; HOBAK has no membranes: the membrane's J = √det(FᵀF) is ours, an interpretation) Ψ = μ/2 (tr(FᵀF) − c) + λ′/2 (J − α)²,
     /// with tr(FᵀF) − c = 2 tr E and J − α = (J − 1) − μ/λ′ from G.
     fn density(&self, d: &Deformation, lame: &Lame) -> f64 {
         let (lambda, alpha) = reparameterised(lame);
@@ -109,14 +128,16 @@ impl Hyperelastic for StableNeoHookean {
         lame.mu * d.green_strain().trace() + 0.5 * lambda * j_minus_alpha * j_minus_alpha
     }
 
-    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp) P = μF + λ′ (J − α) ∂J/∂F.
+    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp for tets; HOBAK has no membranes: the membrane's J = √det(FᵀF) is ours, an interpretation) P = μF + λ′ (J − α) ∂J/∂F,
+    /// written as μ (F − ∂J/∂F) + λ′ (J − 1) ∂J/∂F (λ′ (α − 1) = μ), whose two terms vanish
+    /// at rest and are formed from G ([`gradient_less_volume_gradient`], [`volume_change`]).
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64> {
-        let (lambda, alpha) = reparameterised(lame);
-        let j_minus_alpha = volume_change(d) - (alpha - 1.0);
-        d.f() * lame.mu + volume_gradient(d) * (lambda * j_minus_alpha)
+        let lambda = reparameterised(lame).0;
+        gradient_less_volume_gradient(d) * lame.mu
+            + volume_gradient(d) * (lambda * volume_change(d))
     }
 
-    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp) dP = μ dF + λ′ (∂J/∂F : dF) ∂J/∂F + λ′ (J − α) d(∂J/∂F).
+    /// [Smith 2018, §3.4] (unverified; checked against HOBAKv1 SNH.cpp for tets; HOBAK has no membranes: the membrane's J = √det(FᵀF) is ours, an interpretation) dP = μ dF + λ′ (∂J/∂F : dF) ∂J/∂F + λ′ (J − α) d(∂J/∂F).
     fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64> {
         let (lambda, alpha) = reparameterised(lame);
         let j_minus_alpha = volume_change(d) - (alpha - 1.0);

@@ -16,17 +16,17 @@ impl Hyperelastic for StVenantKirchhoff {
         "stvk"
     }
 
-    /// [Sifakis 2012, StVK] (unverified; checked against HOBAKv1 STVK.cpp) Ψ = μ‖E‖² + λ/2 (tr E)².
+    /// [Sifakis 2012, StVK] (unverified; checked against HOBAKv1 STVK.cpp for tets; HOBAK has no membranes: the membrane's, on its 3×2 F, is ours, an interpretation) Ψ = μ‖E‖² + λ/2 (tr E)².
     fn density(&self, d: &Deformation, lame: &Lame) -> f64 {
         isotropic_quadratic(&d.green_strain(), lame)
     }
 
-    /// [Sifakis 2012, StVK] (unverified; checked against HOBAKv1 STVK.cpp) P = F S, S = 2μE + λ (tr E) I.
+    /// [Sifakis 2012, StVK] (unverified; checked against HOBAKv1 STVK.cpp for tets; HOBAK has no membranes: the membrane's, on its 3×2 F, is ours, an interpretation) P = F S, S = 2μE + λ (tr E) I.
     fn stress(&self, d: &Deformation, lame: &Lame) -> DMatrix<f64> {
         d.f() * hooke(&d.green_strain(), lame)
     }
 
-    /// [Sifakis 2012, StVK] (unverified; checked against HOBAKv1 STVK.cpp) dP = dF S + F (2μ dE + λ tr(dE) I),
+    /// [Sifakis 2012, StVK] (unverified; checked against HOBAKv1 STVK.cpp for tets; HOBAK has no membranes: the membrane's, on its 3×2 F, is ours, an interpretation) dP = dF S + F (2μ dE + λ tr(dE) I),
     /// dE = (dFᵀF + FᵀdF)/2.
     fn stress_differential(&self, d: &Deformation, lame: &Lame, df: &DMatrix<f64>) -> DMatrix<f64> {
         let ft_df = d.f().transpose() * df;
