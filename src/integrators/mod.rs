@@ -4,6 +4,7 @@
 //! starts.
 
 pub mod damping;
+pub mod continuum;
 pub mod dissipation;
 pub mod first_iterate;
 pub mod optimization_integrator;
