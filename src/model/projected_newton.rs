@@ -214,7 +214,7 @@ fn line_search(
 /// numbering from memory) Backtracking: the first step α = 1, 1/2, 1/4, … (`halvings` halvings
 /// at most, so 1 + `halvings` steps tried) that `accepts`; None if none does. What accepts a
 /// step (Armijo's sufficient decrease, or plain descent) is the caller's.
-pub fn backtrack(halvings: usize, mut accepts: impl FnMut(f64) -> bool) -> Option<f64> {
+pub fn backtrack<A: FnMut(f64) -> bool>(halvings: usize, mut accepts: A) -> Option<f64> {
     let mut alpha = 1.0;
     for _ in 0..=halvings {
         if accepts(alpha) {

@@ -3,6 +3,7 @@
 
 pub mod benchmark;
 pub mod beyond;
+pub mod continuum;
 pub mod experiments;
 pub mod forensics;
 pub mod integrator_study;
