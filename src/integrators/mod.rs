@@ -3,8 +3,8 @@
 //! optimization integrators' stage problems, dissipation and damping, and where a step's iteration
 //! starts.
 
-pub mod damping;
 pub mod continuum;
+pub mod damping;
 pub mod dissipation;
 pub mod first_iterate;
 pub mod optimization_integrator;

@@ -130,18 +130,19 @@ fn converged_stage_in(
         if step_norm > 1e-8 {
             let phi0 = objective(&x);
             // Plain descent, false for a NaN potential too.
-            alpha = backtrack(HALVINGS, |alpha| objective(&trial(alpha)) <= phi0).ok_or_else(
-                || Error::NotConverged {
-                    what: "converged Newton stage".into(),
-                    detail: format!(
+            alpha =
+                backtrack(HALVINGS, |alpha| objective(&trial(alpha)) <= phi0).ok_or_else(|| {
+                    Error::NotConverged {
+                        what: "converged Newton stage".into(),
+                        detail: format!(
                         "the line search stalled at Newton iteration {}: the potential {phi0:e} \
                          does not decrease along the Newton step ({step_norm:e} m) down to a \
                          fraction {:e} of it",
                         iteration + 1,
                         0.5_f64.powi(HALVINGS as i32)
                     ),
-                },
-            )?;
+                    }
+                })?;
         }
         x = trial(alpha);
         if alpha * step_norm <= options.tolerance {

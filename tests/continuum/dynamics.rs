@@ -69,7 +69,10 @@ fn the_released_beams_kinetic_energy_peaks_under_each_integrator() {
         assert!(run.log.largest_residual <= 1e-9);
         assert_eq!(peaks.len(), 2, "{integrator}");
         for (peak, quarters) in peaks.iter().zip([1.0, 3.0]) {
-            assert!((peak.time_exact - quarters * quarter).abs() <= DT, "{integrator}");
+            assert!(
+                (peak.time_exact - quarters * quarter).abs() <= DT,
+                "{integrator}"
+            );
             assert!((peak.time_exact - quarters * wrong_quarter).abs() > DT);
         }
         let within = |low: f64| heights.iter().all(|&h| (low..=1.0 + 1e-9).contains(&h));
@@ -135,7 +138,9 @@ fn a_free_spinning_beam_keeps_its_angular_momentum_under_midpoint_only() {
     };
     let midpoint = change(OptimizationIntegrator::ImplicitMidpoint);
     let euler = change(OptimizationIntegrator::BackwardEuler);
-    eprintln!("angular momentum's largest change: midpoint {midpoint:.1e}, Backward Euler {euler:.1e}");
+    eprintln!(
+        "angular momentum's largest change: midpoint {midpoint:.1e}, Backward Euler {euler:.1e}"
+    );
     assert!(midpoint <= 1e-9, "{midpoint:e}");
     assert!(euler > 1e-3, "{euler:e}");
 }
@@ -174,7 +179,11 @@ fn with_masses(system: &ContinuumSystem, factor: f64) -> ContinuumSystem {
         Mesh {
             kind: ElementKind::Tetrahedron,
             positions: system.rest_positions().to_vec(),
-            elements: system.elements().iter().map(|e| e.nodes().to_vec()).collect(),
+            elements: system
+                .elements()
+                .iter()
+                .map(|e| e.nodes().to_vec())
+                .collect(),
             masses: Masses::PerNode(system.masses().iter().map(|m| factor * m).collect()),
             fixed: (0..n).map(|i| system.is_fixed(i)).collect(),
             displacement: vec![0.0; 3 * n],

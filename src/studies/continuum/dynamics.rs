@@ -9,9 +9,7 @@ use crate::error::{Error, Result};
 use crate::integrators::continuum::{ContinuumIntegrator, ContinuumState, StageLog};
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::model::continuum::energy::EnergyKind;
-use crate::model::continuum::scenes::{
-    beam, BEAM_DENSITY, BEAM_LENGTH, BEAM_POISSON, BEAM_SIDE,
-};
+use crate::model::continuum::scenes::{beam, BEAM_DENSITY, BEAM_LENGTH, BEAM_POISSON, BEAM_SIDE};
 use crate::model::continuum::statics::{static_equilibrium, DEFAULT_TOLERANCE};
 use crate::model::continuum::system::{ContinuumSystem, ElementKind, Masses, Mesh};
 use crate::model::linear::Factorization;
