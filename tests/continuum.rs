@@ -36,3 +36,5 @@ impl Random {
         bits as f64 / (1u64 << 52) as f64 - 1.0
     }
 }
+#[path = "continuum/dynamics.rs"]
+mod dynamics;

@@ -3,6 +3,7 @@
 //! optimization integrators' stage problems, dissipation and damping, and where a step's iteration
 //! starts.
 
+pub mod continuum;
 pub mod damping;
 pub mod dissipation;
 pub mod first_iterate;

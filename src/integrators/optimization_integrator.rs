@@ -180,6 +180,50 @@ pub fn tr_bdf2_coefficients() -> (f64, f64, f64) {
     (a, b, (1.0 - g) / (2.0 - g))
 }
 
+/// The arithmetic of a stage's pseudo-state and of a step's end on one coordinate (`f64`, the
+/// continuum's flat unknowns) or one node (`Vec3`, the springs'): one formula for both models.
+pub trait Coordinate:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<f64, Output = Self>
+    + std::ops::Div<f64, Output = Self>
+{
+}
+
+impl<T> Coordinate for T where
+    T: Copy
+        + std::ops::Add<Output = T>
+        + std::ops::Sub<Output = T>
+        + std::ops::Mul<f64, Output = T>
+        + std::ops::Div<f64, Output = T>
+{
+}
+
+/// Implicit midpoint's end of a step (module doc): $`x_{n+1} = 2z - x_n`$ from the midpoint
+/// $`z`$, and likewise $`v_{n+1} = 2u^* - v_n`$.
+pub fn midpoint_end<T: Coordinate>(mid: T, start: T) -> T {
+    mid * 2.0 - start
+}
+
+/// BDF2's pseudo-state (module doc): $`x_a = \frac13(4x_n - x_{n-1})`$, and likewise
+/// $`u_0`$ from the velocities.
+pub fn bdf2_pseudo<T: Coordinate>(now: T, before: T) -> T {
+    (now * 4.0 - before) / 3.0
+}
+
+/// TR-BDF2's first, trapezoidal stage (module doc): $`x_a = x_n + \tau v_n`$,
+/// $`u_0 = v_n + \tau M^{-1}F`$, `force` the full force (gravity and the dissipation in it).
+pub fn trapezoid_pseudo<T: Coordinate>(x: T, v: T, force: T, tau: f64, mass: f64) -> (T, T) {
+    (x + v * tau, v + force * (tau / mass))
+}
+
+/// TR-BDF2's second, BDF2 stage (module doc): $`x_a = a\,x_\gamma - b\,x_n`$, and likewise
+/// $`u_0`$, with `(a, b)` of [`tr_bdf2_coefficients`].
+pub fn tr_bdf2_pseudo<T: Coordinate>(gamma: T, start: T, (a, b): (f64, f64)) -> T {
+    gamma * a - start * b
+}
+
 /// One stage problem (module doc), apart from its pseudo-state $`(x_a, u_0)`$, which the
 /// solver is handed as a [`State`] and replaces by the solution.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -371,8 +415,8 @@ impl Integrated {
         let (z, u) = (&self.stage.x, &self.stage.v);
         for (i, node) in self.solver.system().nodes().iter().enumerate() {
             if !node.fixed {
-                state.x[i] = 2.0 * z[i] - state.x[i];
-                state.v[i] = 2.0 * u[i] - state.v[i];
+                state.x[i] = midpoint_end(z[i], state.x[i]);
+                state.v[i] = midpoint_end(u[i], state.v[i]);
             }
         }
         Ok(())
@@ -388,8 +432,8 @@ impl Integrated {
         };
         set_pseudo_state(self.solver.system(), state, &mut self.stage, |i, _, _| {
             (
-                (4.0 * state.x[i] - previous.x[i]) / 3.0,
-                (4.0 * state.v[i] - previous.v[i]) / 3.0,
+                bdf2_pseudo(state.x[i], previous.x[i]),
+                bdf2_pseudo(state.v[i], previous.v[i]),
             )
         });
         self.solver.solve(&problem, &mut self.stage)?;
@@ -407,10 +451,7 @@ impl Integrated {
         }
         let forces = &self.forces;
         set_pseudo_state(system, state, &mut self.stage, |i, mass, _| {
-            (
-                state.x[i] + tau * state.v[i],
-                state.v[i] + tau / mass * forces[i],
-            )
+            trapezoid_pseudo(state.x[i], state.v[i], forces[i], tau, mass)
         });
         let trapezoid = StageProblem {
             tau,
@@ -421,6 +462,7 @@ impl Integrated {
         self.solver.solve(&trapezoid, &mut self.stage)?;
         // Stage 2 from (x_n, v_n) and (x_γ, v_γ); its dissipation frozen at x_γ.
         let (a, b, _) = tr_bdf2_coefficients();
+        let ab = (a, b);
         self.frozen.copy_from_slice(&self.stage.x);
         set_pseudo_state(
             self.solver.system(),
@@ -428,8 +470,8 @@ impl Integrated {
             &mut self.stage,
             |i, _, gamma| {
                 (
-                    a * gamma.x[i] - b * state.x[i],
-                    a * gamma.v[i] - b * state.v[i],
+                    tr_bdf2_pseudo(gamma.x[i], state.x[i], ab),
+                    tr_bdf2_pseudo(gamma.v[i], state.v[i], ab),
                 )
             },
         );

@@ -8,6 +8,7 @@ pub mod continuum;
 pub mod lanes;
 pub mod linear;
 pub mod metrics;
+pub mod projected_newton;
 pub mod scene;
 pub mod sheet_equilibrium;
 pub mod spring;

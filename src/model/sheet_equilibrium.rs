@@ -20,7 +20,8 @@
 //! - Hessian: the exact one where it is positive definite (its banded $`LDL^\top`$ has every
 //!   pivot positive), else the definite-projected one ([`spring::force_jacobian_definite`]:
 //!   compressed springs make the exact one indefinite along the way), shifted by a multiple of
-//!   the identity where it is singular (`shifted_factor`), so that every direction descends
+//!   the identity where it is singular ([`shifted_factor`], the crate's one projected Newton's
+//!   shift, [`crate::model::projected_newton`]), so that every direction descends
 //!   and the last steps, at a minimum with positive definite $`H`$, are exact Newton steps and
 //!   converge quadratically.
 //! - Linear solves: this crate's scalar banded $`LDL^\top`$ ([`BandedLdlt`]) on the free nodes
@@ -31,6 +32,7 @@
 
 use crate::error::{require_positive, Error, Result};
 use crate::model::linear::{BandedLdlt, SymmetricMatrix};
+use crate::model::projected_newton::{backtrack, shifted_factor, ShiftSchedule, ARMIJO};
 use crate::model::scene::{SheetParams, SHEET_NODES_PER_SIDE, THESIS_STIFFNESSES};
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, Vec3};
@@ -198,70 +200,55 @@ fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
-/// [Nocedal 2006, Alg. 3.1] (unverified: a textbook, no reference code; the 2nd edition's numbering from memory) Backtracking: the largest $`\alpha = 2^{-m}`$ with
+/// Halvings of the line search's step: down to 2⁻³⁹ ≈ 1.8e-12 of Newton's.
+const HALVINGS: usize = 39;
+/// The shifts of the projected Hessian: 1e-10 of its largest diagonal entry, growing tenfold,
+/// until one above that entry has failed.
+const SHIFTS: ShiftSchedule = ShiftSchedule {
+    first: 1e-10,
+    growth: 10.0,
+    largest: 1.0,
+};
+
+/// Backtracking ([`backtrack`]): the largest $`\alpha = 2^{-m}`$ with
 /// $`E(x + \alpha\,\Delta x) \le E(x) + c\,\alpha\,\nabla E^\top \Delta x`$, $`c = 10^{-4}`$; the
 /// full step where the predicted decrease $`-\nabla E^\top\Delta x`$ is below the energy's
 /// round-off (near the minimum, where only the force can still tell progress).
-fn backtrack(
+fn line_search(
     system: &MassSpringSystem,
     free: &FreeUnknowns,
     x: &[Vec3],
     f: &[f64],
     dx: &[f64],
 ) -> Result<f64> {
-    const C: f64 = 1e-4;
     let decrease: f64 = f.iter().zip(dx).map(|(f, d)| f * d).sum();
     let e0 = system.potential_energy(x);
     if decrease <= 1e3 * f64::EPSILON * e0.abs().max(1.0) {
         return Ok(1.0);
     }
-    let mut alpha = 1.0;
-    while system.potential_energy(&free.moved(x, dx, alpha)) > e0 - C * alpha * decrease {
-        alpha *= 0.5;
-        if alpha < 1e-12 {
-            return Err(Error::NotConverged {
-                what: "static equilibrium line search".into(),
-                detail: format!(
-                    "no decrease of the energy along the Newton direction (predicted {decrease:e} J)"
-                ),
-            });
-        }
-    }
-    Ok(alpha)
+    backtrack(HALVINGS, |alpha| {
+        system.potential_energy(&free.moved(x, dx, alpha)) <= e0 - ARMIJO * alpha * decrease
+    })
+    .ok_or_else(|| Error::NotConverged {
+        what: "static equilibrium line search".into(),
+        detail: format!(
+            "no decrease of the energy along the Newton direction (predicted {decrease:e} J)"
+        ),
+    })
 }
 
-/// [Nocedal 2006, Alg. 3.3] (unverified: a textbook, no reference code; the 2nd edition's numbering from memory) Cholesky with added multiple of the identity: factors
-/// $`H + \tau I`$ with $`\tau = 0`$, then $`\tau = 10^{-10}\max_i H_{ii}`$ growing tenfold until every
-/// pivot is positive. The projected Hessian is only semidefinite: a node whose springs are all
-/// compressed keeps their axial stiffness alone, and the flat start has none in y.
-fn shifted_factor(mut h: SymmetricMatrix, iteration: usize) -> Result<BandedLdlt> {
-    let scale = (0..h.dim()).map(|i| h.get(i, i)).fold(0.0, f64::max);
-    let mut tau = 0.0;
-    loop {
-        match BandedLdlt::new(&h) {
-            Ok(factor) => return Ok(factor),
-            Err(e) if tau > scale => {
-                return Err(Error::NotConverged {
-                    what: "static equilibrium".into(),
-                    detail: format!(
-                        "the projected Hessian stays indefinite with a shift of {tau:e} at Newton \
-                         iteration {iteration}: {e}"
-                    ),
-                })
-            }
-            Err(_) => {
-                let next = if tau == 0.0 {
-                    1e-10 * scale
-                } else {
-                    10.0 * tau
-                };
-                for i in 0..h.dim() {
-                    h.add(i, i, next - tau);
-                }
-                tau = next;
-            }
-        }
-    }
+/// The projected Hessian's factor, shifted where it is singular ([`shifted_factor`]): it is
+/// only semidefinite, a node whose springs are all compressed keeping their axial stiffness
+/// alone, and the flat start having none in y.
+fn projected_factor(h: SymmetricMatrix, iteration: usize) -> Result<BandedLdlt> {
+    shifted_factor(h, 0.0, &SHIFTS).map_err(|failure| Error::NotConverged {
+        what: "static equilibrium".into(),
+        detail: format!(
+            "the projected Hessian stays indefinite with a shift of {:e} at Newton iteration \
+             {iteration}: {}",
+            failure.shift, failure.error
+        ),
+    })
 }
 
 /// The minimiser of spring plus gravity energy of `system` with its held nodes fixed, by
@@ -317,12 +304,12 @@ pub fn static_equilibrium(system: &MassSpringSystem, start: &[Vec3]) -> Result<E
             Ok(factor) => factor,
             Err(_) => {
                 projected_iterations += 1;
-                shifted_factor(free.hessian(system, &x, Hessian::Projected), iteration)?
+                projected_factor(free.hessian(system, &x, Hessian::Projected), iteration)?
             }
         };
         let mut dx = f.clone();
         factor.solve_in_place(&mut dx, 1);
-        let alpha = backtrack(system, &free, &x, &f, &dx)?;
+        let alpha = line_search(system, &free, &x, &f, &dx)?;
         x = free.moved(&x, &dx, alpha);
     }
     match best {

@@ -8,8 +8,11 @@
 //! pseudo-state $`(x_a, u_0)`$, gravity in the potential (the same minimiser as
 //! $`\tau^2M^{-1}f_{ext}`$ in $`\hat y`$), by projected Newton (the springs' and the
 //! momentum-conserving damping's transverse stiffness clamped at 0, the drag's Hessian
-//! smoothed at rest) with a backtracking line search on the objective; the first iterate is
-//! $`x_a + \tau u_0`$.
+//! smoothed at rest) with a backtracking line search on the objective (the crate's one,
+//! [`crate::model::projected_newton::backtrack`], accepting plain descent); the first iterate
+//! is $`x_a + \tau u_0`$. Its Hessian rule (always the projected one) and its stop (on the
+//! size of the update) are its own: the report's Backward Euler reference and every solver's
+//! tests are measured against its steps, bit for bit.
 
 use crate::error::{require_positive, Error, Result};
 use crate::integrators::damping::RayleighDamping;
@@ -17,12 +20,16 @@ use crate::integrators::dissipation::{Dissipation, StageDissipation};
 use crate::integrators::optimization_integrator::{MinimizingSolver, StageProblem};
 use crate::integrators::time_stepper::TimeStepper;
 use crate::model::boundary::{fixed_node_unknowns, ConstrainedSystem};
+use crate::model::projected_newton::backtrack;
 use crate::model::spring;
 use crate::model::system::{MassSpringSystem, State, Vec3};
 use crate::solvers::backward_euler::{
     incremental_potential, inertia, ConvergedStepOptions, ImplicitMatrix,
 };
 use nalgebra::Matrix3;
+
+/// Halvings of the line search's step ([`backtrack`]): down to 2⁻⁴⁰ ≈ 9.1e-13 of Newton's.
+const HALVINGS: usize = 40;
 
 /// [Brown 2018, dissipation potential] (unverified: no body text or reference code found) The
 /// stage `problem` from the pseudo-state `state` with `dissipation`, solved to
@@ -122,24 +129,20 @@ fn converged_stage_in(
         let mut alpha = 1.0;
         if step_norm > 1e-8 {
             let phi0 = objective(&x);
-            // False for a NaN potential too.
-            let descends = |phi: f64| phi <= phi0;
-            let mut phi = objective(&trial(alpha));
-            while alpha > 1e-12 && !descends(phi) {
-                alpha *= 0.5;
-                phi = objective(&trial(alpha));
-            }
-            if !descends(phi) {
-                return Err(Error::NotConverged {
-                    what: "converged Newton stage".into(),
-                    detail: format!(
+            // Plain descent, false for a NaN potential too.
+            alpha =
+                backtrack(HALVINGS, |alpha| objective(&trial(alpha)) <= phi0).ok_or_else(|| {
+                    Error::NotConverged {
+                        what: "converged Newton stage".into(),
+                        detail: format!(
                         "the line search stalled at Newton iteration {}: the potential {phi0:e} \
                          does not decrease along the Newton step ({step_norm:e} m) down to a \
-                         fraction {alpha:e} of it",
-                        iteration + 1
+                         fraction {:e} of it",
+                        iteration + 1,
+                        0.5_f64.powi(HALVINGS as i32)
                     ),
-                });
-            }
+                    }
+                })?;
         }
         x = trial(alpha);
         if alpha * step_norm <= options.tolerance {

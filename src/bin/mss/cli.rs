@@ -105,6 +105,17 @@ pub(crate) struct Cli {
     )]
     pub(crate) youngs: Option<f64>,
 
+    /// The continuum scenes' dynamics: simulate this long, in s (> 0, up to 1e4), released
+    /// from rest, with --integrator (default backward-euler) and --dt, every stage solved by
+    /// Newton to a residual of 1e-9 of the largest nodal load [default: statics only]
+    #[arg(
+        long,
+        value_name = "S",
+        allow_hyphen_values = true,
+        help_heading = "Continuum"
+    )]
+    pub(crate) duration: Option<f64>,
+
     /// Time step dt, in s, from 1e-9 to 1e9 and at most --max-time
     #[arg(
         long,

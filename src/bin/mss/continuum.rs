@@ -1,7 +1,9 @@
 //! `mss --scene beam|membrane|cook|patch`: a continuum scene of `docs/fem-scenes.md` solved
 //! for its static equilibrium by projected Newton (`src/model/continuum/statics.rs`), with the
-//! scene's measurement; and `--list-energies`. The continuum has no time integration yet: the
-//! dynamics options are refused with these scenes.
+//! scene's measurement; with `--duration`, its motion released from rest under an optimization
+//! integrator (`src/integrators/continuum.rs`), every stage solved by the same Newton; and
+//! `--list-energies`. Newton is the only solver of elements: every other solver, and the
+//! spring scenes' options that do not apply, are refused with a reason.
 
 use crate::cli::{Cli, SceneArg};
 use crate::failure::Failure;
@@ -13,6 +15,8 @@ use mass_spring_solvers::model::continuum::scenes::{
 };
 use mass_spring_solvers::model::continuum::statics::{static_equilibrium, DEFAULT_TOLERANCE};
 use mass_spring_solvers::model::continuum::system::ContinuumSystem;
+use mass_spring_solvers::model::metrics::{MAX_SIMULATED_TIME_S, STOP_THRESHOLD_J};
+use mass_spring_solvers::solvers::registry::{Builder, SolverId};
 
 /// The range of `--youngs`, Pa (N/m for the membrane's Y).
 const YOUNGS_RANGE: (f64, f64) = (1e-6, 1e15);
@@ -42,20 +46,55 @@ pub(crate) fn list_energies() -> String {
 /// membrane n, Cook's N); the options of the spring scenes' dynamics refused.
 fn system(cli: &Cli) -> Result<(ContinuumSystem, EnergyKind, f64, usize), Failure> {
     let scene = cli.scene;
+    if cli.solver != SolverId::BackwardEuler {
+        return Err(Failure::input(format!(
+            "--solver {} cannot take the continuum scene {}: {}; Newton (--solver \
+             backward_euler, every stage solved to a residual) is the continuum's solver",
+            cli.solver.id(),
+            scene.id(),
+            springs_only_reason(cli.solver)
+        )));
+    }
     let spring_options = [
         ("--stiffness", cli.stiffness.is_some()),
         ("--gravity", cli.gravity.is_some()),
         ("--nodes", cli.nodes.is_some()),
         ("--compare-reference", cli.compare_reference),
-        ("--ke-csv", cli.ke_csv.is_some()),
-        ("--positions-csv", cli.positions_csv.is_some()),
         ("--json", cli.json),
+        ("--iterations", cli.iterations.is_some()),
+        ("--stop-tolerance", cli.stop_tolerance.is_some()),
+        ("--tolerance", cli.tolerance.is_some()),
+        ("--first-iterate", cli.first_iterate.is_some()),
+        ("--exempt-first-peak", cli.exempt_first_peak),
+        ("--velocity-damping", cli.velocity_damping != 0.0),
+        (
+            "--max-time (the continuum's run lasts --duration)",
+            cli.max_time != MAX_SIMULATED_TIME_S,
+        ),
+        (
+            "--threshold (the continuum's run lasts --duration)",
+            cli.threshold != STOP_THRESHOLD_J,
+        ),
     ];
     if let Some((option, _)) = spring_options.iter().find(|(_, given)| *given) {
         return Err(Failure::input(format!(
-            "{option} does not apply to the continuum scene {} (statics only)",
+            "{option} does not apply to the continuum scene {}",
             scene.id()
         )));
+    }
+    if cli.duration.is_none() {
+        let dynamics = [
+            ("--integrator", cli.integrator.is_some()),
+            ("--ke-csv", cli.ke_csv.is_some()),
+            ("--positions-csv", cli.positions_csv.is_some()),
+        ];
+        if let Some((option, _)) = dynamics.iter().find(|(_, given)| *given) {
+            return Err(Failure::input(format!(
+                "{option} needs --duration with the continuum scene {} (without it, statics \
+                 only)",
+                scene.id()
+            )));
+        }
     }
     let energy = match &cli.energy {
         Some(name) => EnergyKind::parse("--energy", name)?,
@@ -98,9 +137,31 @@ fn system(cli: &Cli) -> Result<(ContinuumSystem, EnergyKind, f64, usize), Failur
     Ok((system, energy, youngs, n))
 }
 
-/// Solves the scene's statics and prints what it reached and the scene's measurement.
+/// Why `solver` cannot take a continuum scene's elements.
+fn springs_only_reason(solver: SolverId) -> &'static str {
+    match solver {
+        SolverId::FastMassSpring => {
+            "Liu 2013 solves springs only: its global matrix is the springs' Laplacian and its \
+             local step projects each spring to its rest length, and a finite element has \
+             neither (the thesis's §5: with FEM, Liu drops out)"
+        }
+        _ if matches!(solver.info().builder, Builder::Particles(_)) => {
+            "the tutorial's integrators move particles and springs only"
+        }
+        _ => {
+            "its iteration is written against springs (their constraints or local steps); \
+             this crate gives it no finite elements yet"
+        }
+    }
+}
+
+/// Solves the scene's statics, or with `--duration` its dynamics, and prints what it reached
+/// and the scene's measurement.
 pub(crate) fn run(cli: &Cli) -> Result<(), Failure> {
     let (system, energy, youngs, n) = system(cli)?;
+    if let Some(duration) = cli.duration {
+        return crate::continuum_dynamics::run(cli, &system, duration, n);
+    }
     let eq = static_equilibrium(&system, DEFAULT_TOLERANCE)?;
     let u = &eq.displacement;
     let fixed = (0..system.node_count())

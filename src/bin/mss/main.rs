@@ -9,6 +9,7 @@
 
 mod cli;
 mod continuum;
+mod continuum_dynamics;
 mod failure;
 mod output;
 mod scene;
@@ -45,6 +46,7 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     if let Some(option) = [
         ("--energy", cli.energy.is_some()),
         ("--youngs", cli.youngs.is_some()),
+        ("--duration", cli.duration.is_some()),
     ]
     .iter()
     .find_map(|(option, given)| given.then_some(option))
