@@ -151,7 +151,11 @@ fn tables_1_to_7_match_their_snapshots() {
 #[test]
 fn reproduction_summary_matches_its_snapshot() {
     let results = &data().results;
-    snapshot("reproduction-summary", &tables::summary(results).render());
+    let forensics = Some(mass_spring_solvers::studies::forensics::forensic_results());
+    snapshot(
+        "reproduction-summary",
+        &tables::summary(results, forensics).render(),
+    );
 }
 
 /// Every measured number of the 56 rows, one line per row, locked (`lock.rs`).
