@@ -373,8 +373,10 @@ fn findings(data: &ReportData) -> String {
     if let Some((mean, lo, hi)) = benchmark::mean_with_interval(&taus) {
         md += &format!(
             "- **The sheet** (section 11): the solvers' ranking by physical error on the rope and on the \
-             sheet agree with Kendall τ = {mean:.2} (95 % bootstrap interval {lo:.2} to {hi:.2}, {} \
-             cells), but in {} of those cells most ranked solvers are before the asymptotic regime.\n",
+             sheet agree with Kendall τ-b = {mean:.2} (ties at a relative {:e}; 95 % bootstrap interval \
+             {lo:.2} to {hi:.2}, {} cells), but in {} of those cells most ranked solvers are before the \
+             asymptotic regime.\n",
+            benchmark::TAU_TIE,
             taus.len(),
             rankings.iter().filter(|c| c.pre_asymptotic()).count()
         );

@@ -75,6 +75,7 @@ pub fn section(f: &Forensics, faithful: &ResultSet) -> String {
     );
     md += &rest_error_evidence(f);
     md += &band_readings(f, faithful);
+    md += &band_margins(f, faithful);
     md += &tolerance_sweep(faithful);
     md += "### 6.1 The choices and the rows that rest on them\n\n";
     md += &choices_table(f).render();
@@ -328,6 +329,57 @@ fn band_readings(f: &Forensics, faithful: &ResultSet) -> String {
         tested.len() - rows_2_3,
         unused.len(),
         unused_reproduced.len(),
+    )
+}
+
+/// The row the rule passes whose decisive rest-error ratio (of its two gravity readings, the
+/// one nearer the band's centre, 1 on a log scale) lies nearest each edge of the rule's band,
+/// with its margin: how far the band's decision on it is from flipping.
+pub fn nearest_band_edges(f: &Forensics, faithful: &ResultSet) -> [(String, [f64; 2], f64); 2] {
+    let decisive = |r: [f64; 2]| {
+        if r[0].ln().abs() <= r[1].ln().abs() {
+            r[0]
+        } else {
+            r[1]
+        }
+    };
+    let rows: Vec<(String, [f64; 2], f64)> = faithful
+        .rows
+        .iter()
+        .filter(|m| m.reproduces())
+        .filter_map(|m| {
+            let p = m.published.error?;
+            let e = f.rest_errors_of(m);
+            let r = [e[0] / p, e[1] / p];
+            Some((row_label(&m.published), r, decisive(r)))
+        })
+        .collect();
+    REST_ERROR_BAND.map(|edge| {
+        rows.iter()
+            .min_by(|a, b| (a.2 / edge).ln().abs().total_cmp(&(b.2 / edge).ln().abs()))
+            .cloned()
+            .expect("rows with a published rest error")
+    })
+}
+
+/// The margin of the rows nearest each edge of the rule's band.
+fn band_margins(f: &Forensics, faithful: &ResultSet) -> String {
+    let [lower, upper] = nearest_band_edges(f, faithful);
+    let describe = |(label, r, d): &(String, [f64; 2], f64), edge: f64| {
+        let inside = (REST_ERROR_BAND[0]..=REST_ERROR_BAND[1]).contains(d);
+        format!(
+            "{label}, {}× against the reference at 9.81 m/s² and {}× at 9.8, {} % {} the edge {edge}",
+            sig(r[0], 3),
+            sig(r[1], 3),
+            sig(100.0 * ((d / edge).max(edge / d) - 1.0), 2),
+            if inside { "inside" } else { "outside" },
+        )
+    };
+    format!(
+        "The rows nearest the band's edges (each row read at the gravity nearer the band's centre, \
+         as the rule reads it): at the lower edge {}; at the upper edge {}.\n\n",
+        describe(&lower, REST_ERROR_BAND[0]),
+        describe(&upper, REST_ERROR_BAND[1]),
     )
 }
 
