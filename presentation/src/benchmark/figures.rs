@@ -182,6 +182,12 @@ impl BenchmarkChapter {
             .collect()
     }
 
+    /// Whether a work-precision figure of `case` draws any explicit baseline (none is drawn
+    /// where every one is unstable at every time step, the stiff sheet).
+    pub fn baselines_drawn(&self, case: Case) -> bool {
+        BASELINES.iter().any(|&id| !self.front(case, id).is_empty())
+    }
+
     /// One panel of a work-precision figure: `curves`, then the baselines and doing nothing;
     /// each drawn point a record of `csv`.
     fn work_panel(&self, case: Case, name: &str, curves: Vec<Curve>, csv: &mut CsvFile) -> Panel {

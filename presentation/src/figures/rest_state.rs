@@ -141,10 +141,16 @@ pub(super) fn error_against_dt(
             style: error_style(0, GREY, false).style,
         },
     ];
+    // Figures 9 and 10 are the thesis's own figures of the Projective Dynamics pair: the same
+    // series as panels (b)-(c) of Figures 5 and 7, which the caption says.
     let which = if solvers.len() == 3 {
-        "XPBD (a), Fast m-s (b) and ADMM (c)"
+        "XPBD (a), Fast m-s (b) and ADMM (c)".to_string()
     } else {
-        "the two Projective Dynamics methods, Fast m-s (a) and ADMM (b)"
+        format!(
+            "the two Projective Dynamics methods, Fast m-s (a) and ADMM (b), as the thesis draws them apart \
+             (the same series as Figure {}(b)-(c), repeated)",
+            if stiffness == 1e3 { 5 } else { 7 }
+        )
     };
     let merged = if merged.is_empty() {
         String::new()

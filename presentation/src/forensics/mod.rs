@@ -368,11 +368,12 @@ fn band_margins(f: &Forensics, faithful: &ResultSet) -> String {
     let describe = |(label, r, d): &(String, [f64; 2], f64), edge: f64| {
         let inside = (REST_ERROR_BAND[0]..=REST_ERROR_BAND[1]).contains(d);
         format!(
-            "{label}, {}× against the reference at 9.81 m/s² and {}× at 9.8, {} % {} the edge {edge}",
+            "{label}, {}× against the reference at 9.81 m/s² and {}× at 9.8, {} the edge {edge} by a \
+             factor {}",
             sig(r[0], 3),
             sig(r[1], 3),
-            sig(100.0 * ((d / edge).max(edge / d) - 1.0), 2),
             if inside { "inside" } else { "outside" },
+            sig((d / edge).max(edge / d), 3),
         )
     };
     format!(
