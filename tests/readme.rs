@@ -181,23 +181,26 @@ fn every_link_and_cited_file_of_the_report_resolves() {
 
 /// The numbers a template reads in `text` (whitespace flattened): the text between its `{}`
 /// holes is matched literally, each hole reads one number (digits and points); None where the
-/// template's first literal is absent or a hole holds no number.
+/// template matches nowhere.
 fn read(text: &str, template: &str) -> Option<Vec<String>> {
     let flat = text.split_whitespace().collect::<Vec<_>>().join(" ");
     let parts: Vec<&str> = template.split("{}").collect();
-    let mut rest = &flat[flat.find(parts[0])? + parts[0].len()..];
-    let mut found = Vec::new();
-    for literal in &parts[1..] {
-        let end = rest
-            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-            .unwrap_or(rest.len());
-        if end == 0 {
-            return None;
+    // The first place where the whole template matches.
+    flat.match_indices(parts[0]).find_map(|(at, _)| {
+        let mut rest = &flat[at + parts[0].len()..];
+        let mut found = Vec::new();
+        for literal in &parts[1..] {
+            let end = rest
+                .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+                .unwrap_or(rest.len());
+            if end == 0 {
+                return None;
+            }
+            found.push(rest[..end].to_string());
+            rest = rest[end..].strip_prefix(literal)?;
         }
-        found.push(rest[..end].to_string());
-        rest = rest[end..].strip_prefix(literal)?;
-    }
-    Some(found)
+        Some(found)
+    })
 }
 
 /// Each claim of the README's headline results, as the README words it and as the report's
