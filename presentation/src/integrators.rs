@@ -267,6 +267,25 @@ impl IntegratorsChapter {
                 }),
             );
         }
+        // Slope guides from one point below every error at the smallest step: a first-order
+        // and a second-order line, to read each integrator's order off its slope.
+        let points = || self.orders.iter().flat_map(|o| o.errors.iter().copied());
+        let (dt_lo, dt_hi) = points().fold((f64::INFINITY, 0.0f64), |(lo, hi), (dt, _)| {
+            (lo.min(dt), hi.max(dt))
+        });
+        let e_lo = points().map(|(_, e)| e).fold(f64::INFINITY, f64::min) / 3.0;
+        if dt_lo < dt_hi && e_lo.is_finite() {
+            for (order, line) in [(1, Line::Dotted), (2, Line::Dashed)] {
+                let guide = [dt_lo, dt_hi]
+                    .map(|dt| (dt, e_lo * (dt / dt_lo).powi(order)))
+                    .to_vec();
+                panel.series.push(
+                    Series::line(format!("slope {order}"), guide, crate::style::GREY)
+                        .with_weight(0.6)
+                        .with_line(line),
+                );
+            }
+        }
         let csv = write_csv(&["integrator", "dt_s", "error_m"], records);
         Ok(vec![ChapterFigure::new(
             ORDER_FIGURE,
@@ -430,7 +449,8 @@ impl IntegratorsChapter {
             md += &format!(
                 "![Figure I1](figures/{stem}.svg)\n\n*Figure I1. The error at t = {} s \
                  of each integrator against its time step, on the k = {:e} N/m rope, stages \
-                 solved to round-off.* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
+                 solved to round-off; grey, below the points, guides of slope 1 (dotted) and 2 \
+                 (dashed).* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 short(ORDER_TIME_S),
                 ORDER_STIFFNESS,
                 stem = f.stem

@@ -161,10 +161,10 @@ pub(super) fn ticks(lo: f64, hi: f64, log: bool) -> Vec<(f64, String, bool)> {
     let decades = (last - first + 1).max(0);
     let mut out = Vec::new();
     if decades < 2 {
-        // Digits where they stay short; `2×10⁶` beyond 10⁴ or below 10⁻³, never `2000000`.
+        // Digits where they stay short; `2×10⁶` from 10⁴ up or below 10⁻⁴, never `2000000`.
         let digits = |v: f64| {
             let e = v.log10().floor();
-            if !(-3.0..4.0).contains(&e) {
+            if !(-4.0..4.0).contains(&e) {
                 let m = (v / 10f64.powf(e)).round();
                 let power = power_of_ten(e as i32);
                 return if m == 1.0 {
