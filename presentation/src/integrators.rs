@@ -75,17 +75,6 @@ enum Outcome {
     Cost(CostRow),
 }
 
-/// A solver's name in this chapter's tables, whose columns are integrators: Newton for the
-/// solver the other chapters call by its thesis name, Backward Euler, so that a row is never
-/// named after a column's integrator.
-fn solver_name(id: SolverId) -> &'static str {
-    match id {
-        SolverId::BackwardEuler => "Newton",
-        SolverId::DampedBackwardEuler => "Newton damped",
-        _ => id.display_name(),
-    }
-}
-
 /// The line colour of each integrator (Okabe-Ito).
 fn colour(integrator: OptimizationIntegrator) -> Rgb {
     match integrator {
@@ -311,7 +300,7 @@ impl IntegratorsChapter {
             {
                 continue;
             }
-            let mut row = vec![solver_name(id).to_string()];
+            let mut row = vec![SolverId::display_name(id).to_string()];
             for i in OptimizationIntegrator::ALL {
                 row.push(self.cost(id, i, target).map_or("–".into(), |c| {
                     format!(
@@ -570,7 +559,7 @@ impl IntegratorsChapter {
                     .map_or("none met it".into(), |c| {
                         format!(
                             "{} ({}, {} m)",
-                            solver_name(c.solver),
+                            SolverId::display_name(c.solver),
                             sig(c.flops_per_step, 3),
                             sig(c.solver_error_m, 2)
                         )

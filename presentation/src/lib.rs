@@ -606,7 +606,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += &table_md(r, data.forensics.as_ref(), 9);
     md += "Figure 5 (k = 1e3 N/m) and Figure 7 (k = 1e6 N/m) set each solver's rest-state error against \
            Δt, published beside ours, and Figure 9 and Figure 10 the two Projective Dynamics methods alone, \
-           as the thesis does; Figure 6 and Figure 8 draw XPBD's rest state against Backward Euler's at the \
+           as the thesis does; Figure 6 and Figure 8 draw XPBD's rest state against Newton's (under Backward Euler) at the \
            two stiffnesses.\n\n";
     for n in 5..=10 {
         md += &figure_md(figures, &n.to_string());
@@ -614,7 +614,7 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += "### 7.2 Dynamics\n\n";
     md += "Figure 11 shows how the kinetic energy of the reference peaks, which the peak count and T/2 \
            measure, and Figure 12 the rope's motion over one period beside it. Figure 13 follows a node of \
-           the rope under Backward Euler and Fast m-s at Δt = 0.1 s; Figure 14 (the peaks, on a log axis) \
+           the rope under Newton and Fast m-s (each under Backward Euler) at Δt = 0.1 s; Figure 14 (the peaks, on a log axis) \
            and Figure 15 (the kinetic energy itself, cut when Fast m-s comes to rest) set the three solvers \
            at Δt = 0.01 s beside the reference.\n\n";
     md += &figure_md(figures, "11");
@@ -710,7 +710,10 @@ fn markdown(data: &ReportData, figures: &[figures::Figure], chapters: &ChapterFi
     md += "\n## Appendix B. Solver names\n\n";
     md += "Each solver has one name in this report's text, tables and figures (the thesis's \
            abbreviation of Table 8 for its own solvers), defined in the registry \
-           (`src/solvers/registry/`); the data files and `mss` use its code id.\n\n";
+           (`src/solvers/registry/`); the data files and `mss` use its code id. The thesis's reference \
+           solver, Newton-Raphson on the Backward Euler step, is **Newton**; **Backward Euler** names only \
+           the integrator (section 13's other integrators are implicit midpoint, BDF2 and TR-BDF2), \
+           and the thesis's Table 1 keeps its title.\n\n";
     md += &tables::solver_glossary().render();
 
     let document = format!("{head}{}\n{md}", navigation::contents(&md));

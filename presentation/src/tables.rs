@@ -90,7 +90,9 @@ pub fn stiffness_label(k: f64) -> String {
 /// The name of a solver as in the thesis.
 pub fn solver_name(kind: SolverId) -> &'static str {
     match kind {
-        SolverId::BackwardEuler => "Backward Euler (implicit, Newton-Raphson)",
+        SolverId::BackwardEuler => {
+            "Newton-Raphson on the Backward Euler step (the thesis's implicit reference)"
+        }
         SolverId::Xpbd => "XPBD (Extended Position-Based Dynamics)",
         SolverId::FastMassSpring => "Fast Simulation of Mass-Spring Systems (Liu 2013)",
         SolverId::AdmmPd => "ADMM ⊇ Projective Dynamics (Overby 2017)",

@@ -84,7 +84,7 @@ pub(super) fn figure11(runs: &FigureRuns) -> Result<Figure> {
         11,
         "fig11-kinetic-energy-reference",
         format!(
-            "Figure 11. Two periods of the kinetic energy of Backward Euler (Δt = 0.001 s, 5 Newton iterations), \
+            "Figure 11. Two periods of the kinetic energy of Newton under Backward Euler (Δt = 0.001 s, 5 Newton iterations), \
              k = 10⁶ N/m, from the release at rest: the kinetic energy peaks twice per period of the rope, so two \
              periods span peaks 1 to 5.{caption_extra}"
         ),

@@ -194,7 +194,7 @@ pub(super) fn rest_state_panel(
     if let Some(r) = reference(data, stiffness) {
         reference_series = Some(
             Series::line(
-                "BE reference (Δt = 0.001 s, 5 it.)",
+                "Newton reference (Δt = 0.001 s, 5 it.)",
                 xy(&r.final_positions),
                 BLACK,
             )
@@ -273,7 +273,7 @@ pub(super) fn rest_states_xpbd(data: &ReportData) -> Result<[Figure; 2]> {
                 number,
                 format!("fig{number:02}-rest-state-xpbd-k{}", stiffness_label(stiffness)),
                 format!(
-                    "Figure {number}. Rest state of Backward Euler (hollow squares) against XPBD, k = {} N/m, \
+                    "Figure {number}. Rest state of Newton under Backward Euler (hollow squares) against XPBD, k = {} N/m, \
                      drawn to scale (the same metre on both axes) and at the scale of its twin, Figure {twin}. \
                      The thesis does not say which XPBD run it shows; we show the coarsest time step, Δt = 0.1 s, \
                      with each of its iteration counts (1, 20, 50), where the difference is visible and shrinks \
