@@ -512,6 +512,36 @@ impl BeyondChapter {
                 chebyshev.join("; ")
             );
         }
+        // How near the tolerance each count falls: the gap at the counted iteration and at the
+        // one before, over the tolerance (a count whose gap sits just under the tolerance is
+        // one that round-off can move).
+        let margins: Vec<String> = self
+            .acceleration
+            .iter()
+            .filter_map(|a| {
+                let n = a.iterations?;
+                let curve = self
+                    .figure_curves(Start::Step10)
+                    .find(|c| c.spec.id == a.solver)?;
+                let at = |m: usize| curve.gaps.get(m.checked_sub(1)?).copied().flatten();
+                let (here, before) = (at(n)? / GAP_TOLERANCE, at(n - 1)? / GAP_TOLERANCE);
+                Some(format!(
+                    "{} {} below it at {n} iterations ({} above at {})",
+                    a.solver.display_name(),
+                    sig(1.0 - here, 2),
+                    sig(before - 1.0, 2),
+                    n - 1
+                ))
+            })
+            .collect();
+        if !margins.is_empty() {
+            md += &format!(
+                "How near the tolerance each count within the curves falls, as the relative margin of \
+                 the gap to {} m: {}.\n\n",
+                full(GAP_TOLERANCE),
+                margins.join("; ")
+            );
+        }
         let moved: Vec<String> = RATIOS_BEFORE_ONE_START
             .iter()
             .filter_map(|&(solver, base, before)| {
