@@ -16,6 +16,10 @@ use mass_spring_solvers::model::system::Vec3;
 use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
 
+/// How far Figures 5, 7, 9 and 10 shift the marks of the first and third iteration counts
+/// along Δt (left and right; the second stays), decades.
+pub const DODGE_DECADES: f64 = 0.06;
+
 /// Figures 5, 7, 9, 10: rest-state error against Δt on log axes, one panel per solver,
 /// published (hollow, dashed) and ours (filled, solid) on the same axes.
 pub(super) fn error_against_dt(
@@ -103,7 +107,13 @@ pub(super) fn error_against_dt(
             for g in groups {
                 let index = g[0];
                 let mut s = error_style(index, colour(*solver, index), is_published);
-                s.points = series[index].clone();
+                // Each iteration count's marks shifted along Δt by its own small factor, so
+                // that counts with the same error at a step do not hide one another.
+                let dodge = 10f64.powf(DODGE_DECADES * (index as f64 - 1.0));
+                s.points = series[index]
+                    .iter()
+                    .map(|&(dt, e)| (dt * dodge, e))
+                    .collect();
                 let label = group_label(counts, g);
                 if g.len() > 1 {
                     merged.push(format!("{} {source} {label}", solver.display_name()));
@@ -173,9 +183,12 @@ pub(super) fn error_against_dt(
              values hollow on dashed lines, ours filled on solid lines, one colour and marker per iteration count \
              (darker for fewer). The error is the distance between the final positions and those of our \
              Backward Euler reference of the same stiffness, {} (the thesis's measure). Same axes in every \
-             panel.{merged}",
+             panel; the fewest iterations' marks are shifted {} decade left along Δt and the most iterations' \
+             as far right, so that equal errors do not hide one another (the data file holds the true \
+             Δt).{merged}",
             stiffness_text(stiffness),
-            crate::tables::summed_over_free_nodes()
+            crate::tables::summed_over_free_nodes(),
+            DODGE_DECADES,
         ),
         &chart,
         csv_rows.text(),
