@@ -6,7 +6,9 @@ mod asserted;
 
 use mass_spring_solvers::model::scene::thesis_rope;
 use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
-use mass_spring_solvers::studies::beyond::{gap, gap_curve, iterations_to, kendall_tau, Start};
+use mass_spring_solvers::studies::beyond::{
+    gap, gap_curve, iterations_to, kendall_tau, kendall_tau_b, Start,
+};
 
 /// Newton converges quadratically: Backward Euler's curve reaches round-off in a few
 /// iterations; Liu 2013's falls but slowly (its rate is the spectral radius).
@@ -79,4 +81,39 @@ fn kendall_tau_counts_the_pairs_in_order() {
     // Only the items both rank count.
     assert_eq!(kendall_tau(&a, &[Pbd, AdmmPd, Xpbd]), Some(-1.0));
     assert_eq!(kendall_tau(&a, &[Pbd]), None);
+}
+
+/// τ-b against a computation by hand: no ties reads as τ; a tie on one side orders nothing and
+/// shrinks the scale [Kendall 1945]: a = (1, 2, 3), b = (1, 1, 2) has C = 2, D = 0, one pair
+/// tied in b, τ-b = 2 / √(3 · 2) = 0.816; scores tied on both sides are merged into one item.
+/// Negative cases: without the tie tolerance (0), the round-off pair (1 and 1 + 1e-12) is
+/// ordered, by its noise, and τ-b reads the τ of a strict order; merged items are not pairs.
+#[test]
+fn kendall_tau_b_treats_ties_and_merges_identical_computations() {
+    use mass_spring_solvers::solvers::registry::SolverId::*;
+    let a = [(Xpbd, 1.0), (FastMassSpring, 2.0), (AdmmPd, 3.0)];
+    assert_eq!(kendall_tau_b(&a, &a, 1e-9), Some(1.0));
+    let reversed = [(Xpbd, 3.0), (FastMassSpring, 2.0), (AdmmPd, 1.0)];
+    assert_eq!(kendall_tau_b(&a, &reversed, 1e-9), Some(-1.0));
+    let b = [(Xpbd, 1.0), (FastMassSpring, 1.0 + 1e-12), (AdmmPd, 2.0)];
+    let tau_b = kendall_tau_b(&a, &b, 1e-9).unwrap();
+    assert!((tau_b - 2.0 / 6f64.sqrt()).abs() < 1e-12, "{tau_b}");
+    assert_eq!(kendall_tau_b(&a, &b, 0.0), Some(1.0));
+    let b_noise = [(Xpbd, 1.0 + 1e-12), (FastMassSpring, 1.0), (AdmmPd, 2.0)];
+    assert!((kendall_tau_b(&a, &b_noise, 0.0).unwrap() - 1.0 / 3.0).abs() < 1e-12);
+    // Pbd computes what Xpbd does on both scenes: one item, so three items remain, all in order.
+    let a4 = [
+        (Xpbd, 1.0),
+        (Pbd, 1.0),
+        (FastMassSpring, 2.0),
+        (AdmmPd, 3.0),
+    ];
+    let b4 = [
+        (Xpbd, 5.0),
+        (Pbd, 5.0),
+        (FastMassSpring, 6.0),
+        (AdmmPd, 7.0),
+    ];
+    assert_eq!(kendall_tau_b(&a4, &b4, 1e-9), Some(1.0));
+    assert_eq!(kendall_tau_b(&a4[..1], &b4[..1], 1e-9), None);
 }

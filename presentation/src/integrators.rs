@@ -75,17 +75,6 @@ enum Outcome {
     Cost(CostRow),
 }
 
-/// A solver's name in this chapter's tables, whose columns are integrators: Newton for the
-/// solver the other chapters call by its thesis name, Backward Euler, so that a row is never
-/// named after a column's integrator.
-fn solver_name(id: SolverId) -> &'static str {
-    match id {
-        SolverId::BackwardEuler => "Newton",
-        SolverId::DampedBackwardEuler => "Newton damped",
-        _ => id.display_name(),
-    }
-}
-
 /// The line colour of each integrator (Okabe-Ito).
 fn colour(integrator: OptimizationIntegrator) -> Rgb {
     match integrator {
@@ -267,6 +256,25 @@ impl IntegratorsChapter {
                 }),
             );
         }
+        // Slope guides from one point below every error at the smallest step: a first-order
+        // and a second-order line, to read each integrator's order off its slope.
+        let points = || self.orders.iter().flat_map(|o| o.errors.iter().copied());
+        let (dt_lo, dt_hi) = points().fold((f64::INFINITY, 0.0f64), |(lo, hi), (dt, _)| {
+            (lo.min(dt), hi.max(dt))
+        });
+        let e_lo = points().map(|(_, e)| e).fold(f64::INFINITY, f64::min) / 3.0;
+        if dt_lo < dt_hi && e_lo.is_finite() {
+            for (order, line) in [(1, Line::Dotted), (2, Line::Dashed)] {
+                let guide = [dt_lo, dt_hi]
+                    .map(|dt| (dt, e_lo * (dt / dt_lo).powi(order)))
+                    .to_vec();
+                panel.series.push(
+                    Series::line(format!("slope {order}"), guide, crate::style::GREY)
+                        .with_weight(0.6)
+                        .with_line(line),
+                );
+            }
+        }
         let csv = write_csv(&["integrator", "dt_s", "error_m"], records);
         Ok(vec![ChapterFigure::new(
             ORDER_FIGURE,
@@ -292,7 +300,7 @@ impl IntegratorsChapter {
             {
                 continue;
             }
-            let mut row = vec![solver_name(id).to_string()];
+            let mut row = vec![SolverId::display_name(id).to_string()];
             for i in OptimizationIntegrator::ALL {
                 row.push(self.cost(id, i, target).map_or("–".into(), |c| {
                     format!(
@@ -430,7 +438,8 @@ impl IntegratorsChapter {
             md += &format!(
                 "![Figure I1](figures/{stem}.svg)\n\n*Figure I1. The error at t = {} s \
                  of each integrator against its time step, on the k = {:e} N/m rope, stages \
-                 solved to round-off.* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
+                 solved to round-off; grey, below the points, guides of slope 1 (dotted) and 2 \
+                 (dashed).* Data: [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 short(ORDER_TIME_S),
                 ORDER_STIFFNESS,
                 stem = f.stem
@@ -550,7 +559,7 @@ impl IntegratorsChapter {
                     .map_or("none met it".into(), |c| {
                         format!(
                             "{} ({}, {} m)",
-                            solver_name(c.solver),
+                            SolverId::display_name(c.solver),
                             sig(c.flops_per_step, 3),
                             sig(c.solver_error_m, 2)
                         )

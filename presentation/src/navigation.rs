@@ -343,14 +343,15 @@ pub fn linkify(md: &str) -> String {
             out += &prefix(id);
             out += &text;
         } else if let Some(id) = own.filter(|_| !line.starts_with("*Figure ")) {
-            if let Some(heading) = text.strip_prefix("## ") {
-                // A way back from every section of a long report.
+            if let Some((level, heading)) = ["## ", "### "]
+                .iter()
+                .find_map(|level| Some((level, text.strip_prefix(level)?)))
+            {
+                // A way back from every section and subsection of a long report.
                 out += &format!(
-                    "## {}{heading}\n\n[Back to contents](#{CONTENTS_ID})",
+                    "{level}{}{heading}\n\n[Back to contents](#{CONTENTS_ID})",
                     prefix(&id)
                 );
-            } else if let Some(heading) = text.strip_prefix("### ") {
-                out += &format!("### {}{heading}", prefix(&id));
             } else {
                 out += &prefix(&id);
                 out += &text;
@@ -389,18 +390,22 @@ mod tests {
         );
     }
 
-    /// Every section links back to the contents, and an appendix is referred to by its letter
-    /// alone. Negative case: a letter that names no appendix stays plain (tried once before the
-    /// letter rule: `appendix B` stayed plain and this test failed).
+    /// Every section and subsection links back to the contents, and an appendix is referred to
+    /// by its letter alone. Negative case: a letter that names no appendix stays plain (tried
+    /// once before the letter rule: `appendix B` stayed plain and this test failed); a heading
+    /// of the fourth level, not in the contents, gets no link (3 links, not 4).
     #[test]
     fn sections_link_back_and_appendices_by_letter() {
-        let md = "## 1. One\n\nSee appendix B and appendix C.\n\n## Appendix B. Names\n\nText.\n";
+        let md =
+            "## 1. One\n\nSee appendix B and appendix C.\n\n### 1.1 Sub\n\n#### Not listed\n\n\
+                  ## Appendix B. Names\n\nText.\n";
         let out = linkify(&format!("{}{md}", contents(md)));
         assert!(
             out.contains("See [appendix B](#sB) and appendix C."),
             "{out}"
         );
-        assert_eq!(out.matches("[Back to contents](#contents)").count(), 2);
+        assert_eq!(out.matches("[Back to contents](#contents)").count(), 3);
+        assert!(out.contains("### <a id=\"s1.1\"></a>1.1 Sub\n\n[Back to contents](#contents)"));
         assert!(out.contains("<a id=\"contents\"></a>"));
     }
 

@@ -4,8 +4,8 @@
 //! solvers on the rope hold one dimension up?
 
 use crate::benchmark::{
-    mean_with_interval, BenchmarkChapter, ASYMPTOTIC_ERROR, ASYMPTOTIC_SLOPE, BOOTSTRAP_RESAMPLES,
-    ROUND_OFF_SPREAD,
+    errors_below_one, jackknife, mean_with_interval, BenchmarkChapter, ASYMPTOTIC_ERROR,
+    ASYMPTOTIC_SLOPE, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD, TAU_TIE, TAU_TIE_BESIDE,
 };
 use crate::chapter_figure::ChapterFigure;
 use crate::data::CsvFile;
@@ -177,9 +177,11 @@ impl SheetChapter {
         md += &format!(
             "For each stiffness, time step and setting of the thesis's grid, the solvers with three \
              settings ranked by their relative physical error on the rope and on the sheet; τ is \
-             Kendall's rank correlation between the two orders (1: the same order, 0: unrelated, -1: \
-             reversed). Cells where every solver's error agrees to round-off (a relative spread below \
-             {ROUND_OFF_SPREAD:e}) rank nothing and are left out: {} cells remain. The interval is \
+             Kendall's τ-b between the two orders (1: the same order, 0: unrelated, -1: reversed), two \
+             errors within a relative {TAU_TIE:e} of each other tied (round-off: in a 1-iteration cell \
+             several solvers compute the same first iteration) and solvers tied on both scenes merged \
+             as one computation. Cells where every solver's error agrees to round-off (a relative spread \
+             below {ROUND_OFF_SPREAD:e}) rank nothing and are left out: {} cells remain. The interval is \
              the 2.5-97.5 % range of the mean τ over {BOOTSTRAP_RESAMPLES} bootstrap resamples of \
              the cells.\n\n",
             cells.len()
@@ -239,7 +241,7 @@ impl SheetChapter {
         let taus: Vec<f64> = cells.iter().filter_map(|c| c.tau).collect();
         md += &match mean_with_interval(&taus) {
             Some((mean, lo, hi)) => format!(
-                "Mean τ = {mean:.2}, 95 % bootstrap interval [{lo:.2}, {hi:.2}] over {} cells: {}, \
+                "Mean τ-b = {mean:.2}, 95 % bootstrap interval [{lo:.2}, {hi:.2}] over {} cells: {}, \
                  in cells most of which ({}) rank errors before the asymptotic regime.\n\n",
                 taus.len(),
                 if lo > 0.0 {
@@ -251,6 +253,30 @@ impl SheetChapter {
             ),
             None => "No cell ranks the solvers on both scenes.\n\n".into(),
         };
+        let beside: Vec<f64> = cells
+            .iter()
+            .filter_map(|c| c.tau_at(TAU_TIE_BESIDE))
+            .collect();
+        let jack = jackknife(&cells);
+        let (below, ranked) = errors_below_one(&cells);
+        if let (Some((mean_beside, _, _)), Some(lo), Some(hi)) = (
+            mean_with_interval(&beside),
+            jack.iter().min_by(|a, b| a.1.total_cmp(&b.1)),
+            jack.iter().max_by(|a, b| a.1.total_cmp(&b.1)),
+        ) {
+            md += &format!(
+                "With ties at a relative {TAU_TIE_BESIDE:e} instead, mean τ-b = {mean_beside:.2} over {} \
+                 cells. Leaving one solver out of every cell at a time (a jackknife: resampling solvers with \
+                 replacement would tie a solver with its copy by construction), the mean τ-b lies between \
+                 {:.2} (without {}) and {:.2} (without {}). Of the {ranked} errors ranked, {below} are below 1 \
+                 (a relative physical error under 100 %); the others rank solvers that miss the motion.\n\n",
+                beside.len(),
+                lo.1,
+                lo.0.display_name(),
+                hi.1,
+                hi.0.display_name(),
+            );
+        }
         md
     }
 }

@@ -269,6 +269,30 @@ fn the_measurement_reads_back_and_the_report_quotes_it() {
     ] {
         assert!(md.contains(needle), "{needle} not in {md}");
     }
+    // The counts of residual-stopped points and of spreads above 20 % are read from the CSV
+    // (`make timing` re-measures it). Negative case: a spread of exactly 20 % is not counted.
+    assert!(
+        md.contains("(2 at fixed iteration counts, 0 stopped at a residual)"),
+        "{md}"
+    );
+    assert!(
+        md.contains("; 0 of these times spread by more than 20 %"),
+        "{md}"
+    );
+    let mut moved = rows.clone();
+    moved[0].stopping = "residual 1e-6".into();
+    moved[0].wall_spread = 0.2;
+    moved[1].wall_spread = 0.3;
+    std::fs::write(dir.join(WALL_CSV), rows_csv(&moved)).unwrap();
+    let md = section("12.7", Some(&WallTiming::load(&dir).unwrap().unwrap()), &[]);
+    assert!(
+        md.contains("(1 at fixed iteration counts, 1 stopped at a residual)"),
+        "{md}"
+    );
+    assert!(
+        md.contains("; 1 of these times spread by more than 20 %"),
+        "{md}"
+    );
     let mut bad = rows.clone();
     bad[1].wall_s = -1.0;
     std::fs::write(dir.join(WALL_CSV), rows_csv(&bad)).unwrap();

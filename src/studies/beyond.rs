@@ -520,6 +520,46 @@ pub fn iterations_to(
     Ok(Some(hi))
 }
 
+/// Kendall's τ-b between two sets of scores of the same items (the lower the better), the
+/// items in common only: two scores within `tie` of each other, relative to the larger, are
+/// a tie, which orders nothing, and τ-b scales by the pairs each side orders,
+/// (C − D) / √((P − T_a)(P − T_b)) over P pairs, T_a and T_b tied on either side
+/// [Kendall 1945, τ_b]. Items whose scores tie on both sides are one computation read twice
+/// (solvers that compute the same iterate) and are merged into one before counting. None when
+/// either side orders no pair.
+pub fn kendall_tau_b(a: &[(SolverId, f64)], b: &[(SolverId, f64)], tie: f64) -> Option<f64> {
+    let tied = |x: f64, y: f64| (x - y).abs() <= tie * x.abs().max(y.abs());
+    let mut items: Vec<(f64, f64)> = Vec::new();
+    for &(id, x) in a {
+        let Some(&(_, y)) = b.iter().find(|(other, _)| *other == id) else {
+            continue;
+        };
+        if !items.iter().any(|&(u, v)| tied(u, x) && tied(v, y)) {
+            items.push((x, y));
+        }
+    }
+    let (mut concordant, mut discordant, mut tied_a, mut tied_b, mut pairs) =
+        (0i64, 0i64, 0i64, 0i64, 0i64);
+    for i in 0..items.len() {
+        for j in i + 1..items.len() {
+            let ((xi, yi), (xj, yj)) = (items[i], items[j]);
+            pairs += 1;
+            let (ta, tb) = (tied(xi, xj), tied(yi, yj));
+            tied_a += i64::from(ta);
+            tied_b += i64::from(tb);
+            if !ta && !tb {
+                if (xi < xj) == (yi < yj) {
+                    concordant += 1;
+                } else {
+                    discordant += 1;
+                }
+            }
+        }
+    }
+    let scale = (((pairs - tied_a) * (pairs - tied_b)) as f64).sqrt();
+    (scale > 0.0).then(|| (concordant - discordant) as f64 / scale)
+}
+
 /// Kendall's τ between two rankings of the same items (1: the same order, −1: reversed);
 /// None for fewer than two items in common.
 pub fn kendall_tau(a: &[SolverId], b: &[SolverId]) -> Option<f64> {

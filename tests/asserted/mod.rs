@@ -9,7 +9,7 @@
 #![allow(dead_code)]
 
 use mass_spring_solvers::model::scene::thesis_rope;
-use mass_spring_solvers::model::system::State;
+use mass_spring_solvers::model::system::{State, Vec3};
 use mass_spring_solvers::solvers::local_global::AdmmMerit;
 use mass_spring_solvers::solvers::registry::{SolverId, SolverSpec};
 use mass_spring_solvers::studies::beyond::{from_comparison_start, iterations_to, Start};
@@ -35,6 +35,22 @@ impl Count {
     pub fn from(&self, start: &State) -> Option<usize> {
         let system = thesis_rope(STIFFNESS).unwrap();
         iterations_to(&(self.spec)(), &system, start, DT, GAP, MAX_ITERATIONS).unwrap()
+    }
+
+    /// The positions after `iterations` iterations of the step from `start`: where a nudge
+    /// leaves them unchanged, the count from it tests nothing the start's count does not.
+    pub fn iterate(&self, start: &State, iterations: usize) -> Vec<Vec3> {
+        let system = thesis_rope(STIFFNESS).unwrap();
+        let mut next = start.clone();
+        SolverSpec {
+            iterations,
+            ..(self.spec)().with_estimates(&system, DT).unwrap()
+        }
+        .build_send(&system, DT)
+        .unwrap()
+        .step(&mut next)
+        .unwrap();
+        next.x
     }
 
     /// Asserts `found` is one of the accepted values.

@@ -1457,3 +1457,88 @@ fn none_stands_out_moves_with_the_majority_it_asks() {
         n.verdict(Some(thesis_protocol::SIMILAR_MAJORITY)).id()
     );
 }
+
+/// Section 11.3's τ, recomputed cell by cell with this file's τ-b: each solver's (rope, sheet)
+/// errors, a solver whose errors tie both of a kept one's (a relative 1e-9) dropped as the
+/// same computation, then (C − D) / √((P − T_rope)(P − T_sheet)); the jackknife's extremes and
+/// the count of ranked errors below 1 read from the same cells.
+/// Negative case: the plain τ of the two orders, which orders round-off ties by their noise,
+/// differs from τ-b in at least one cell (the 1-iteration cells), so a τ-b that ignored ties
+/// would fail.
+#[test]
+fn the_rankings_tau_b_is_recomputed_with_ties_and_the_jackknife() {
+    use mass_spring_solvers::solvers::registry::SolverId;
+    use mass_spring_solvers::studies::beyond::kendall_tau;
+    let mut chapter = chapter().clone();
+    chapter.rows = committed_rows();
+    chapter.long = committed_long();
+    let cells = chapter.rankings();
+    let tie = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(y.abs());
+    let ours = |rope: &[(SolverId, f64)], sheet: &[(SolverId, f64)], skip: Option<SolverId>| {
+        let mut items: Vec<(f64, f64)> = Vec::new();
+        for (id, x) in rope.iter().filter(|(id, _)| Some(*id) != skip) {
+            let y = sheet.iter().find(|(s, _)| s == id).unwrap().1;
+            if items.iter().all(|&(u, v)| !(tie(u, *x) && tie(v, y))) {
+                items.push((*x, y));
+            }
+        }
+        let (mut s, mut ta, mut tb, mut p) = (0i64, 0i64, 0i64, 0i64);
+        for (i, a) in items.iter().enumerate() {
+            for b in &items[i + 1..] {
+                p += 1;
+                let (x, y) = (tie(a.0, b.0), tie(a.1, b.1));
+                ta += x as i64;
+                tb += y as i64;
+                if !x && !y {
+                    s += if (a.0 - b.0).signum() == (a.1 - b.1).signum() {
+                        1
+                    } else {
+                        -1
+                    };
+                }
+            }
+        }
+        let scale = (((p - ta) * (p - tb)) as f64).sqrt();
+        (scale > 0.0).then(|| s as f64 / scale)
+    };
+    let mut plain_differs = false;
+    for c in &cells {
+        assert_eq!(c.tau, ours(&c.rope_errors, &c.sheet_errors, None));
+        plain_differs |= kendall_tau(&c.rope, &c.sheet) != c.tau;
+    }
+    assert!(plain_differs);
+    let mut solvers: Vec<SolverId> = cells.iter().flat_map(|c| c.rope.clone()).collect();
+    solvers.sort();
+    solvers.dedup();
+    let jack: Vec<(f64, SolverId)> = solvers
+        .iter()
+        .map(|&id| {
+            let t: Vec<f64> = cells
+                .iter()
+                .filter_map(|c| ours(&c.rope_errors, &c.sheet_errors, Some(id)))
+                .collect();
+            (t.iter().sum::<f64>() / t.len() as f64, id)
+        })
+        .collect();
+    let lo = jack.iter().min_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
+    let hi = jack.iter().max_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
+    let errors: Vec<f64> = cells
+        .iter()
+        .flat_map(|c| c.rope_errors.iter().chain(&c.sheet_errors).map(|e| e.1))
+        .collect();
+    let below = errors.iter().filter(|&&e| e < 1.0).count();
+    let sheet = mass_spring_report::sheet::SheetChapter::compute().unwrap();
+    let section = sheet.section(11, &[], &chapter);
+    for needle in [
+        format!(
+            "between {:.2} (without {}) and {:.2} (without {})",
+            lo.0,
+            lo.1.display_name(),
+            hi.0,
+            hi.1.display_name()
+        ),
+        format!("Of the {} errors ranked, {below} are below 1", errors.len()),
+    ] {
+        assert!(section.contains(&needle), "{needle}\n{section}");
+    }
+}

@@ -681,3 +681,137 @@ fn the_gravity_counts_come_from_the_csv() {
         );
     }
 }
+
+/// One decision of "reproduced" everywhere: recomputed with this file's rule (the reproduction
+/// rule, and ours/published rest error inside the band against the reference at 9.81 or at
+/// 9.8 m/s²) from the faithful runs' final positions, section 5's total, Tables 6-7's marks,
+/// appendix A.4's faithful misses and the headline's count over the rows outside Table 1 all
+/// read it; the band-and-gravity table of section 6 and its Tables 2-3 sentence are recomputed
+/// the same way.
+/// Negative cases: the rule alone (section 5's old "34 of 56") gives a larger total, which the
+/// summary check rejects; the 9.81-only reading gives a smaller count than either gravity at the
+/// rule's band, so a table that printed one column twice would fail.
+#[test]
+fn every_reproduced_count_reads_the_rule_of_evidence() {
+    use mass_spring_report::tables;
+    use mass_spring_solvers::model::metrics::rest_error_sum;
+    let f = forensic_results();
+    let faithful = faithful_results();
+    let reference = |g: usize, k: f64| -> &[_] {
+        if g == 0 {
+            &faithful.reference(k).final_positions
+        } else {
+            &f.gravity
+                .mismatched_references
+                .iter()
+                .find(|m| m.published.stiffness == k)
+                .unwrap()
+                .final_positions
+        }
+    };
+    let passes = |m: &Measured, band: [f64; 2], readings: &[usize]| {
+        m.reproduces()
+            && m.published.error.is_none_or(|p| {
+                readings.iter().any(|&g| {
+                    let ratio =
+                        rest_error_sum(&m.final_positions, reference(g, m.published.stiffness)) / p;
+                    (band[0]..=band[1]).contains(&ratio)
+                })
+            })
+    };
+    let band = [0.1, 10.0];
+    let ours: Vec<&Measured> = faithful
+        .rows
+        .iter()
+        .filter(|m| passes(m, band, &[0, 1]))
+        .collect();
+    let by_rule = faithful.rows.iter().filter(|m| m.reproduces()).count();
+    assert!(ours.len() < by_rule, "{} {by_rule}", ours.len());
+    let summary = tables::summary(faithful, Some(f)).render();
+    let total = format!("| 1-7 | all | both | 56 | 56 | {} of 56 |", ours.len());
+    assert!(summary.contains(&total), "{total}\n{summary}");
+    assert!(!summary.contains(&format!("{by_rule} of 56")));
+    // The headline's count: the rows outside Table 1 reproduced by the same decision.
+    let tested = ours.iter().filter(|m| m.published.table != 1).count();
+    assert_eq!(f.rows_not_used_to_fit_the_scene().1, tested);
+    // Tables 6-7 mark each row the band fails "✗ rest error", and only those.
+    for table in [6, 7] {
+        let text = tables::results_table(faithful, Some(f), table).render();
+        let failed_by_band = faithful
+            .table(table)
+            .filter(|m| m.reproduces() && !passes(m, band, &[0, 1]))
+            .count();
+        assert_eq!(
+            text.matches("✗ rest error").count(),
+            failed_by_band,
+            "{text}"
+        );
+    }
+    // Appendix A.4: the faithful ADMM misses under the same decision.
+    let admm_misses = faithful
+        .rows
+        .iter()
+        .filter(|m| m.published.solver == SolverId::AdmmPd && !passes(m, band, &[0, 1]))
+        .count();
+    let appendix = mass_spring_report::forensics::appendix(f, faithful, "");
+    let faithful_line = format!(
+        "| faithful | none (Algorithm 4 as printed) | 18 | {} | 0 of {admm_misses} |",
+        18 - admm_misses
+    );
+    assert!(appendix.contains(&faithful_line), "{faithful_line}");
+    // Section 6's table of bands and gravity readings, over the 54 rows outside Table 1.
+    let section = mass_spring_report::forensics::section(f, faithful);
+    let outside_1 = || faithful.rows.iter().filter(|m| m.published.table != 1);
+    let mut either_at_rule = 0;
+    let mut only_981_at_rule = 0;
+    for (band, label) in [
+        ([0.1, 10.0], "[0.1, 10] (the rule's)"),
+        ([0.2, 5.0], "[0.2, 5]"),
+        ([0.05, 20.0], "[0.05, 20]"),
+    ] {
+        let either = outside_1().filter(|m| passes(m, band, &[0, 1])).count();
+        let only_981 = outside_1().filter(|m| passes(m, band, &[0])).count();
+        let line = format!("| {label} | {either} | {only_981} |");
+        assert!(section.contains(&line), "{line}");
+        if label.ends_with("(the rule's)") {
+            (either_at_rule, only_981_at_rule) = (either, only_981);
+        }
+    }
+    assert!(only_981_at_rule < either_at_rule);
+    let from_2_3 = ours
+        .iter()
+        .filter(|m| matches!(m.published.table, 2 | 3))
+        .count();
+    let sentence = format!(
+        "Of the {tested} rows reproduced at the rule's band, {from_2_3} are rows of Tables 2-3"
+    );
+    assert!(section.contains(&sentence), "{sentence}");
+    let rest = format!(
+        "{} of the 36 rows of Tables 4-7 are reproduced",
+        tested - from_2_3
+    );
+    assert!(section.contains(&rest), "{rest}");
+    // The rows that neither fitted the scene nor identified a time convention (convention 4 on
+    // the dt = 0.1 s rows of Tables 2-7, convention 5 on the k = 1e3 reference and Table 2's
+    // dt = 0.001 s rows), and those of them reproduced.
+    let identified = |p: &PublishedRow| {
+        (p.dt_s == 0.1 && p.table >= 2)
+            || (p.table == 1 && p.stiffness == 1e3)
+            || (p.table == 2 && p.dt_s == 0.001)
+    };
+    let unused = outside_1().filter(|m| !identified(&m.published)).count();
+    let unused_ours: Vec<&&Measured> = ours
+        .iter()
+        .filter(|m| m.published.table != 1 && !identified(&m.published))
+        .collect();
+    let unused_2_3 = unused_ours
+        .iter()
+        .filter(|m| matches!(m.published.table, 2 | 3))
+        .count();
+    let sentence = format!(
+        "Of the {unused} rows that neither fitted the scene nor identified a time convention, {} are \
+         reproduced at the rule's band ({unused_2_3} of them from Tables 2-3)",
+        unused_ours.len()
+    );
+    assert!(section.contains(&sentence), "{sentence}");
+}

@@ -159,7 +159,11 @@ fn tables_1_to_7_match_their_snapshots() {
 #[test]
 fn reproduction_summary_matches_its_snapshot() {
     let results = &data().results;
-    snapshot("reproduction-summary", &tables::summary(results).render());
+    let forensics = Some(mass_spring_solvers::studies::forensics::forensic_results());
+    snapshot(
+        "reproduction-summary",
+        &tables::summary(results, forensics).render(),
+    );
 }
 
 /// Every measured number of the 56 rows, one line per row, locked (`lock.rs`).
@@ -602,4 +606,48 @@ fn the_from_rest_count_is_left_out_because_it_is_one_iteration() {
     }
     assert!(moving.len() > rest.len() + 5, "{moving:?}");
     assert!(!report.contains("m, from rest |"));
+}
+
+/// Section 10.3's margins, recomputed from the convergence curves (dt = 0.01 s, k = 1e6 N/m,
+/// from step10): for each accelerated solver whose count lies within the curves, the gap at its
+/// counted iteration lies below 1e-6 m and the gap one iteration earlier above it, and the
+/// sentence prints both relative margins. Negative case: a count one iteration too late fails
+/// the check that the gap one iteration earlier is still above the tolerance.
+#[test]
+fn the_accelerated_counts_margins_are_the_curves() {
+    use mass_spring_report::format::sig;
+    use mass_spring_solvers::studies::beyond::Start;
+    let d = data();
+    let section = d.beyond.section(10, &[], &d.benchmark);
+    let mut checked = 0;
+    for a in &d.beyond.acceleration {
+        let Some(n) = a.iterations else { continue };
+        let Some(curve) = d.beyond.curves.iter().find(|c| {
+            c.start == Start::Step10
+                && c.dt_s == 0.01
+                && c.stiffness == 1e6
+                && c.spec.id == a.solver
+        }) else {
+            continue;
+        };
+        let (Some(Some(here)), Some(Some(before))) = (curve.gaps.get(n - 1), curve.gaps.get(n - 2))
+        else {
+            continue;
+        };
+        assert!(
+            *here < 1e-6 && *before >= 1e-6,
+            "{}",
+            a.solver.display_name()
+        );
+        let sentence = format!(
+            "{} {} below it at {n} iterations ({} above at {})",
+            a.solver.display_name(),
+            sig(1.0 - here / 1e-6, 2),
+            sig(before / 1e-6 - 1.0, 2),
+            n - 1
+        );
+        assert!(section.contains(&sentence), "{sentence}");
+        checked += 1;
+    }
+    assert!(checked >= 3, "{checked} counts within the curves");
 }

@@ -252,8 +252,9 @@ pub fn work_figure<'a, R: FrontRow + 'a>(
 }
 
 /// The caption of a [`work_figure`] after its number: what it draws, by `cost` (e.g. "the
-/// counted flops over the window"), on the case `label`.
-pub fn work_figure_caption(label: &str, cost: &str) -> String {
+/// counted flops over the window"), on the case `label`, whose explicit baselines are drawn
+/// if `baselines` (none is where every one is unstable at every time step).
+pub fn work_figure_caption(label: &str, cost: &str, baselines: bool) -> String {
     format!(
         "Work and precision, {label}: (a)-(c) Backward Euler only (the minimizing solvers \
          under it; XPBD, PBD and the explicit baselines under their own schemes), (d) Newton \
@@ -263,14 +264,18 @@ pub fn work_figure_caption(label: &str, cost: &str) -> String {
          error) of the relative physical error against {cost} (relative error: the RMS \
          physical error per free node over the exact motion's RMS amplitude), by family; the \
          numbers beside a front are the time step Δt (s) of its points at 0.1, 0.01, 0.001 \
-         and 0.0001 s, in its colour, where there is room; grey: the explicit baselines (RK4 \
-         dashed, symplectic Euler dotted), doing nothing (the equilibrium held still, error 1) \
-         and, dashed, the exact motion's floor (its halving gap over its amplitude, about 15 \
+         and 0.0001 s, in its colour, where there is room; grey: {baselines}doing nothing (the \
+         equilibrium held still, error 1) and, dashed, the exact motion's floor (its halving gap over its amplitude, about 15 \
          times its own error): a point below it measures the truth, not the run, and is drawn \
          on it. A front marked ≈ has another's errors step for step: the same computation at \
          another cost.",
         eps = full(FRONT_EPSILON),
-        grow = full(1.0 + FRONT_EPSILON)
+        grow = full(1.0 + FRONT_EPSILON),
+        baselines = if baselines {
+            "the explicit baselines (RK4 dashed, symplectic Euler dotted), "
+        } else {
+            "(the explicit baselines are unstable at every time step here, so none is drawn) "
+        },
     )
 }
 
@@ -364,6 +369,12 @@ impl BenchmarkChapter {
                 )
             })
             .collect()
+    }
+
+    /// Whether a work-precision figure of `case` draws any explicit baseline (none is drawn
+    /// where every one is unstable at every time step, the stiff sheet).
+    pub fn baselines_drawn(&self, case: Case) -> bool {
+        BASELINES.iter().any(|&id| !self.front(case, id).is_empty())
     }
 
     /// The exact motion's own error on a case, relative to its amplitude, as the figures cut

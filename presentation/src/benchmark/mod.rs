@@ -27,8 +27,8 @@ pub mod wall;
 pub use figures::{epsilon_front, stem, work_figure, work_figure_caption, FrontRow, FRONT_EPSILON};
 pub use question::{ThesisCell, ASYMPTOTIC_ERROR, ASYMPTOTIC_SLOPE, THESIS_QUOTES};
 pub use views::{
-    mean_with_interval, RankingCell, BOOTSTRAP_RESAMPLES, ROUND_OFF_SPREAD, VIEW_DETAIL_DT,
-    VIEW_DTS,
+    errors_below_one, jackknife, mean_with_interval, RankingCell, BOOTSTRAP_RESAMPLES,
+    ROUND_OFF_SPREAD, TAU_TIE, TAU_TIE_BESIDE, VIEW_DETAIL_DT, VIEW_DTS,
 };
 
 /// The chapter's data: the benchmark's rows.

@@ -603,7 +603,11 @@ impl BenchmarkChapter {
                  [`data/{stem}.csv`](data/{stem}.csv).\n\n",
                 n + 1,
                 stem = f.stem,
-                caption = work_figure_caption(&case.label(), "the counted flops over the window"),
+                caption = work_figure_caption(
+                    &case.label(),
+                    "the counted flops over the window",
+                    self.baselines_drawn(case)
+                ),
             );
         }
 

@@ -8,7 +8,7 @@ use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::benchmark::rows::Row;
 use mass_spring_solvers::studies::benchmark::sweep::solvers;
 use mass_spring_solvers::studies::benchmark::Case;
-use mass_spring_solvers::studies::beyond::{kendall_tau, GridScene};
+use mass_spring_solvers::studies::beyond::{kendall_tau_b, GridScene};
 
 /// The time steps of the per-solver views of sections 10 and 11: the thesis's.
 pub const VIEW_DTS: [f64; 3] = [0.1, 0.01, 0.001];
@@ -110,13 +110,42 @@ pub struct RankingCell {
     pub setting: usize,
     pub rope: Vec<SolverId>,
     pub sheet: Vec<SolverId>,
+    /// Each ranked solver's relative physical error on the rope and on the sheet, best first.
+    pub rope_errors: Vec<(SolverId, f64)>,
+    pub sheet_errors: Vec<(SolverId, f64)>,
+    /// Kendall's τ-b between the two, ties at [`TAU_TIE`] ([`RankingCell::tau_at`]).
     pub tau: Option<f64>,
     /// How many of the ranked solvers' rows on the rope and on the sheet are before the
     /// asymptotic regime ([`BenchmarkChapter::before_asymptotic`]).
     pub before_asymptotic: (usize, usize),
 }
 
+/// Two errors within this relative difference are tied in τ-b: the round-off level of
+/// [`ROUND_OFF_SPREAD`] (six solvers compute the same first iteration in a 1-iteration cell,
+/// several equal the Backward Euler step to 1e-10 in a converged one).
+pub const TAU_TIE: f64 = ROUND_OFF_SPREAD;
+
+/// The tie tolerance whose mean τ-b the report shows beside [`TAU_TIE`]'s.
+pub const TAU_TIE_BESIDE: f64 = 1e-3;
+
 impl RankingCell {
+    /// Kendall's τ-b between the rope's and the sheet's errors, errors within a relative `tie`
+    /// tied, solvers tied on both scenes merged as one computation.
+    pub fn tau_at(&self, tie: f64) -> Option<f64> {
+        kendall_tau_b(&self.rope_errors, &self.sheet_errors, tie)
+    }
+
+    /// [`RankingCell::tau`] with `left_out` dropped from both scenes (the jackknife).
+    pub fn tau_without(&self, left_out: SolverId) -> Option<f64> {
+        let keep = |e: &[(SolverId, f64)]| -> Vec<(SolverId, f64)> {
+            e.iter()
+                .copied()
+                .filter(|(id, _)| *id != left_out)
+                .collect()
+        };
+        kendall_tau_b(&keep(&self.rope_errors), &keep(&self.sheet_errors), TAU_TIE)
+    }
+
     /// Whether more than half of its ranked solvers, on either scene, are before the
     /// asymptotic regime: τ there compares errors that do not yet fall with the step.
     pub fn pre_asymptotic(&self) -> bool {
@@ -138,7 +167,7 @@ impl BenchmarkChapter {
         dt_s: f64,
         setting: usize,
         ranked: &[SolverId],
-    ) -> Option<Vec<SolverId>> {
+    ) -> Option<Vec<(SolverId, f64)>> {
         let mut errors: Vec<(SolverId, f64)> = ranked
             .iter()
             .filter_map(|&id| {
@@ -151,8 +180,7 @@ impl BenchmarkChapter {
             .collect();
         errors.sort_by(|a, b| a.1.total_cmp(&b.1));
         let (lo, hi) = (errors.first()?.1, errors.last()?.1);
-        (errors.len() >= 2 && hi - lo > ROUND_OFF_SPREAD * hi)
-            .then(|| errors.into_iter().map(|(id, _)| id).collect())
+        (errors.len() >= 2 && hi - lo > ROUND_OFF_SPREAD * hi).then_some(errors)
     }
 
     /// The rope's and the sheet's rankings, cell by cell (stiffness × the thesis's time steps
@@ -174,11 +202,15 @@ impl BenchmarkChapter {
             };
             for dt_s in VIEW_DTS {
                 for setting in 0..3 {
-                    if let (Some(r), Some(s)) = (
+                    if let (Some(rope_errors), Some(sheet_errors)) = (
                         self.ranking(rope, dt_s, setting, &ranked),
                         self.ranking(sheet, dt_s, setting, &ranked),
                     ) {
-                        let tau = kendall_tau(&r, &s);
+                        let ids = |e: &[(SolverId, f64)]| -> Vec<SolverId> {
+                            e.iter().map(|(id, _)| *id).collect()
+                        };
+                        let (r, s) = (ids(&rope_errors), ids(&sheet_errors));
+                        let tau = kendall_tau_b(&rope_errors, &sheet_errors, TAU_TIE);
                         let before = |case: Case, ids: &[SolverId]| {
                             ids.iter()
                                 .filter(|&&id| {
@@ -199,6 +231,8 @@ impl BenchmarkChapter {
                             setting,
                             rope: r,
                             sheet: s,
+                            rope_errors,
+                            sheet_errors,
                             tau,
                             before_asymptotic,
                         });
@@ -208,6 +242,34 @@ impl BenchmarkChapter {
         }
         cells
     }
+}
+
+/// The leave-one-solver-out jackknife of the mean τ-b: for each solver ranked in any cell, the
+/// mean over the cells of τ-b without it (cells left with no ordered pair drop out), sorted by
+/// solver order. Resampling solvers with replacement would duplicate a solver, a tie made by
+/// construction; leaving one out does not.
+pub fn jackknife(cells: &[RankingCell]) -> Vec<(SolverId, f64)> {
+    let mut solvers: Vec<SolverId> = cells.iter().flat_map(|c| c.rope.iter().copied()).collect();
+    solvers.sort();
+    solvers.dedup();
+    solvers
+        .into_iter()
+        .filter_map(|id| {
+            let taus: Vec<f64> = cells.iter().filter_map(|c| c.tau_without(id)).collect();
+            (!taus.is_empty()).then(|| (id, taus.iter().sum::<f64>() / taus.len() as f64))
+        })
+        .collect()
+}
+
+/// How many of the cells' ranked errors (rope and sheet) are below 1, a relative physical
+/// error under 100 %, and how many there are.
+pub fn errors_below_one(cells: &[RankingCell]) -> (usize, usize) {
+    let errors = || {
+        cells
+            .iter()
+            .flat_map(|c| c.rope_errors.iter().chain(&c.sheet_errors))
+    };
+    (errors().filter(|(_, e)| *e < 1.0).count(), errors().count())
 }
 
 /// The mean of `taus` and its bootstrap interval (the 2.5 and 97.5 percentiles of the mean

@@ -586,14 +586,26 @@ pub fn section(
                 .any(|r| w.is(r) && r.flops.is_some_and(|f| (f - w.flops).abs() <= 1e-9 * f))
         })
         .count();
+    // Read from the CSV at report time: `make timing` re-measures it.
+    let residual = timing.rows.iter().filter(|w| w.stopping != "count").count();
     md += &format!(
         "Measured by `make timing` at {} ([`timing/TIMING.md`](timing/TIMING.md), data \
          [`timing/{WALL_CSV}`](timing/{WALL_CSV}), the machine in \
          [`timing/{MACHINE_CSV}`](timing/{MACHINE_CSV})): each dynamics configuration of the \
-         benchmark at fixed iteration counts that finishes its window, built and run over it on one core, its wall time \
-         the least of the means of repeated batches. Of its {} timed configurations, {current} \
-         are configurations of this report's benchmark with the same counted flops{}.\n\n",
+         benchmark that finishes its window ({} at fixed iteration counts, {} stopped at a residual), built and \
+         run over it on one core, its wall time the least of the means of repeated batches; {} of these times \
+         spread by more than {} % between the batch means (largest over least, flagged in the CSV). Of its {} \
+         timed configurations, {current} are configurations of this report's benchmark with the same counted \
+         flops{}.\n\n",
         timing.provenance(),
+        timing.rows.len() - residual,
+        residual,
+        timing
+            .rows
+            .iter()
+            .filter(|w| w.wall_spread > WALL_SPREAD_FLAG)
+            .count(),
+        crate::format::short(100.0 * WALL_SPREAD_FLAG),
         timing.rows.len(),
         if current == timing.rows.len() {
             ""

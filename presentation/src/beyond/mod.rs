@@ -79,6 +79,33 @@ impl Acceleration {
         Some((lo, hi))
     }
 
+    /// `31`, with the range over the nudged starts where it moves: `31 (29-322)`; the
+    /// accelerated solver's count (`base` false) or its base's.
+    pub fn count_label(&self, base: bool) -> String {
+        let pick = |pair: (Option<usize>, Option<usize>)| if base { pair.1 } else { pair.0 };
+        let label = |n: Option<usize>| {
+            n.map_or(format!("> {ACCELERATION_MAX_ITERATIONS}"), |n| {
+                n.to_string()
+            })
+        };
+        let start = pick((self.iterations, self.base_iterations));
+        let all: Vec<Option<usize>> = std::iter::once(start)
+            .chain(self.nudged.iter().map(|&p| pick(p)))
+            .collect();
+        if all.iter().all(|n| *n == start) {
+            label(start)
+        } else {
+            // A start that does not converge within the search ends the range open.
+            let lo = all.iter().flatten().min().copied();
+            let hi = if all.contains(&None) {
+                None
+            } else {
+                all.iter().flatten().max().copied()
+            };
+            format!("{} ({}-{})", label(start), label(lo), label(hi))
+        }
+    }
+
     /// `59.0×`, with the range over the nudged starts where it differs: `59.0× (55.4-63.1×)`.
     pub fn ratio_label(&self) -> Option<String> {
         let r = self.ratio()?;
@@ -409,13 +436,22 @@ impl BeyondChapter {
         );
         let mut t = MarkdownTable::new(&[
             "solver",
-            &format!("iterations to {tolerance} m, from the moving state"),
+            &format!(
+                "iterations to {tolerance} m, from the moving state (an accelerated solver's range over starts ±1 to ±4 ulp apart, where it moves)"
+            ),
             &format!("gap after {CONVERGENCE_ITERATIONS}, from the moving state (m)"),
         ]);
         for (id, from_step10, last) in self.iterations_to_tolerance(Start::Step10) {
+            // An accelerated solver's count with its range over the nudged starts, where it
+            // moves (measured below).
+            let count = self
+                .acceleration
+                .iter()
+                .find(|a| a.solver == id && a.iterations == from_step10)
+                .map_or_else(|| shown(from_step10), |a| a.count_label(false));
             t.row(vec![
                 id.display_name().to_string(),
-                shown(from_step10),
+                count,
                 last.map_or("step failed".into(), sig4),
             ]);
         }
@@ -435,22 +471,17 @@ impl BeyondChapter {
         );
         let mut t = MarkdownTable::new(&[
             "solver",
-            "iterations",
+            "iterations (range over starts ±1 to ±4 ulp apart)",
             "base",
-            "base iterations",
-            "fewer (range over starts ±1 to ±4 ulp apart)",
+            "base iterations (range)",
+            "fewer (range)",
         ]);
-        let count = |n: Option<usize>| {
-            n.map_or(format!("> {ACCELERATION_MAX_ITERATIONS}"), |n| {
-                n.to_string()
-            })
-        };
         for a in &self.acceleration {
             t.row(vec![
                 a.solver.display_name().to_string(),
-                count(a.iterations),
+                a.count_label(false),
                 a.base.display_name().to_string(),
-                count(a.base_iterations),
+                a.count_label(true),
                 a.ratio_label().unwrap_or_else(|| "-".into()),
             ]);
         }
@@ -479,6 +510,36 @@ impl BeyondChapter {
                 "Wang 2015 claims Chebyshev acceleration cuts the iterations of Projective Dynamics \
                  by about an order of magnitude: here {}.\n\n",
                 chebyshev.join("; ")
+            );
+        }
+        // How near the tolerance each count falls: the gap at the counted iteration and at the
+        // one before, over the tolerance (a count whose gap sits just under the tolerance is
+        // one that round-off can move).
+        let margins: Vec<String> = self
+            .acceleration
+            .iter()
+            .filter_map(|a| {
+                let n = a.iterations?;
+                let curve = self
+                    .figure_curves(Start::Step10)
+                    .find(|c| c.spec.id == a.solver)?;
+                let at = |m: usize| curve.gaps.get(m.checked_sub(1)?).copied().flatten();
+                let (here, before) = (at(n)? / GAP_TOLERANCE, at(n - 1)? / GAP_TOLERANCE);
+                Some(format!(
+                    "{} {} below it at {n} iterations ({} above at {})",
+                    a.solver.display_name(),
+                    sig(1.0 - here, 2),
+                    sig(before - 1.0, 2),
+                    n - 1
+                ))
+            })
+            .collect();
+        if !margins.is_empty() {
+            md += &format!(
+                "How near the tolerance each count within the curves falls, as the relative margin of \
+                 the gap to {} m: {}.\n\n",
+                full(GAP_TOLERANCE),
+                margins.join("; ")
             );
         }
         let moved: Vec<String> = RATIOS_BEFORE_ONE_START

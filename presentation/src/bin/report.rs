@@ -252,7 +252,12 @@ fn run(args: Args) -> Result<String, Failure> {
         sources,
     };
     let mut files = phases.run("rendering (Markdown, SVG, CSV)", None, || render(&data))?;
-    let reproduced = data.results.rows.iter().filter(|m| m.reproduces()).count();
+    let reproduced = data
+        .results
+        .rows
+        .iter()
+        .filter(|m| mass_spring_report::tables::reproduced(m, data.forensics.as_ref()))
+        .count();
     let classes = data.forensics.as_ref().map_or(String::new(), |f| {
         let counts: Vec<String> = Evidence::ALL
             .iter()
@@ -270,7 +275,7 @@ fn run(args: Args) -> Result<String, Failure> {
     files.push(OutputFile::text("run-info.md", info.render(&root)));
     target.publish(&files)?;
     Ok(format!(
-        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced by the faithful configuration{classes}",
+        "wrote {} files to {} in {:.1} s: {} of {} rows reproduced by the faithful configuration (the rule and the rest-error band){classes}",
         files.len(),
         out.display(),
         start.elapsed().as_secs_f64(),

@@ -9,7 +9,7 @@ use crate::plot::{
     Align, Axis, Chart, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM, FULL_WIDTH_MM,
 };
 use crate::runs::{FigureRuns, BE_SOFT, BE_STIFF, FMS_SOFT_COARSE, STIFF_MIDDLE};
-use crate::style::{colour, solver_line, BLACK, BLUE, GREEN, GREY, RED};
+use crate::style::{colour, solver_line, BLACK, GREY, RED};
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::integrators::time_stepper::Run;
 use mass_spring_solvers::solvers::registry::SolverId;
@@ -84,7 +84,7 @@ pub(super) fn figure11(runs: &FigureRuns) -> Result<Figure> {
         11,
         "fig11-kinetic-energy-reference",
         format!(
-            "Figure 11. Two periods of the kinetic energy of Backward Euler (Δt = 0.001 s, 5 Newton iterations), \
+            "Figure 11. Two periods of the kinetic energy of Newton under Backward Euler (Δt = 0.001 s, 5 Newton iterations), \
              k = 10⁶ N/m, from the release at rest: the kinetic energy peaks twice per period of the rope, so two \
              periods span peaks 1 to 5.{caption_extra}"
         ),
@@ -110,7 +110,15 @@ pub(super) fn figure12(runs: &FigureRuns) -> Result<Figure> {
         "x_m",
         "y_m",
     ]);
-    let palette = [GREY, Rgb(217, 72, 1), GREEN, BLUE, Rgb(120, 40, 160)];
+    // The instants in time order on one sequential scale (viridis, its light yellow end left
+    // out), not the solvers' hues, which every other figure gives a solver.
+    let palette = [
+        Rgb(68, 1, 84),
+        Rgb(59, 82, 139),
+        Rgb(33, 145, 140),
+        Rgb(53, 183, 121),
+        Rgb(144, 200, 60),
+    ];
     if let Some((_, run)) = runs.get(BE_SOFT) {
         let instants = five_instants(&run.kinetic_energy);
         let end = instants.last().map_or(1.0, |&i| i as f64 * run.dt) + 0.05;
@@ -180,7 +188,8 @@ pub(super) fn figure12(runs: &FigureRuns) -> Result<Figure> {
          k = 10³ N/m (the softer rope, whose motion is visible at scale). The thesis's five instants are not given; \
          we mark 1 the release (straight rope at rest), 2 the first kinetic-energy peak (the rope passes its \
          equilibrium going down), 3 the next minimum (lowest turning point), 4 the second peak (equilibrium going \
-         up) and 5 the next minimum (highest turning point): one full period."
+         up) and 5 the next minimum (highest turning point): one full period. The instants are coloured in \
+         time order on one sequential scale (dark to light), not in the solvers' hues."
             .into(),
         &Chart::new(FULL_WIDTH_MM, 80.0, vec![energy, rope]),
         csv.text(),

@@ -8,10 +8,9 @@ use crate::inputs::ReportData;
 use crate::plot::{
     Axis, Band, Chart, Entry, Line, Marker, Panel, Rgb, Series, Style, FULL_WIDTH_MM,
 };
-use crate::style::{class_colour, solver_marker, GREY};
+use crate::style::{class_colour, GREY};
 use crate::tables::measured;
 use mass_spring_solvers::error::Result;
-use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::experiments::{
     peak_tolerance, published_rows, Measured, PublishedRow, HALF_PERIOD_TOLERANCE,
 };
@@ -100,13 +99,27 @@ pub(super) fn parity_panel(
             .with_weight(0.6)
             .with_line(Line::Dashed),
     );
-    for (class, solver, points) in groups {
+    for (class, _, points) in groups {
+        let (marker, filled) = class_marker(class);
         panel.series.push(
-            Series::points("", points.clone(), class_colour(class))
-                .with_marker(solver_marker(*solver), true),
+            Series::points("", points.clone(), class_colour(class)).with_marker(marker, filled),
         );
     }
     panel
+}
+
+/// The marker of an evidence class (with [`class_colour`], so that the classes read apart in
+/// grey print too): a shape and a fill of its own for each of the seven.
+pub(super) fn class_marker(class: &str) -> (Marker, bool) {
+    match class {
+        "faithful" => (Marker::Circle, true),
+        "interpretation" => (Marker::Circle, false),
+        "predicted" => (Marker::Triangle, true),
+        "selected" => (Marker::Square, true),
+        "fitted" => (Marker::Triangle, false),
+        "noise-limited" => (Marker::Cross, true),
+        _ => (Marker::Square, false),
+    }
 }
 
 /// The parity figure: ours against published for all 56 rows, one panel each for the peak
@@ -183,18 +196,11 @@ pub(super) fn parity(data: &ReportData) -> Result<Figure> {
     classes.sort_by_key(|c| Evidence::ALL.iter().position(|e| e.id() == c));
     classes.dedup();
     for class in &classes {
+        let (marker, filled) = class_marker(class);
         chart.legend.push(Entry {
             label: class.clone(),
             style: Series::points("", Vec::new(), class_colour(class))
-                .with_marker(Marker::Circle, true)
-                .style,
-        });
-    }
-    for solver in SolverId::THESIS_TABLES {
-        chart.legend.push(Entry {
-            label: solver.display_name().to_string(),
-            style: Series::points("", Vec::new(), GREY)
-                .with_marker(solver_marker(solver), false)
+                .with_marker(marker, filled)
                 .style,
         });
     }
@@ -224,9 +230,10 @@ pub(super) fn parity(data: &ReportData) -> Result<Figure> {
              ({n_peaks} rows), (b) T/2 under the thesis convention ({n_half} rows) and (c) the rest-state error \
              ({n_error} solver rows; Table 1 has none). Ours are the faithful configuration's numbers; the dashed \
              line is ours = published and the grey band the reproduction rule (peaks within max(1, round(0.005 × \
-             published)), T/2 within {} %); the rest-state error has no rule. Colour: the row's evidence class of \
-             section 6 ({}), which names the configuration that reproduces it while the mark stays at the faithful \
-             numbers; marker: the solver. Rows where a side is missing or zero are left out.",
+             published)), T/2 within {} %); the rest-state error has no rule. Marker and colour, each alone \
+             enough: the row's evidence class of section 6 ({}), which names the configuration that reproduces it \
+             while the mark stays at the faithful numbers (the solver of each point is in the data file). Rows \
+             where a side is missing or zero are left out.",
             sig_short(100.0 * HALF_PERIOD_TOLERANCE),
             classes.join(", ")
         ),

@@ -16,6 +16,10 @@ use mass_spring_solvers::model::system::Vec3;
 use mass_spring_solvers::solvers::registry::SolverId;
 use mass_spring_solvers::studies::experiments::{published_rows, PublishedRow};
 
+/// How far Figures 5, 7, 9 and 10 shift the marks of the first and third iteration counts
+/// along Δt (left and right; the second stays), decades.
+pub const DODGE_DECADES: f64 = 0.06;
+
 /// Figures 5, 7, 9, 10: rest-state error against Δt on log axes, one panel per solver,
 /// published (hollow, dashed) and ours (filled, solid) on the same axes.
 pub(super) fn error_against_dt(
@@ -103,7 +107,13 @@ pub(super) fn error_against_dt(
             for g in groups {
                 let index = g[0];
                 let mut s = error_style(index, colour(*solver, index), is_published);
-                s.points = series[index].clone();
+                // Each iteration count's marks shifted along Δt by its own small factor, so
+                // that counts with the same error at a step do not hide one another.
+                let dodge = 10f64.powf(DODGE_DECADES * (index as f64 - 1.0));
+                s.points = series[index]
+                    .iter()
+                    .map(|&(dt, e)| (dt * dodge, e))
+                    .collect();
                 let label = group_label(counts, g);
                 if g.len() > 1 {
                     merged.push(format!("{} {source} {label}", solver.display_name()));
@@ -141,10 +151,16 @@ pub(super) fn error_against_dt(
             style: error_style(0, GREY, false).style,
         },
     ];
+    // Figures 9 and 10 are the thesis's own figures of the Projective Dynamics pair: the same
+    // series as panels (b)-(c) of Figures 5 and 7, which the caption says.
     let which = if solvers.len() == 3 {
-        "XPBD (a), Fast m-s (b) and ADMM (c)"
+        "XPBD (a), Fast m-s (b) and ADMM (c)".to_string()
     } else {
-        "the two Projective Dynamics methods, Fast m-s (a) and ADMM (b)"
+        format!(
+            "the two Projective Dynamics methods, Fast m-s (a) and ADMM (b), as the thesis draws them apart \
+             (the same series as Figure {}(b)-(c), repeated)",
+            if stiffness == 1e3 { 5 } else { 7 }
+        )
     };
     let merged = if merged.is_empty() {
         String::new()
@@ -167,9 +183,12 @@ pub(super) fn error_against_dt(
              values hollow on dashed lines, ours filled on solid lines, one colour and marker per iteration count \
              (darker for fewer). The error is the distance between the final positions and those of our \
              Backward Euler reference of the same stiffness, {} (the thesis's measure). Same axes in every \
-             panel.{merged}",
+             panel; the fewest iterations' marks are shifted {} decade left along Δt and the most iterations' \
+             as far right, so that equal errors do not hide one another (the data file holds the true \
+             Δt).{merged}",
             stiffness_text(stiffness),
-            crate::tables::summed_over_free_nodes()
+            crate::tables::summed_over_free_nodes(),
+            DODGE_DECADES,
         ),
         &chart,
         csv_rows.text(),
@@ -188,7 +207,7 @@ pub(super) fn rest_state_panel(
     if let Some(r) = reference(data, stiffness) {
         reference_series = Some(
             Series::line(
-                "BE reference (Δt = 0.001 s, 5 it.)",
+                "Newton reference (Δt = 0.001 s, 5 it.)",
                 xy(&r.final_positions),
                 BLACK,
             )
@@ -218,7 +237,10 @@ pub(super) fn rest_state_panel(
                     xy(&m.final_positions),
                     colour(SolverId::Xpbd, index),
                 )
-                .with_marker(iteration_marker(index), true),
+                .with_marker(iteration_marker(index), true)
+                // The most iterations' marks smaller, drawn last: where two runs come to the
+                // same rest state, the other's mark shows around them.
+                .with_marker_scale(if index == 2 { 0.55 } else { 1.0 }),
             );
             shapes.push((
                 format!("xpbd_dt0.1_{iterations}it"),
@@ -235,8 +257,12 @@ pub(super) fn rest_state_panel(
             GREY,
         );
     }
-    // The reference on top.
-    panel.series.extend(reference_series);
+    // The reference underneath, its hollow squares larger than the XPBD marks: a run that
+    // comes to the reference's rest state shows its own mark inside the square (drawn on top,
+    // the squares hid the 20- and 50-iteration runs).
+    if let Some(r) = reference_series {
+        panel.series.insert(0, r);
+    }
     (panel, shapes)
 }
 
@@ -267,12 +293,13 @@ pub(super) fn rest_states_xpbd(data: &ReportData) -> Result<[Figure; 2]> {
                 number,
                 format!("fig{number:02}-rest-state-xpbd-k{}", stiffness_label(stiffness)),
                 format!(
-                    "Figure {number}. Rest state of Backward Euler (hollow squares) against XPBD, k = {} N/m, \
+                    "Figure {number}. Rest state of Newton under Backward Euler (hollow squares) against XPBD, k = {} N/m, \
                      drawn to scale (the same metre on both axes) and at the scale of its twin, Figure {twin}. \
                      The thesis does not say which XPBD run it shows; we show the coarsest time step, Δt = 0.1 s, \
                      with each of its iteration counts (1, 20, 50), where the difference is visible and shrinks \
                      with the iterations. Node positions at the end of each run (the first kinetic-energy peak \
-                     below 0.001 J).",
+                     below 0.001 J). The reference is drawn underneath and the 50-iteration marks smaller, \
+                     so that runs at the same rest state show each mark inside the other.",
                     stiffness_text(stiffness)
                 ),
                 &Chart::new(COLUMN_WIDTH_MM, 82.0, vec![panel]),

@@ -176,17 +176,19 @@ pub fn gravity_table(f: &Forensics) -> MarkdownTable {
     t
 }
 
-/// How many of the faithful ADMM misses oscillate longer than published (more peaks) and how
-/// many stop earlier.
-pub fn admm_misses_by_direction(faithful: &ResultSet) -> (usize, usize) {
+/// The faithful ADMM misses by the rule of evidence ([`Forensics::reproduces`]): how many
+/// published runs oscillate longer than ours (more peaks), how many stop earlier, and how many
+/// meet the reproduction rule but their rest error contradicts the published one.
+pub fn admm_misses_by_direction(f: &Forensics, faithful: &ResultSet) -> (usize, usize, usize) {
     let misses: Vec<&Measured> = faithful
         .rows
         .iter()
-        .filter(|m| m.published.solver == SolverId::AdmmPd && !m.reproduces())
+        .filter(|m| m.published.solver == SolverId::AdmmPd && !f.reproduces(m))
         .collect();
+    let rest_error = misses.iter().filter(|m| m.reproduces()).count();
     let longer = misses
         .iter()
-        .filter(|m| m.published.ke_peaks > m.peaks)
+        .filter(|m| !m.reproduces() && m.published.ke_peaks > m.peaks)
         .count();
-    (longer, misses.len() - longer)
+    (longer, misses.len() - longer - rest_error, rest_error)
 }

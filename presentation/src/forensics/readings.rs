@@ -121,14 +121,14 @@ pub fn variants_table(f: &Forensics, faithful: &ResultSet) -> MarkdownTable {
         .collect();
     let misses: Vec<&PublishedRow> = faithful_rows
         .iter()
-        .filter(|m| !m.reproduces())
+        .filter(|m| !f.reproduces(m))
         .map(|m| &m.published)
         .collect();
     let mut add =
         |id: ConfigurationId, rows: Vec<&Measured>, failed: Vec<(&PublishedRow, &str)>| {
             let reproduced: Vec<&PublishedRow> = rows
                 .iter()
-                .filter(|m| m.reproduces())
+                .filter(|m| f.reproduces(m))
                 .map(|m| &m.published)
                 .collect();
             let misses_reproduced = reproduced
@@ -186,7 +186,7 @@ pub fn admm_start_inertial_count(f: &Forensics) -> (usize, usize) {
         .count();
     let reproduced = f
         .run(ConfigurationId::Admm(AdmmCandidate::StartInertial))
-        .map_or(0, |r| r.rows.iter().filter(|m| m.reproduces()).count());
+        .map_or(0, |r| r.rows.iter().filter(|m| f.reproduces(m)).count());
     (reproduced, admm_rows)
 }
 
@@ -213,7 +213,7 @@ pub fn liu_readings_table(f: &Forensics, faithful: &ResultSet) -> MarkdownTable 
         for (name, rows) in [("x_n (default)", x_n), ("y = x_n + dt·v_n", y_rows)] {
             let reproduced: Vec<&PublishedRow> = rows
                 .iter()
-                .filter(|m| m.reproduces())
+                .filter(|m| f.reproduces(m))
                 .map(|m| &m.published)
                 .collect();
             t.row(vec![

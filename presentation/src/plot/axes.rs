@@ -161,8 +161,18 @@ pub(super) fn ticks(lo: f64, hi: f64, log: bool) -> Vec<(f64, String, bool)> {
     let decades = (last - first + 1).max(0);
     let mut out = Vec::new();
     if decades < 2 {
+        // Digits where they stay short; `2×10⁶` from 10⁴ up or below 10⁻⁴, never `2000000`.
         let digits = |v: f64| {
             let e = v.log10().floor();
+            if !(-4.0..4.0).contains(&e) {
+                let m = (v / 10f64.powf(e)).round();
+                let power = power_of_ten(e as i32);
+                return if m == 1.0 {
+                    power
+                } else {
+                    format!("{m}×{power}")
+                };
+            }
             let decimals = (-e).max(0.0) as usize;
             format!("{v:.decimals$}")
         };

@@ -391,6 +391,21 @@ mod tests {
     use super::svg::*;
     use super::*;
 
+    /// A log axis over less than two decades labels 1, 2 and 5 of each decade: in digits near
+    /// 1 (`0.002`, `5000`), as a power of ten beyond (`2×10⁶`, `10⁷`), never `2000000`.
+    /// Negative case: the digits of a value of 10⁴ or more, which the labels of Figures 27-28
+    /// read before (`2000000 … 20000000`), appear in no label.
+    #[test]
+    fn log_ticks_beyond_ten_thousand_are_powers_of_ten() {
+        let labels = |lo: f64, hi: f64| -> Vec<String> {
+            ticks(lo, hi, true).into_iter().map(|t| t.1).collect()
+        };
+        assert_eq!(labels(1.5e6, 2.5e7), ["2×10⁶", "5×10⁶", "10⁷", "2×10⁷"]);
+        assert_eq!(labels(1.5e3, 6e3), ["2000", "5000"]);
+        assert_eq!(labels(1.5e-3, 6e-3), ["0.002", "0.005"]);
+        assert!(labels(1.5e6, 2.5e7).iter().all(|l| !l.contains("000")));
+    }
+
     #[test]
     fn log_ticks_are_superscript_decades() {
         let t = ticks(1e-4, 0.2, true);

@@ -380,11 +380,8 @@ pub fn pendulum_energy(run: &PendulumRun) -> Result<ChapterFigure> {
     )
 }
 
-/// The vertical exaggeration of Figure T6 (b): the cloth at contact is a few centimetres tall.
-pub const CONTACT_EXAGGERATION: f64 = 10.0;
-
 /// Figure T6: (a) the centre of mass's height against its closed form, with the first
-/// contact; (b) the cloth at the first contact, side view, heights × [`CONTACT_EXAGGERATION`].
+/// contact; (b) the cloth at the saved frames up to the first contact, side view, to scale.
 pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
     let mut fall = Panel::new(
         Axis::linear("t (s)"),
@@ -407,38 +404,60 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
         )
         .with_line(Line::Dotted),
     );
-    let (t, x) = run
+    // (b) The saved frames up to the first contact in side view, to scale: the cloth falls
+    // flat and touches the floor flat (at first contact every particle lies at y = 0, so that
+    // frame alone drew an empty line). Frames in time order on one sequential scale, each
+    // named above its line.
+    let mut frames: Vec<&(f64, Vec<Vec3>)> = run
         .frames
         .iter()
-        .find(|(t, _)| *t == run.first_contact)
-        .unwrap_or(&run.frames[run.frames.len() - 1]);
-    let mut contact = Panel::new(
-        Axis::linear("x (m)"),
-        Axis::linear(format!("height y (m) × {}", short(CONTACT_EXAGGERATION))),
-    );
-    contact.equal_aspect = true;
-    contact.heading = format!("t = {} s", sig4(*t));
+        .filter(|(t, _)| *t <= run.first_contact)
+        .collect();
+    frames.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut side = Panel::new(Axis::linear("x (m)"), Axis::linear("height y (m)"));
     let width_m = (run.params.cloth.nx - 1) as f64 * run.params.cloth.spacing;
-    contact.series.push(
+    side.series.push(
         Series::line("floor", vec![(-0.1, 0.0), (width_m + 0.1, 0.0)], GREY)
             .with_weight(2.0)
             .with_line(Line::Dashed),
     );
-    // Every spring in one series, a NaN point between springs.
-    let springs = run
-        .springs
-        .iter()
-        .flat_map(|&(a, b)| {
-            [
-                (x[a].x, x[a].y * CONTACT_EXAGGERATION),
-                (x[b].x, x[b].y * CONTACT_EXAGGERATION),
-                (f64::NAN, f64::NAN),
-            ]
-        })
-        .collect();
-    contact
-        .series
-        .push(Series::line("springs (side view)", springs, BLUE).with_weight(0.8));
+    let palette = [
+        Rgb(68, 1, 84),
+        Rgb(59, 82, 139),
+        Rgb(33, 145, 140),
+        Rgb(53, 183, 121),
+        Rgb(144, 200, 60),
+    ];
+    for (n, (t, x)) in frames.iter().enumerate() {
+        let colour = palette[n * (palette.len() - 1) / (frames.len() - 1).max(1)];
+        // Every spring in one series, a NaN point between springs.
+        let springs: Vec<(f64, f64)> = run
+            .springs
+            .iter()
+            .flat_map(|&(a, b)| [(x[a].x, x[a].y), (x[b].x, x[b].y), (f64::NAN, f64::NAN)])
+            .collect();
+        side.series
+            .push(Series::line("", springs, colour).with_weight(1.2));
+        let top = x.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
+        let contact = if *t == run.first_contact {
+            ", first contact"
+        } else {
+            ""
+        };
+        // A frame's time accumulated in steps (0.7000000000000001) printed to the millisecond.
+        let time = if *t == run.first_contact {
+            sig4(*t)
+        } else {
+            short((*t * 1e3).round() / 1e3)
+        };
+        side.label(
+            (0.0, top),
+            (0.0, 4.0),
+            Align::Start,
+            format!("t = {time} s{contact}"),
+            colour,
+        );
+    }
     let mut csv = CsvFile::new(&["time_s", "particle", "x_m", "y_m", "z_m"]);
     for (t, x) in &run.frames {
         for (i, p) in x.iter().enumerate() {
@@ -453,7 +472,7 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
     }
     ChapterFigure::new(
         "tutorial_cloth_drop",
-        &Chart::new(FULL_WIDTH_MM, 85.0, vec![fall, contact]),
+        &Chart::new(FULL_WIDTH_MM, 85.0, vec![fall, side]),
         csv.text(),
     )
 }

@@ -508,13 +508,18 @@ impl TutorialChapter {
             format!(
                 "Figure T6. The cloth drop: (a) the height of the centre of mass against time, \
                  simulated and in closed form, which agree to {} m until the first contact (dotted, \
-                 {} s; the closed form reaches the floor at {} s); (b) the cloth at the first \
-                 contact, side view (every spring projected on the x-y plane), heights exaggerated \
-                 {}× against x.",
+                 {} s; the closed form reaches the floor at {} s); (b) the cloth in side view \
+                 (every spring projected on the x-y plane), to scale, at t = {} s and at the first \
+                 contact, each frame named above it: it falls flat and lands flat.",
                 sig(c.max_centre_error, 2),
                 sig4(c.first_contact),
                 sig4(c.closed_contact),
-                short(figures::CONTACT_EXAGGERATION),
+                studies::CLOTH_FRAMES
+                    .iter()
+                    .filter(|&&t| t <= c.first_contact)
+                    .map(|t| short(*t))
+                    .collect::<Vec<_>>()
+                    .join(", "),
             ),
         );
         md

@@ -19,7 +19,7 @@ impl SolverId {
         match self {
             SolverId::BackwardEuler => SolverInfo {
                 id: "backward_euler",
-                display_name: "Backward Euler",
+                display_name: "Newton",
                 summary: "Backward Euler with Newton-Raphson, the thesis's reference",
                 source: "thesis §2.1, Eqs 1-12",
                 file: "src/solvers/backward_euler.rs",
@@ -109,7 +109,7 @@ impl SolverId {
             SolverId::AndersonAdmm => anderson(Base::Admm),
             SolverId::DampedBackwardEuler => SolverInfo {
                 id: "damped_backward_euler",
-                display_name: "Backward Euler damped",
+                display_name: "Newton damped",
                 summary: "Backward Euler with Rayleigh damping, the damped ADMM's ground truth",
                 source: "Brown, Overby, Forootaninia, Narain 2018, Accurate Dissipative Forces in Optimization Integrators",
                 file: "src/solvers/backward_euler.rs",

@@ -66,6 +66,38 @@ pub fn rest_error_contradicts(published: Option<f64>, errors: &[f64], band: [f64
     })
 }
 
+/// The readings of a rest error: against the reference at 9.81 m/s² only (index 0 of a run's
+/// errors), or at either gravity (9.81 and 9.8 m/s², the rule's reading).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GravityReading {
+    /// The reference at 9.81 m/s² alone.
+    Only981,
+    /// The reference at either gravity: a contradiction needs both.
+    Either,
+}
+
+impl GravityReading {
+    /// The errors this reading looks at, of a run's errors at (9.81, 9.8 m/s²).
+    pub fn errors(self, errors: &[f64; 2]) -> &[f64] {
+        match self {
+            GravityReading::Only981 => &errors[..1],
+            GravityReading::Either => &errors[..],
+        }
+    }
+}
+
+/// The rule's decision on one run: it meets the reproduction rule and its rest errors (at
+/// 9.81 and 9.8 m/s²) do not contradict the published one at `band` under `reading`. The one
+/// place [`select`] and every table of the report decide "reproduced".
+pub fn reproduces_under(
+    m: &Measured,
+    errors: &[f64; 2],
+    band: [f64; 2],
+    reading: GravityReading,
+) -> bool {
+    m.reproduces() && !rest_error_contradicts(m.published.error, reading.errors(errors), band)
+}
+
 /// A kinetic-energy peak below this is floating-point noise (forensic finding 1), J.
 pub const NOISE_PEAK_J: f64 = 1e-15;
 
@@ -457,13 +489,18 @@ pub fn select(c: &Candidates) -> Selection {
             )
         })
     };
-    let contradicted = |m: &Measured| {
-        rest_error_contradicts(m.published.error, &(c.rest_errors)(m), REST_ERROR_BAND)
+    let passes = |m: &Measured| {
+        reproduces_under(
+            m,
+            &(c.rest_errors)(m),
+            REST_ERROR_BAND,
+            GravityReading::Either,
+        )
     };
     // The rest errors that contradict a run the rule passes, named in the row's note.
     let contradictions: Vec<String> = ordered
         .iter()
-        .filter(|(_, m, _)| m.reproduces() && contradicted(m))
+        .filter(|(_, m, _)| m.reproduces() && !passes(m))
         .map(|(id, m, _)| {
             let [at_981, _] = (c.rest_errors)(m);
             format!(
@@ -476,10 +513,7 @@ pub fn select(c: &Candidates) -> Selection {
             )
         })
         .collect();
-    if let Some((configuration, m, effect)) = ordered
-        .iter()
-        .find(|(_, m, _)| m.reproduces() && !contradicted(m))
-    {
+    if let Some((configuration, m, effect)) = ordered.iter().find(|(_, m, _)| passes(m)) {
         let configuration = *configuration;
         if let Some(note) = noise_note(m) {
             return Selection {

@@ -63,6 +63,9 @@ pub struct Forensics {
     /// The printed method's rest errors of every row that publishes one, against the reference
     /// at 9.81 and at 9.8 m/s², m: what [`evidence::REST_ERROR_BAND`] reads.
     pub rest_errors: Vec<(Measured, [f64; 2])>,
+    /// The references the rest errors are read against: per stiffness, the final positions
+    /// at 9.81 and at 9.8 m/s².
+    pub rest_references: Vec<(f64, [Vec<Vec3>; 2])>,
 }
 
 /// The outcomes of (row, configuration) jobs, each job run once however often it is asked for:
@@ -526,6 +529,10 @@ impl Forensics {
             evidence,
             gravity,
             rest_errors: faithful_rest_errors,
+            rest_references: references_9_8
+                .into_iter()
+                .map(|(k, at_9_8)| (k, [faithful.reference(k).final_positions.clone(), at_9_8]))
+                .collect(),
         })
     }
 
@@ -575,6 +582,42 @@ impl Forensics {
             })
             .map(|(m, errors)| (m, errors[0] / m.published.error.expect("filtered")))
             .collect()
+    }
+
+    /// A run's rest errors against the reference of its stiffness at 9.81 and at 9.8 m/s², m.
+    pub fn rest_errors_of(&self, m: &Measured) -> [f64; 2] {
+        let [at_981, at_98] = &self
+            .rest_references
+            .iter()
+            .find(|(k, _)| *k == m.published.stiffness)
+            .expect("a reference per stiffness")
+            .1;
+        [
+            rest_error_sum(&m.final_positions, at_981),
+            rest_error_sum(&m.final_positions, at_98),
+        ]
+    }
+
+    /// Whether `m` reproduces its row as the rule of evidence decides it: the reproduction
+    /// rule, and a rest error [`evidence::REST_ERROR_BAND`] does not contradict at either
+    /// gravity. Every ✓ of the report reads this.
+    pub fn reproduces(&self, m: &Measured) -> bool {
+        self.reproduces_under(
+            m,
+            evidence::REST_ERROR_BAND,
+            evidence::GravityReading::Either,
+        )
+    }
+
+    /// [`Forensics::reproduces`] at another band or gravity reading (the report's sensitivity
+    /// counts).
+    pub fn reproduces_under(
+        &self,
+        m: &Measured,
+        band: [f64; 2],
+        reading: evidence::GravityReading,
+    ) -> bool {
+        evidence::reproduces_under(m, &self.rest_errors_of(m), band, reading)
     }
 
     /// How many rows of `table` (all tables for None) have each class, in [`Evidence::ALL`]

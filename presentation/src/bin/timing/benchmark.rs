@@ -16,7 +16,9 @@ use mass_spring_report::format::short;
 use mass_spring_report::ChapterFigure;
 use mass_spring_solvers::error::{Error, Result};
 use mass_spring_solvers::studies::benchmark::run::{build_solver, run, Outcome};
-use mass_spring_solvers::studies::benchmark::sweep::{configurations, dts, Configuration};
+use mass_spring_solvers::studies::benchmark::sweep::{
+    configurations, dts, Configuration, BASELINES,
+};
 use mass_spring_solvers::studies::benchmark::truth::CaseTruth;
 use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
 use mass_spring_solvers::studies::experiments::run_parallel;
@@ -216,7 +218,11 @@ impl Timed {
                 "![Figure {n}]({s}.svg)\n\n*Figure {n}. {}* Data: [`{WALL_CSV}`]({WALL_CSV}).\n",
                 work_figure_caption(
                     &case.label(),
-                    "the wall time of a run over the window on one core"
+                    "the wall time of a run over the window on one core",
+                    self.rows
+                        .iter()
+                        .any(|r| r.case() == Some(case)
+                            && BASELINES.iter().any(|b| b.id() == r.solver))
                 )
             );
         }
