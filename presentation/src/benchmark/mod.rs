@@ -17,6 +17,7 @@ use mass_spring_solvers::studies::benchmark::{Benchmark, Case};
 
 pub mod families;
 mod figures;
+pub mod fronts;
 pub mod long;
 mod question;
 mod start;
@@ -24,7 +25,8 @@ pub mod tolerance;
 mod views;
 pub mod wall;
 
-pub use figures::{epsilon_front, stem, work_figure, work_figure_caption, FrontRow, FRONT_EPSILON};
+pub use figures::stem;
+pub use fronts::{epsilon_front, work_figure, work_figure_caption, FrontRow, FRONT_EPSILON};
 pub use question::{ThesisCell, ASYMPTOTIC_ERROR, ASYMPTOTIC_SLOPE, THESIS_QUOTES};
 pub use views::{
     errors_below_one, jackknife, mean_with_interval, RankingCell, BOOTSTRAP_RESAMPLES,

@@ -11,7 +11,7 @@
 //! pairs the two costs order differently by more than a tie ([`TIE`]) in both.
 
 use crate::benchmark::families::of_case;
-use crate::benchmark::{epsilon_front, work_figure, FrontRow, FRONT_EPSILON};
+use crate::benchmark::fronts::{epsilon_front, work_figure, FrontRow, FRONT_EPSILON};
 use crate::chapter_figure::ChapterFigure;
 use crate::format::{short, sig, MarkdownTable};
 use mass_spring_solvers::error::{Error, Result};
