@@ -654,13 +654,15 @@ pub fn summary(timing: &WallTiming) -> String {
          wall time here is one run's, within its spread, not a property of the solver. Where \
          at least three solvers reach a level ({} of the {} cells of case and level), Kendall's \
          τ between the flop ranking and the wall-time ranking is {lo:.2} to {hi:.2}, and \
-         {reversed} pairs of solvers in all are ordered the other way beyond ties and the \
+         {reversed} {} of solvers in all {} ordered the other way beyond ties and the \
          spread; {reading}.\n\n",
         timing.machine.load_before,
         timing.rows.len(),
         short(WALL_SPREAD_FLAG * 100.0),
         taus.len(),
-        all.len()
+        all.len(),
+        if reversed == 1 { "pair" } else { "pairs" },
+        if reversed == 1 { "is" } else { "are" }
     )
 }
 
