@@ -263,7 +263,7 @@ pub fn work_figure_caption(label: &str, cost: &str, baselines: bool) -> String {
          physical error per free node over the exact motion's RMS amplitude), by family; the \
          numbers beside a front are the time step Δt (s) of its points at 0.1, 0.01, 0.001 \
          and 0.0001 s, in its colour, where there is room; grey: {baselines}doing nothing (the \
-         equilibrium held still, error 1) and, dashed, the exact motion's floor (its halving gap over its amplitude, about 15 \
+         equilibrium held still, error 1) and, dashed where a front comes within a factor 100 of it, the exact motion's floor (its halving gap over its amplitude, about 15 \
          times its own error): a point below it measures the truth, not the run, and is drawn \
          on it. A front marked ≈ has another's errors step for step: the same computation at \
          another cost.",
@@ -276,6 +276,10 @@ pub fn work_figure_caption(label: &str, cost: &str, baselines: bool) -> String {
         },
     )
 }
+
+/// How far above the exact motion's floor a front's least error may lie for the floor to be
+/// drawn.
+const FLOOR_DRAWN_WITHIN: f64 = 100.0;
 
 /// One panel of a work-precision figure: `curves`, then `baselines`, doing nothing and the
 /// exact motion's `floor`; each drawn point a record of `csv`.
@@ -291,6 +295,14 @@ fn work_panel<R: FrontRow>(
     panel.heading = name.into();
     let (mut lowest, mut highest) = (f64::INFINITY, 0.0f64);
     let mut seen: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    // The floor is drawn (and cuts the range) only where a front comes within
+    // FLOOR_DRAWN_WITHIN of it: far below every point it would only squeeze the fronts.
+    let least_error = curves
+        .iter()
+        .chain(&baselines)
+        .flat_map(|c| c.rows.iter().map(|r| r.error()))
+        .fold(f64::INFINITY, f64::min);
+    let floor = floor.filter(|&f| least_error <= FLOOR_DRAWN_WITHIN * f);
     for mut curve in curves.into_iter().chain(baselines) {
         for r in &curve.rows {
             csv.record(vec![

@@ -65,8 +65,10 @@ impl ContinuumChapter {
                `docs/fem-scenes.md` fixes the scenes, the energies and their conventions; \
                `src/model/continuum/` implements them, and Newton's static equilibrium (a \
                projected Hessian far from the minimum, the exact one near it, a backtracking \
-               line search) is their ground truth. This part is statics only: the continuum \
-               under the time integrators and the solvers is the next step.\n\n";
+               line search) is their ground truth. This chapter presents the statics; the \
+               continuum also runs under the four optimization integrators (Newton's stages, \
+               `src/integrators/continuum.rs`, tested in `tests/continuum/dynamics.rs`), whose \
+               results and the other solvers on elements are the next step.\n\n";
         md += &format!("### {number}.1 The scenes\n\n");
         md += &self.scenes.render();
         md += "\nEach is built by `mss --scene beam|membrane|cook|patch` and read from a scene \

@@ -227,6 +227,7 @@ pub(super) fn short_choice(c: Choice) -> &'static str {
         Choice::PeakStamp => "peak time stamp",
         Choice::Clock => "f32 clock",
         Choice::Gravity => "gravity",
+        Choice::ReferenceGravity => "reference's gravity",
         Choice::LiuFirstIterate => "first iterate",
         Choice::LiuHypothesis => "Fast m-s hypothesis",
         Choice::AdmmStart => "ADMM start",

@@ -9,15 +9,14 @@ use crate::error::{Error, Result};
 use crate::integrators::continuum::{ContinuumIntegrator, ContinuumState, StageLog};
 use crate::integrators::optimization_integrator::OptimizationIntegrator;
 use crate::model::continuum::energy::EnergyKind;
-use crate::model::continuum::scenes::{beam, BEAM_DENSITY, BEAM_LENGTH, BEAM_POISSON, BEAM_SIDE};
+use crate::model::continuum::scenes::{beam, BEAM_DENSITY, BEAM_LENGTH, BEAM_SIDE};
 use crate::model::continuum::statics::{static_equilibrium, DEFAULT_TOLERANCE};
 use crate::model::continuum::system::{ContinuumSystem, ElementKind, Masses, Mesh};
 use crate::model::linear::Factorization;
 use crate::model::metrics::{Peak, PeakDetector};
 use crate::model::scene::THESIS_GRAVITY;
+use crate::studies::continuum::statics::beam_theory_sag;
 
-/// Timoshenko's shear coefficient of a square section.
-pub const SHEAR_COEFFICIENT: f64 = 5.0 / 6.0;
 /// The first root of the cantilever's frequency equation 1 + cos β cosh β = 0.
 pub const CANTILEVER_ROOT: f64 = 1.875104;
 /// Inverse iterations of [`lowest_bending_frequency`]: from the static deflection, which is
@@ -30,28 +29,18 @@ fn section() -> (f64, f64) {
     (BEAM_SIDE * BEAM_SIDE, BEAM_SIDE.powi(4) / 12.0)
 }
 
-/// fem-scenes.md, "beam": Euler-Bernoulli's sag of a cantilever under its own weight plus
-/// Timoshenko's shear term, δ = qL⁴/(8EI) + qL²/(2κGA), q = ρgA, κ = 5/6, G = E/(2(1 + ν)), m.
-pub fn beam_theory_deflection(youngs: f64) -> f64 {
-    let (area, inertia) = section();
-    let q = BEAM_DENSITY * THESIS_GRAVITY * area;
-    let shear = youngs / (2.0 * (1.0 + BEAM_POISSON));
-    q * BEAM_LENGTH.powi(4) / (8.0 * youngs * inertia)
-        + q * BEAM_LENGTH.powi(2) / (2.0 * SHEAR_COEFFICIENT * shear * area)
-}
-
 /// fem-scenes.md, "beam": The cantilever's first bending frequency, rad/s: Euler-Bernoulli's
 /// ω = β² √(EI/(ρAL⁴)), β = 1.875104, with Timoshenko's shear correction taken as its static
 /// flexibility (interpretation, not a printed formula: Rayleigh's quotient with the static
 /// deflection as the mode gives ω² ∝ 1/δ, so ω is scaled by √(δ_EB/δ), δ of
-/// [`beam_theory_deflection`]; a correction of about −0.5 % here; rotary inertia is left out).
+/// [`beam_theory_sag`]; a correction of about −0.5 % here; rotary inertia is left out).
 pub fn beam_theory_frequency(youngs: f64) -> f64 {
     let (area, inertia) = section();
     let euler = CANTILEVER_ROOT.powi(2)
         * (youngs * inertia / (BEAM_DENSITY * area * BEAM_LENGTH.powi(4))).sqrt();
     let q = BEAM_DENSITY * THESIS_GRAVITY * area;
     let bending = q * BEAM_LENGTH.powi(4) / (8.0 * youngs * inertia);
-    euler * (bending / beam_theory_deflection(youngs)).sqrt()
+    euler * (bending / beam_theory_sag(youngs)).sqrt()
 }
 
 /// The masses of the free unknowns, in free-node order, kg.
