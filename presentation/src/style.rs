@@ -14,6 +14,16 @@ pub const RED: Rgb = Rgb(200, 30, 30);
 pub const BLUE: Rgb = Rgb(33, 113, 181);
 pub const GREEN: Rgb = Rgb(35, 139, 69);
 
+/// Instants in time order, earliest darkest: five steps of viridis, its light yellow end left
+/// out (it would vanish on white).
+pub const TIME_ORDER: [Rgb; 5] = [
+    Rgb(68, 1, 84),
+    Rgb(59, 82, 139),
+    Rgb(33, 145, 140),
+    Rgb(53, 183, 121),
+    Rgb(144, 200, 60),
+];
+
 /// The colour of a solver at its `index`-th iteration count (0 = fewest, darkest).
 pub fn colour(solver: SolverId, index: usize) -> Rgb {
     let shades: [Rgb; 3] = match solver {

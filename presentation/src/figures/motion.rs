@@ -9,7 +9,7 @@ use crate::plot::{
     Align, Axis, Chart, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM, FULL_WIDTH_MM,
 };
 use crate::runs::{FigureRuns, BE_SOFT, BE_STIFF, FMS_SOFT_COARSE, STIFF_MIDDLE};
-use crate::style::{colour, solver_line, BLACK, GREY, RED};
+use crate::style::{colour, solver_line, BLACK, GREY, RED, TIME_ORDER};
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::integrators::time_stepper::Run;
 use mass_spring_solvers::solvers::registry::SolverId;
@@ -110,15 +110,9 @@ pub(super) fn figure12(runs: &FigureRuns) -> Result<Figure> {
         "x_m",
         "y_m",
     ]);
-    // The instants in time order on one sequential scale (viridis, its light yellow end left
-    // out), not the solvers' hues, which every other figure gives a solver.
-    let palette = [
-        Rgb(68, 1, 84),
-        Rgb(59, 82, 139),
-        Rgb(33, 145, 140),
-        Rgb(53, 183, 121),
-        Rgb(144, 200, 60),
-    ];
+    // The instants in time order on one sequential scale, not the solvers' hues, which every
+    // other figure gives a solver.
+    let palette = TIME_ORDER;
     if let Some((_, run)) = runs.get(BE_SOFT) {
         let instants = five_instants(&run.kinetic_energy);
         let end = instants.last().map_or(1.0, |&i| i as f64 * run.dt) + 0.05;

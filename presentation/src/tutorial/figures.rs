@@ -10,6 +10,7 @@ use crate::plot::{
     power_of_ten, Align, Axis, Chart, Entry, Line, Marker, Panel, Rgb, Series, COLUMN_WIDTH_MM,
     FULL_WIDTH_MM,
 };
+use crate::style::TIME_ORDER;
 use mass_spring_solvers::error::Result;
 use mass_spring_solvers::model::system::Vec3;
 use mass_spring_solvers::particles::Integrator;
@@ -421,13 +422,7 @@ pub fn cloth_drop(run: &ClothDropRun) -> Result<ChapterFigure> {
             .with_weight(2.0)
             .with_line(Line::Dashed),
     );
-    let palette = [
-        Rgb(68, 1, 84),
-        Rgb(59, 82, 139),
-        Rgb(33, 145, 140),
-        Rgb(53, 183, 121),
-        Rgb(144, 200, 60),
-    ];
+    let palette = TIME_ORDER;
     for (n, (t, x)) in frames.iter().enumerate() {
         let colour = palette[n * (palette.len() - 1) / (frames.len() - 1).max(1)];
         // Every spring in one series, a NaN point between springs.

@@ -463,6 +463,19 @@ pub(crate) struct Cli {
     pub(crate) positions_every: Option<i64>,
 }
 
+impl Cli {
+    /// The CSV files asked for on the command line, each with the option that names it.
+    pub(crate) fn requested_outputs(&self) -> Vec<(&'static str, &std::path::Path)> {
+        [
+            ("--ke-csv", self.ke_csv.as_deref()),
+            ("--positions-csv", self.positions_csv.as_deref()),
+        ]
+        .into_iter()
+        .filter_map(|(option, path)| path.map(|p| (option, p)))
+        .collect()
+    }
+}
+
 /// The built-in scenes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 #[value(rename_all = "snake_case")]

@@ -16,7 +16,6 @@ use mass_spring_solvers::model::continuum::scenes::beam_tip_deflection;
 use mass_spring_solvers::model::continuum::system::ContinuumSystem;
 use mass_spring_solvers::model::system::{State, Vec3};
 use mass_spring_solvers::platform::output_file::OutputFile;
-use std::path::Path;
 
 /// The longest `--duration`, s.
 const MAX_DURATION: f64 = 1e4;
@@ -83,14 +82,7 @@ pub(crate) fn run(
             require_within("--positions-every", e as f64, 1.0, 1e18, "steps").map(|e| e as u64)
         })?;
     let mut stepper = ContinuumIntegrator::new(system, integrator, dt, DEFAULT_TOLERANCE)?;
-    let requested: Vec<(&'static str, &Path)> = [
-        ("--ke-csv", cli.ke_csv.as_deref()),
-        ("--positions-csv", cli.positions_csv.as_deref()),
-    ]
-    .into_iter()
-    .filter_map(|(option, path)| path.map(|p| (option, p)))
-    .collect();
-    let mut outputs = OutputFile::open_all(&requested, None)?.into_iter();
+    let mut outputs = OutputFile::open_all(&cli.requested_outputs(), None)?.into_iter();
     let mut csv = CsvRecorder {
         dt,
         ke: cli.ke_csv.as_ref().and_then(|_| outputs.next()),

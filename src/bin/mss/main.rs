@@ -35,7 +35,6 @@ use output::{
 use scene::{build_scene, build_stepper};
 use settings::{check_work, list_solvers, settings};
 use std::io::Write;
-use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -70,14 +69,8 @@ fn run(cli: &Cli) -> Result<(), Failure> {
     };
     let (mut stepper, applied) = build_stepper(&settings.spec, model, &scene, cli.dt)?;
     summary.applied = applied;
-    let requested: Vec<(&'static str, &Path)> = [
-        ("--ke-csv", cli.ke_csv.as_deref()),
-        ("--positions-csv", cli.positions_csv.as_deref()),
-    ]
-    .into_iter()
-    .filter_map(|(option, path)| path.map(|p| (option, p)))
-    .collect();
-    let mut outputs = OutputFile::open_all(&requested, cli.scene_file.as_deref())?.into_iter();
+    let mut outputs =
+        OutputFile::open_all(&cli.requested_outputs(), cli.scene_file.as_deref())?.into_iter();
     let mut csv = CsvRecorder {
         dt: cli.dt,
         ke: cli.ke_csv.as_ref().and_then(|_| outputs.next()),
