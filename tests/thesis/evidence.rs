@@ -23,6 +23,22 @@ use mass_spring_solvers::studies::forensics::{
 };
 use std::collections::HashMap;
 
+/// The Table 1 reference's final positions at stiffness `k`: at 9.81 m/s² (`g` = 0, the
+/// faithful run) or at 9.8 (`g` = 1, the gravity study's).
+fn reference_positions(g: usize, k: f64) -> &'static [mass_spring_solvers::model::system::Vec3] {
+    if g == 0 {
+        &faithful_results().reference(k).final_positions
+    } else {
+        &forensic_results()
+            .gravity
+            .mismatched_references
+            .iter()
+            .find(|m| m.published.stiffness == k)
+            .unwrap()
+            .final_positions
+    }
+}
+
 fn label(p: &PublishedRow) -> String {
     format!(
         "T{} {}/{} k={:e}",
@@ -240,22 +256,13 @@ fn the_rows_not_used_to_fit_the_scene_are_counted_apart() {
 fn rest_errors_contradict_the_rows_outside_the_band_at_both_gravities() {
     use mass_spring_solvers::model::metrics::rest_error_sum;
     let f = forensic_results();
-    let reference = |g: usize, k: f64| -> &[_] {
-        if g == 0 {
-            &faithful_results().reference(k).final_positions
-        } else {
-            &f.gravity
-                .mismatched_references
-                .iter()
-                .find(|m| m.published.stiffness == k)
-                .unwrap()
-                .final_positions
-        }
-    };
     let outside = |m: &Measured, readings: &[usize]| {
         let p = m.published.error.unwrap();
         readings.iter().all(|&g| {
-            let ratio = rest_error_sum(&m.final_positions, reference(g, m.published.stiffness)) / p;
+            let ratio = rest_error_sum(
+                &m.final_positions,
+                reference_positions(g, m.published.stiffness),
+            ) / p;
             !(0.1..=10.0).contains(&ratio)
         })
     };
@@ -719,24 +726,14 @@ fn every_reproduced_count_reads_the_rule_of_evidence() {
     use mass_spring_solvers::model::metrics::rest_error_sum;
     let f = forensic_results();
     let faithful = faithful_results();
-    let reference = |g: usize, k: f64| -> &[_] {
-        if g == 0 {
-            &faithful.reference(k).final_positions
-        } else {
-            &f.gravity
-                .mismatched_references
-                .iter()
-                .find(|m| m.published.stiffness == k)
-                .unwrap()
-                .final_positions
-        }
-    };
     let passes = |m: &Measured, band: [f64; 2], readings: &[usize]| {
         m.reproduces()
             && m.published.error.is_none_or(|p| {
                 readings.iter().any(|&g| {
-                    let ratio =
-                        rest_error_sum(&m.final_positions, reference(g, m.published.stiffness)) / p;
+                    let ratio = rest_error_sum(
+                        &m.final_positions,
+                        reference_positions(g, m.published.stiffness),
+                    ) / p;
                     (band[0]..=band[1]).contains(&ratio)
                 })
             })

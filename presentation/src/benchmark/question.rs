@@ -1137,16 +1137,26 @@ impl BenchmarkChapter {
     /// "No method stands out" as its rule's first form decides it (no majority requirement):
     /// the verdict where every setting of reading (a) agrees, None where they differ.
     pub fn none_stands_out_first_form(&self) -> Option<Verdict> {
-        let verdicts: Vec<Verdict> = StepGroup::ALL
+        let verdicts: Vec<Verdict> = self
+            .none_stands_out_settings()
+            .into_iter()
+            .map(|(_, _, n)| n.verdict(None))
+            .collect();
+        let first = *verdicts.first()?;
+        verdicts.iter().all(|&v| v == first).then_some(first)
+    }
+
+    /// What decides "no method stands out" at each of reading (a)'s settings: its time steps
+    /// and tie, in order.
+    fn none_stands_out_settings(&self) -> Vec<(StepGroup, f64, thesis_protocol::NoneStandsOut)> {
+        StepGroup::ALL
             .into_iter()
             .flat_map(|group| {
                 let cells =
                     thesis_protocol::cells(&self.protocol, group, &|k| self.reference_peaks(k));
-                TIES.map(|tie| thesis_protocol::NoneStandsOut::of(&cells, tie).verdict(None))
+                TIES.map(|tie| (group, tie, thesis_protocol::NoneStandsOut::of(&cells, tie)))
             })
-            .collect();
-        let first = *verdicts.first()?;
-        verdicts.iter().all(|&v| v == first).then_some(first)
+            .collect()
     }
 
     /// "No method stands out" under the forms of its rule: the majority requirement that
@@ -1183,23 +1193,18 @@ impl BenchmarkChapter {
             "≥ 1/2 (the rule)",
             "≥ 3/4",
         ]);
-        for group in StepGroup::ALL {
-            let cells = thesis_protocol::cells(&self.protocol, group, &|k| self.reference_peaks(k));
-            for tie in TIES {
-                let n = thesis_protocol::NoneStandsOut::of(&cells, tie);
-                let mut row = vec![
-                    format!("{}, {} %", group.short(), full(100.0 * tie)),
-                    n.decided.to_string(),
-                    n.alike.to_string(),
-                    n.alike_without_rest_error.to_string(),
-                    if n.stands_out { "yes" } else { "no" }.into(),
-                ];
-                row.extend(
-                    [None, Some(0.25), Some(0.5), Some(0.75)]
-                        .map(|m| n.verdict(m).id().to_string()),
-                );
-                t.row(row);
-            }
+        for (group, tie, n) in self.none_stands_out_settings() {
+            let mut row = vec![
+                format!("{}, {} %", group.short(), full(100.0 * tie)),
+                n.decided.to_string(),
+                n.alike.to_string(),
+                n.alike_without_rest_error.to_string(),
+                if n.stands_out { "yes" } else { "no" }.into(),
+            ];
+            row.extend(
+                [None, Some(0.25), Some(0.5), Some(0.75)].map(|m| n.verdict(m).id().to_string()),
+            );
+            t.row(row);
         }
         md += &t.render();
         md += "\n";

@@ -347,7 +347,8 @@ pub fn cheapest(
     case: Case,
     id: SolverId,
     cost: Cost,
-    (level, rk4_limit_s): (f64, f64),
+    level: f64,
+    rk4_limit_s: f64,
 ) -> Option<&WallRow> {
     let limit = stability_limit_from_rk4(id, rk4_limit_s);
     rows_of(rows, case, id)
@@ -363,11 +364,12 @@ pub fn ranking(
     rows: &[WallRow],
     case: Case,
     cost: Cost,
-    at: (f64, f64),
+    level: f64,
+    rk4_limit_s: f64,
 ) -> Vec<(SolverId, &WallRow)> {
     let mut ranked: Vec<(SolverId, &WallRow)> = solvers()
         .into_iter()
-        .filter_map(|id| cheapest(rows, case, id, cost, at).map(|r| (id, r)))
+        .filter_map(|id| cheapest(rows, case, id, cost, level, rk4_limit_s).map(|r| (id, r)))
         .collect();
     ranked.sort_by(|a, b| cost.of(a.1).total_cmp(&cost.of(b.1)));
     ranked
@@ -394,8 +396,8 @@ pub struct Comparison<'a> {
 /// The comparison of the two costs on `case` at `level`, the explicit baselines within their
 /// margin of RK4's stability limit `rk4_limit_s` ([`cheapest`]).
 pub fn compare(rows: &[WallRow], case: Case, level: f64, rk4_limit_s: f64) -> Comparison<'_> {
-    let by_flops = ranking(rows, case, Cost::Flops, (level, rk4_limit_s));
-    let by_wall = ranking(rows, case, Cost::Wall, (level, rk4_limit_s));
+    let by_flops = ranking(rows, case, Cost::Flops, level, rk4_limit_s);
+    let by_wall = ranking(rows, case, Cost::Wall, level, rk4_limit_s);
     let ids = |r: &[(SolverId, &WallRow)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
     fn of<'r>(r: &[(SolverId, &'r WallRow)], id: SolverId) -> Option<&'r WallRow> {
         r.iter().find(|x| x.0 == id).map(|x| x.1)
